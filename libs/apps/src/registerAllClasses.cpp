@@ -1,0 +1,16 @@
+// SPDX-License-Identifier: BSD-3-Clause
+#include <emslam/apps/registerAllClasses.h>
+#include <emslam/stereo/registerAllClasses.h>
+#include <mrpt/core/initializer.h>
+#include <mrpt/maps/registerAllClasses.h>
+
+namespace emslam::apps
+{
+void registerAllClasses()
+{
+    emslam::stereo::registerAllClasses();
+    mrpt::maps::registerAllClasses_mrpt_maps();
+}
+}  // namespace emslam::apps
+
+MRPT_INITIALIZER(emslam_apps_register) { emslam::apps::registerAllClasses(); }

@@ -1,0 +1,108 @@
+// SPDX-License-Identifier: BSD-3-Clause
+#pragma once
+
+#include <emslam/stereo/StereoFrame.h>
+#include <mrpt/config/CLoadableOptions.h>
+#include <mrpt/img/TStereoCamera.h>
+
+#include <opencv2/core.hpp>
+
+#include <memory>
+#include <string>
+
+namespace emslam::stereo
+{
+/** Dense disparity of a **rectified** stereo pair, filtered to a semi-dense
+ * set of trustworthy pixels, and its reconstruction into a StereoFrame.
+ *
+ * Runs OpenCV's StereoSGBM (or StereoBM) at `image_scale` of the input size,
+ * then keeps a pixel only if it passes the uniqueness test, is not part of a
+ * small speckle, agrees with the right-to-left disparity within
+ * `lr_max_diff`, and reconstructs within [min_range, max_range].
+ *
+ * INI section (default `[Stereo]`), every key optional:
+ * \code
+ * [Stereo]
+ * algorithm          = sgbm   ; sgbm | sgbm_3way | bm
+ * image_scale        = 1.0    ; resize factor applied before matching (0.5: 640x480 -> 320x240)
+ * num_disparities    = 64     ; disparity search range [px] at the working scale (rounded up to 16)
+ * min_disparity      = 0      ; [px]
+ * block_size         = 5      ; matching window side [px], odd
+ * uniqueness_ratio   = 10     ; [%] best cost must beat the second best by this margin
+ * speckle_window_size = 100   ; [px] connected blobs smaller than this are removed (0: off)
+ * speckle_range      = 2      ; [px] max disparity step inside one blob
+ * lr_max_diff        = 1      ; [px] left-right consistency tolerance (<0: off)
+ * texture_threshold  = 10     ; BM only: minimum local texture
+ * pre_filter_cap     = 31     ; clip of the prefiltered image
+ * min_range          = 0.3    ; [m] closer points are dropped
+ * max_range          = 12.0   ; [m] farther points are dropped (paper: 12 m)
+ * \endcode
+ * \ingroup emslam_stereo_grp */
+class StereoMatcher
+{
+public:
+    struct TParameters : public mrpt::config::CLoadableOptions
+    {
+        void loadFromConfigFile(
+            const mrpt::config::CConfigFileBase& c, const std::string& s) override;
+        void saveToConfigFile(
+            mrpt::config::CConfigFileBase& c, const std::string& s) const override;
+        /** Throws std::exception with a message naming the key when a value is out of range. */
+        void validate() const;
+
+        /** "sgbm", "sgbm_3way" or "bm". (Default: sgbm) */
+        std::string algorithm{"sgbm"};
+        /** Resize factor before matching, (0, 1]. (Default: 1.0) */
+        double image_scale{1.0};
+        /** Disparity range at the working scale [px], rounded up to a multiple of 16. (Default: 64) */
+        int num_disparities{64};
+        /** Smallest disparity searched [px]. (Default: 0) */
+        int min_disparity{0};
+        /** Matching window side [px], odd, >= 1 (>= 5 for BM). (Default: 5) */
+        int block_size{5};
+        /** Uniqueness margin [%]. (Default: 10) */
+        int uniqueness_ratio{10};
+        /** Speckle filter: maximum blob size to remove [px]; 0 disables. (Default: 100) */
+        int speckle_window_size{100};
+        /** Speckle filter: max disparity variation within a blob [px]. (Default: 2) */
+        int speckle_range{2};
+        /** Left-right consistency tolerance [px]; negative disables. (Default: 1) */
+        int lr_max_diff{1};
+        /** BM only: texture threshold. (Default: 10) */
+        int texture_threshold{10};
+        /** Prefilter clip value. (Default: 31) */
+        int pre_filter_cap{31};
+        /** Minimum depth kept [m]. (Default: 0.3) */
+        double min_range{0.3};
+        /** Maximum depth kept [m]; the paper uses 12 m. (Default: 12.0) */
+        double max_range{12.0};
+    };
+
+    StereoMatcher();
+    explicit StereoMatcher(const TParameters& p);
+    ~StereoMatcher();
+    StereoMatcher(StereoMatcher&&) noexcept;
+    StereoMatcher& operator=(StereoMatcher&&) noexcept;
+
+    const TParameters& parameters() const { return m_params; }
+    /** Validates and applies new parameters. */
+    void setParameters(const TParameters& p);
+
+    /** Computes the semi-dense frame of a rectified pair (8-bit gray or BGR,
+     * same size). `camera` is the rectified calibration of the inputs at their
+     * full size; the frame carries it scaled by `image_scale`.
+     * Throws on empty or mismatched images or an unusable calibration. */
+    StereoFrame compute(
+        const cv::Mat& left, const cv::Mat& right, const mrpt::img::TStereoCamera& camera) const;
+
+    /** Disparity [px] of a rectified pair at the working scale, CV_32F, with
+     * every filter applied; invalid pixels are 0. Inputs as in compute(). */
+    cv::Mat computeDisparity(const cv::Mat& left_gray, const cv::Mat& right_gray) const;
+
+private:
+    TParameters m_params;
+    struct Impl;
+    std::unique_ptr<Impl> m_impl;
+};
+
+}  // namespace emslam::stereo

@@ -1,0 +1,20 @@
+#!/usr/bin/env bash
+# SPDX-License-Identifier: BSD-3-Clause
+# Installs emslam's build and test dependencies from Debian 12 packages.
+# Safe to re-run: apt-get only installs what is missing.
+set -euo pipefail
+
+SUDO=""
+if [ "$(id -u)" -ne 0 ]; then
+    SUDO="sudo"
+fi
+
+export DEBIAN_FRONTEND=noninteractive
+$SUDO apt-get update -q
+$SUDO apt-get install -y -q --no-install-recommends \
+    build-essential cmake pkg-config ca-certificates \
+    libmrpt-dev mrpt-apps mrpt-common \
+    libopencv-dev opencv-doc libeigen3-dev \
+    libusb-1.0-0-dev libdc1394-dev \
+    libgtest-dev libgmock-dev libbenchmark-dev \
+    clang-format
