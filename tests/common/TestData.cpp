@@ -1,11 +1,11 @@
 // SPDX-License-Identifier: BSD-3-Clause
 #include "TestData.h"
 
+#include <unistd.h>
+
 #include <cstdlib>
 #include <filesystem>
 #include <system_error>
-
-#include <unistd.h>
 
 namespace fs = std::filesystem;
 
@@ -31,7 +31,10 @@ std::string testDataPath(const std::string& rel)
     return fs::exists(p, ec) ? p : std::string();
 }
 
-std::string sourceDir() { return EMSLAM_SOURCE_DIR; }
+std::string sourceDir()
+{
+    return EMSLAM_SOURCE_DIR;
+}
 
 std::string makeTempDir(const std::string& tag)
 {

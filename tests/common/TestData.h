@@ -23,9 +23,9 @@ std::string makeTempDir(const std::string& tag);
 
 /** Skips the current test, with a message, when the relative path is absent
  * from the test data folder; otherwise declares `var` holding its full path. */
-#define EMSLAM_REQUIRE_TEST_DATA(var, rel)                                           \
-    const std::string var = ::emslam::test::testDataPath(rel);                     \
-    if (var.empty())                                                                 \
-    {                                                                                \
+#define EMSLAM_REQUIRE_TEST_DATA(var, rel)                                              \
+    const std::string var = ::emslam::test::testDataPath(rel);                          \
+    if (var.empty())                                                                    \
+    {                                                                                   \
         GTEST_SKIP() << "test data '" << (rel) << "' not found (set EMSLAM_TEST_DATA)"; \
     }

@@ -1,6 +1,7 @@
 // SPDX-License-Identifier: BSD-3-Clause
 #include <emslam/apps/registerAllClasses.h>
 #include <emslam/stereo/registerAllClasses.h>
+
 #include <mrpt/core/initializer.h>
 #include <mrpt/maps/registerAllClasses.h>
 
@@ -13,4 +14,7 @@ void registerAllClasses()
 }
 }  // namespace emslam::apps
 
-MRPT_INITIALIZER(emslam_apps_register) { emslam::apps::registerAllClasses(); }
+MRPT_INITIALIZER(emslam_apps_register)
+{
+    emslam::apps::registerAllClasses();
+}

@@ -1,5 +1,6 @@
 // SPDX-License-Identifier: BSD-3-Clause
 #include <emslam/stereo/registerAllClasses.h>
+
 #include <mrpt/core/initializer.h>
 #include <mrpt/obs/registerAllClasses.h>
 
@@ -13,4 +14,7 @@ void registerAllClasses()
 }
 }  // namespace emslam::stereo
 
-MRPT_INITIALIZER(emslam_stereo_register) { emslam::stereo::registerAllClasses(); }
+MRPT_INITIALIZER(emslam_stereo_register)
+{
+    emslam::stereo::registerAllClasses();
+}

@@ -2,6 +2,7 @@
 #pragma once
 
 #include <emslam/stereo/StereoFrame.h>
+
 #include <mrpt/obs/CObservation3DRangeScan.h>
 
 namespace emslam::stereo

@@ -5,10 +5,9 @@
 #include <mrpt/img/TStereoCamera.h>
 #include <mrpt/math/TPoint3D.h>
 
-#include <opencv2/core.hpp>
-
 #include <cstdint>
 #include <memory>
+#include <opencv2/core.hpp>
 #include <string>
 #include <vector>
 

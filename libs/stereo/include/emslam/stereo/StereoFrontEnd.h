@@ -4,6 +4,7 @@
 #include <emslam/stereo/StereoFrame.h>
 #include <emslam/stereo/StereoMatcher.h>
 #include <emslam/stereo/StereoRectifier.h>
+
 #include <mrpt/obs/CObservation.h>
 #include <mrpt/obs/CObservation3DRangeScan.h>
 #include <mrpt/obs/CObservationStereoImages.h>

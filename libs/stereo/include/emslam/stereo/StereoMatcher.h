@@ -2,12 +2,12 @@
 #pragma once
 
 #include <emslam/stereo/StereoFrame.h>
+
 #include <mrpt/config/CLoadableOptions.h>
 #include <mrpt/img/TStereoCamera.h>
 
-#include <opencv2/core.hpp>
-
 #include <memory>
+#include <opencv2/core.hpp>
 #include <string>
 
 namespace emslam::stereo
@@ -54,7 +54,8 @@ public:
         std::string algorithm{"sgbm"};
         /** Resize factor before matching, (0, 1]. (Default: 1.0) */
         double image_scale{1.0};
-        /** Disparity range at the working scale [px], rounded up to a multiple of 16. (Default: 64) */
+        /** Disparity range at the working scale [px], rounded up to a multiple of 16. (Default: 64)
+         */
         int num_disparities{64};
         /** Smallest disparity searched [px]. (Default: 0) */
         int min_disparity{0};

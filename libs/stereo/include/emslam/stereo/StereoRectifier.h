@@ -9,7 +9,7 @@ namespace emslam::stereo
 {
 /** Undistorts and rectifies raw stereo pairs so that epipolar lines are image
  * rows. The remap tables are built once per calibration and cached; a
- * calibration that is already rectified (no distortion, identical intrinsics,
+ * calibration that is already rectified (no distortion, equal fx, fy, cy; cx may differ,
  * right camera on the left camera's x axis) makes rectify() a no-op copy.
  *
  * The rectified calibration (rectifiedCamera()) has no distortion, shared
@@ -40,7 +40,8 @@ public:
     const mrpt::img::TStereoCamera& rawCamera() const { return m_raw; }
     const mrpt::img::TStereoCamera& rectifiedCamera() const { return m_rectified; }
 
-    /** True if `cam` needs no rectification (tolerances of 1e-6 relative). */
+    /** True if `cam` needs no rectification: no distortion, equal fx, fy and cy, the
+     * right camera on the left one's +x axis (tolerances of 1e-6 relative). */
     static bool isAlreadyRectified(const mrpt::img::TStereoCamera& cam);
 
 private:

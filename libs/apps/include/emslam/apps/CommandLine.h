@@ -1,0 +1,25 @@
+// SPDX-License-Identifier: BSD-3-Clause
+#pragma once
+
+#include <mrpt/3rdparty/tclap/CmdLine.h>
+#include <mrpt/config/CConfigFileMemory.h>
+
+#include <string>
+#include <vector>
+
+namespace emslam::apps
+{
+/** Parses `argv` with `cmd` without letting TCLAP call exit(): returns false
+ * when `--help` or `--version` was handled (the text is already printed), true
+ * when the App should run, and throws std::invalid_argument with TCLAP's
+ * message (plus a pointer to --help) on bad arguments.
+ * \ingroup emslam_apps_grp */
+bool parseCommandLine(TCLAP::CmdLine& cmd, int argc, const char** argv);
+
+/** Applies `--set Section.key=value` overrides to `cfg`. Throws
+ * std::invalid_argument on a malformed item.
+ * \ingroup emslam_apps_grp */
+void applyConfigOverrides(
+    mrpt::config::CConfigFileMemory& cfg, const std::vector<std::string>& sets);
+
+}  // namespace emslam::apps

@@ -1,0 +1,112 @@
+// SPDX-License-Identifier: BSD-3-Clause
+#pragma once
+
+#include <cstddef>
+#include <cstdint>
+#include <optional>
+#include <string>
+
+namespace emslam::apps
+{
+/** \defgroup emslam_apps_grp Applications (libs/apps) */
+
+/** The dataset importer behind `emslam-import`: converts a KITTI odometry
+ * sequence, a EuRoC MAV stereo sequence or a TUM RGB-D sequence into a
+ * gz-compressed, observations-only rawlog of stock MRPT classes, plus
+ * (optionally) the ground truth as a TUM trajectory file.
+ *
+ * \code
+ * emslam-import kitti SEQUENCE_DIR -o OUT.rawlog [--poses POSES.txt] [--gt-out GT.tum]
+ *                                                [--time-offset SECONDS]
+ * emslam-import euroc MAV0_DIR     -o OUT.rawlog [--gt GT.csv]       [--gt-out GT.tum]
+ * emslam-import tum   RGBD_DIR     -o OUT.rawlog [--intrinsics fx,fy,cx,cy] [--gt-out GT.tum]
+ *   common: [--first N] [--last N] [--step K] [--label LABEL] [--quiet]
+ * \endcode
+ *
+ * - kitti / euroc: one `CObservationStereoImages` per frame (images embedded,
+ *   calibration set, label "STEREO"); tum: one `CObservation3DRangeScan`
+ *   (colour + depth image, label "RGBD"). See emslam::stereo::KittiSequence,
+ *   EurocSequence and TumRgbdSequence for the details of each format.
+ * - Frames `first, first+step, ...` up to `last` (inclusive, 0-based indices
+ *   into the dataset's frame list) are imported; the same selection applies
+ *   to the ground truth.
+ * - The ground-truth file holds one line per imported frame that has ground
+ *   truth: `t x y z qx qy qz qw`, the pose of the left (colour) camera in the
+ *   frame of the first imported frame that has ground truth. Frames without
+ *   ground truth are still imported; they are counted in frames_without_gt.
+ * - Both outputs are written to `<name>.partial` and renamed when the whole
+ *   import succeeded; on any error the partial files are removed and run()
+ *   throws.
+ *
+ * Errors (bad arguments, bad input) are exceptions; nothing calls exit().
+ * \ingroup emslam_apps_grp \sa doc/apps/emslam-import.md */
+class ImportApp
+{
+public:
+    ImportApp() = default;
+
+    /** Parses the command line (argv[0] is the program name). Throws
+     * std::invalid_argument with the error and a short usage on bad
+     * arguments. `--help` / `--version` print to stdout and set
+     * quit_requested (run() then does nothing). */
+    void initialize(int argc, const char** argv);
+    /** \overload */
+    void initialize(int argc, char** argv);
+
+    /** Runs the import. Throws on any error, leaving no output file behind. */
+    void run();
+
+    /** \name Settings (filled by initialize(); may be edited before run())
+     * @{ */
+    /** "kitti", "euroc" or "tum". */
+    std::string dataset;
+    /** Sequence folder (KITTI sequence, EuRoC mav0, TUM RGB-D folder). */
+    std::string input_dir;
+    /** Output rawlog file. */
+    std::string output_file;
+    /** KITTI poses file (optional). */
+    std::string kitti_poses_file;
+    /** EuRoC left-camera ground-truth CSV (optional). */
+    std::string euroc_gt_file;
+    /** Ground-truth output (TUM format); empty: not written. */
+    std::string gt_out_file;
+    /** TUM RGB-D intrinsics "fx,fy,cx,cy" (empty: the TUM defaults). */
+    std::string tum_intrinsics;
+    /** KITTI: UNIX time [s] of times.txt's zero; unset: the
+     * emslam::stereo::KittiSequence default (2011-09-30 00:00:00 UTC). */
+    std::optional<double> kitti_time_offset;
+    /** Sensor label; empty: "STEREO" (kitti, euroc) or "RGBD" (tum). */
+    std::string sensor_label;
+    /** First frame index (0-based). */
+    std::size_t first{0};
+    /** Last frame index, inclusive; unset: the last frame. */
+    std::optional<std::size_t> last;
+    /** Import every `step`-th frame (>= 1). */
+    std::size_t step{1};
+    /** gzip level of the rawlog, 0..9. (Default: 1, fastest) */
+    int gz_level{1};
+    /** No progress and summary output. */
+    bool quiet{false};
+    /** @} */
+
+    /** \name Results
+     * @{ */
+    /** True after `--help` / `--version`: nothing to run. */
+    bool quit_requested{false};
+    /** Observations written to output_file. */
+    std::size_t frames_written{0};
+    /** Poses written to gt_out_file. */
+    std::size_t poses_written{0};
+    /** Imported frames that had no ground truth (not in gt_out_file). */
+    std::size_t frames_without_gt{0};
+    /** Size of output_file [bytes]. */
+    std::uintmax_t output_bytes{0};
+    /** Wall-clock duration of run() [s]. */
+    double elapsed_seconds{0.0};
+    /** @} */
+
+private:
+    bool m_initialized{false};
+};
+
+}  // namespace emslam::apps

@@ -1,0 +1,64 @@
+// SPDX-License-Identifier: BSD-3-Clause
+#pragma once
+
+#include <mrpt/config/CConfigFileMemory.h>
+
+#include <cstddef>
+#include <string>
+#include <vector>
+
+namespace emslam::apps
+{
+/** \defgroup emslam_apps_grp Applications (libs/apps) */
+
+/** `emslam-stereo`: runs the stereo front-end on one rectified or raw image
+ * pair, or on every stereo / RGB-D observation of a rawlog, and prints what it
+ * found (points, density, depth range, time per frame, and the bad-pixel rate
+ * when a ground-truth disparity image is given).
+ *
+ * \code
+ * emslam-stereo --left L.png --right R.png --calib CALIB.ini [--calib-section CAMERA]
+ * emslam-stereo --rawlog IN.rawlog [--max-frames N]
+ *   [--config STEREO.ini] [--set Stereo.key=value ...]
+ *   [--gt-disparity GT.png [--gt-disparity-scale S]]
+ *   [--out-rawlog OUT.rawlog]   ; frames as CObservation3DRangeScan (stock viewers)
+ *   [--ply OUT.ply]             ; the first frame's points, with intensity
+ *   [--disparity-png OUT.png]   ; the first frame's disparity, false colour
+ * \endcode
+ * Parameters are read from the `[Stereo]` section (StereoMatcher::TParameters).
+ * \ingroup emslam_apps_grp */
+class StereoApp
+{
+public:
+    /** Parses the command line. Throws on bad arguments. After `--help` or
+     * `--version`, helpRequested() is true and run() does nothing. */
+    void initialize(int argc, const char** argv);
+    void initialize(int argc, char** argv) { initialize(argc, const_cast<const char**>(argv)); }
+    /** Processes the input. Throws with a message naming the file on bad input. */
+    void run();
+
+    bool helpRequested() const { return m_help_requested; }
+
+    /** Effective configuration; tests may edit it between initialize() and run(). */
+    mrpt::config::CConfigFileMemory params;
+
+    // ---- Results of run() ----
+    std::size_t frames_processed{0};
+    std::size_t total_points{0};
+    double mean_density{0};
+    double mean_ms_per_frame{0};
+    /** Fraction of pixels with a disparity that are > 1 px off the ground
+     * truth (first frame), or -1 when no ground truth was given. */
+    double bad_pixel_rate{-1};
+    /** Fraction of ground-truth pixels that got a disparity, or -1. */
+    double gt_coverage{-1};
+
+private:
+    bool m_help_requested{false};
+    std::string m_left, m_right, m_calib, m_calib_section{"CAMERA"};
+    std::string m_rawlog, m_out_rawlog, m_ply, m_disparity_png, m_gt_disparity;
+    double m_gt_scale{1.0};
+    std::size_t m_max_frames{0};
+};
+
+}  // namespace emslam::apps

@@ -1,0 +1,51 @@
+// SPDX-License-Identifier: BSD-3-Clause
+#include <emslam/apps/CommandLine.h>
+
+#include <memory>
+#include <stdexcept>
+
+namespace emslam::apps
+{
+namespace
+{
+/** MRPT's TCLAP prints parse errors and returns false, just as for --help;
+ * this output turns the error into an exception so callers can tell them apart. */
+class ThrowingOutput : public TCLAP::StdOutput
+{
+public:
+    void failure(TCLAP::CmdLineInterface& c, TCLAP::ArgException& e) override
+    {
+        throw std::invalid_argument(
+            "bad command line: " + e.error() + (e.argId().empty() ? "" : " (" + e.argId() + ")") +
+            "; try " + c.getProgramName() + " --help");
+    }
+};
+}  // namespace
+
+bool parseCommandLine(TCLAP::CmdLine& cmd, int argc, const char** argv)
+{
+    ThrowingOutput out;
+    // setOutput() does not free the default output object; take it over.
+    const std::unique_ptr<TCLAP::CmdLineOutput> default_output(cmd.getOutput());
+    cmd.setOutput(&out);
+    const bool run = cmd.parse(argc, argv);
+    cmd.setOutput(nullptr);
+    return run;
+}
+
+void applyConfigOverrides(
+    mrpt::config::CConfigFileMemory& cfg, const std::vector<std::string>& sets)
+{
+    for (const auto& s : sets)
+    {
+        const auto dot = s.find('.');
+        const auto eq = s.find('=');
+        if (dot == std::string::npos || eq == std::string::npos || dot == 0 || eq < dot + 2)
+        {
+            throw std::invalid_argument("--set expects SECTION.key=value, got '" + s + "'");
+        }
+        cfg.write(s.substr(0, dot), s.substr(dot + 1, eq - dot - 1), s.substr(eq + 1));
+    }
+}
+
+}  // namespace emslam::apps

@@ -1,0 +1,569 @@
+// SPDX-License-Identifier: BSD-3-Clause
+#include <emslam/apps/ImportApp.h>
+#include <emslam/stereo/EurocSequence.h>
+#include <emslam/stereo/KittiSequence.h>
+#include <emslam/stereo/TumRgbdSequence.h>
+#include <emslam/stereo/TumTrajectory.h>
+
+#include <mrpt/3rdparty/tclap/CmdLine.h>
+#include <mrpt/core/exceptions.h>
+#include <mrpt/io/CFileGZOutputStream.h>
+#include <mrpt/obs/CObservation.h>
+#include <mrpt/serialization/CArchive.h>
+#include <mrpt/system/os.h>
+
+#include <unistd.h>
+
+#include <algorithm>
+#include <chrono>
+#include <cstdio>
+#include <filesystem>
+#include <functional>
+#include <iostream>
+#include <memory>
+#include <sstream>
+#include <stdexcept>
+#include <vector>
+
+namespace fs = std::filesystem;
+
+namespace emslam::apps
+{
+namespace
+{
+constexpr const char* PROGRAM = "emslam-import";
+
+/** TCLAP output that keeps usage text and parse errors instead of printing. */
+class CapturingOutput : public TCLAP::StdOutput
+{
+public:
+    explicit CapturingOutput(std::ostringstream& text) : TCLAP::StdOutput(text), m_text(text) {}
+
+    void failure(TCLAP::CmdLineInterface& c, TCLAP::ArgException& e) override
+    {
+        failed = true;
+        const std::string id = e.argId();
+        error = (id.empty() || id == " " || id == "undefined argument") ? e.error()
+                                                                        : id + ": " + e.error();
+        m_text.str("");
+        _shortUsage(c, m_text);
+    }
+
+    bool failed{false};
+    std::string error;
+
+private:
+    std::ostringstream& m_text;
+};
+
+[[noreturn]] void usageError(const std::string& msg)
+{
+    throw std::invalid_argument(
+        std::string(PROGRAM) + ": " + msg + "\nRun '" + PROGRAM + " --help' for the usage.");
+}
+
+/** A dataset reader seen through one interface. */
+struct FrameSource
+{
+    struct Frame
+    {
+        mrpt::obs::CObservation::Ptr obs;
+        std::optional<mrpt::poses::CPose3D> ground_truth;
+        double t{0.0};
+    };
+    std::size_t size{0};
+    bool has_gt{false};
+    std::string description;
+    std::function<Frame(std::size_t)> get;
+};
+
+template <class Reader>
+FrameSource makeSource(std::shared_ptr<Reader> reader, bool has_gt, const std::string& description)
+{
+    FrameSource s;
+    s.size = reader->size();
+    s.has_gt = has_gt;
+    s.description = description;
+    s.get = [reader](std::size_t i)
+    {
+        auto f = reader->frame(i);
+        return FrameSource::Frame{f.obs, f.ground_truth, f.t};
+    };
+    return s;
+}
+
+/** Parses "fx,fy,cx,cy". */
+std::vector<double> parseIntrinsics(const std::string& s)
+{
+    std::vector<double> v;
+    std::stringstream ss(s);
+    std::string tok;
+    while (std::getline(ss, tok, ','))
+    {
+        try
+        {
+            std::size_t pos = 0;
+            v.push_back(std::stod(tok, &pos));
+            if (tok.find_first_not_of(" \t", pos) != std::string::npos)
+            {
+                v.clear();
+                break;
+            }
+        }
+        catch (const std::exception&)
+        {
+            v.clear();
+            break;
+        }
+    }
+    if (v.size() != 4 || v[0] <= 0 || v[1] <= 0)
+    {
+        usageError("--intrinsics expects 'fx,fy,cx,cy' (positive focal lengths), got '" + s + "'");
+    }
+    return v;
+}
+
+std::string humanBytes(std::uintmax_t n)
+{
+    char buf[32];
+    if (n >= 1024ULL * 1024ULL)
+    {
+        std::snprintf(buf, sizeof(buf), "%.1f MiB", static_cast<double>(n) / (1024.0 * 1024.0));
+    }
+    else if (n >= 1024ULL)
+    {
+        std::snprintf(buf, sizeof(buf), "%.1f KiB", static_cast<double>(n) / 1024.0);
+    }
+    else
+    {
+        std::snprintf(buf, sizeof(buf), "%ju B", n);
+    }
+    return buf;
+}
+
+/** Progress on stderr: an updated line on a terminal, else a line per ~10%. */
+class Progress
+{
+public:
+    Progress(std::size_t total, bool enabled)
+        : m_total(total), m_enabled(enabled), m_tty(::isatty(::fileno(stderr)) != 0)
+    {
+    }
+
+    void update(std::size_t done)
+    {
+        if (!m_enabled || m_total == 0)
+        {
+            return;
+        }
+        const auto pct = static_cast<int>((100 * done) / m_total);
+        if (m_tty)
+        {
+            std::fprintf(stderr, "\r%s: frame %zu/%zu (%3d%%)", PROGRAM, done, m_total, pct);
+            std::fflush(stderr);
+        }
+        else if (pct / 10 > m_last_decile || done == m_total)
+        {
+            m_last_decile = pct / 10;
+            std::fprintf(stderr, "%s: frame %zu/%zu (%d%%)\n", PROGRAM, done, m_total, pct);
+        }
+    }
+
+    void finish()
+    {
+        if (m_enabled && m_tty)
+        {
+            std::fprintf(stderr, "\n");
+        }
+    }
+
+private:
+    std::size_t m_total;
+    bool m_enabled;
+    bool m_tty;
+    int m_last_decile{0};
+};
+
+void removeQuietly(const std::string& file)
+{
+    if (!file.empty())
+    {
+        std::error_code ec;
+        fs::remove(file, ec);
+    }
+}
+
+void checkOutputFolder(const std::string& file, const char* what)
+{
+    const fs::path parent = fs::path(file).parent_path();
+    std::error_code ec;
+    if (!parent.empty() && !fs::is_directory(parent, ec))
+    {
+        THROW_EXCEPTION_FMT(
+            "Folder '%s' of the %s '%s' does not exist", parent.string().c_str(), what,
+            file.c_str());
+    }
+}
+}  // namespace
+
+void ImportApp::initialize(int argc, char** argv)
+{
+    initialize(argc, const_cast<const char**>(argv));
+}
+
+void ImportApp::initialize(int argc, const char** argv)
+{
+    std::ostringstream text;
+    CapturingOutput out(text);
+    TCLAP::CmdLine cmd(
+        "Imports a KITTI odometry, EuRoC MAV or TUM RGB-D sequence into a gz-compressed rawlog of "
+        "stock MRPT observations (CObservationStereoImages / CObservation3DRangeScan), and its "
+        "ground truth into a TUM trajectory file. Outputs are written as <name>.partial and "
+        "renamed only when the import succeeded. Examples: '" +
+            std::string(PROGRAM) +
+            " kitti sequences/06 --poses poses/06.txt -o k06.rawlog --gt-out k06.tum', '" +
+            PROGRAM +
+            " euroc V1_01_easy/mav0 --gt groundtruth_left_cam.csv -o v101.rawlog --gt-out "
+            "v101.tum', '" +
+            PROGRAM + " tum rgbd_dataset_freiburg1_xyz -o fr1xyz.rawlog --gt-out fr1xyz.tum'.",
+        ' ', std::string("emslam-import (") + mrpt::system::MRPT_getVersion() + ")");
+    const std::unique_ptr<TCLAP::CmdLineOutput> default_output(cmd.getOutput());
+    cmd.setOutput(&out);
+
+    TCLAP::UnlabeledValueArg<std::string> arg_dataset(
+        "dataset", "Dataset format: kitti, euroc or tum.", true, "", "kitti|euroc|tum", cmd);
+    TCLAP::UnlabeledValueArg<std::string> arg_dir(
+        "input_dir",
+        "Sequence folder: KITTI 'sequences/NN', EuRoC 'mav0' (or its parent), TUM RGB-D folder "
+        "with rgb.txt and depth.txt.",
+        true, "", "DIR", cmd);
+    TCLAP::ValueArg<std::string> arg_out(
+        "o", "output", "Output rawlog file (gz-compressed, observations only).", true, "",
+        "OUT.rawlog", cmd);
+    TCLAP::ValueArg<std::string> arg_poses(
+        "", "poses", "kitti: ground-truth poses file (poses/NN.txt).", false, "", "POSES.txt", cmd);
+    TCLAP::ValueArg<std::string> arg_gt(
+        "", "gt",
+        "euroc: ground truth of the left camera, 'timestamp_ns,x,y,z,qx,qy,qz,qw' per line.", false,
+        "", "GT.csv", cmd);
+    TCLAP::ValueArg<std::string> arg_gt_out(
+        "", "gt-out",
+        "Write the ground truth of the imported frames here (TUM format, left/colour camera "
+        "relative to the first imported frame).",
+        false, "", "GT.tum", cmd);
+    TCLAP::ValueArg<std::string> arg_intr(
+        "", "intrinsics", "tum: camera intrinsics (default 525,525,319.5,239.5).", false, "",
+        "fx,fy,cx,cy", cmd);
+    TCLAP::ValueArg<double> arg_time_offset(
+        "", "time-offset",
+        "kitti: UNIX time [s] given to times.txt's zero (default 1317340800 = "
+        "2011-09-30 00:00:00 UTC).",
+        false, 0.0, "SECONDS", cmd);
+    TCLAP::ValueArg<long long> arg_first(
+        "", "first", "First frame index to import (0-based, default 0).", false, 0, "N", cmd);
+    TCLAP::ValueArg<long long> arg_last(
+        "", "last", "Last frame index to import (inclusive, default: the last frame).", false, -1,
+        "N", cmd);
+    TCLAP::ValueArg<long long> arg_step(
+        "", "step", "Import every K-th frame (default 1).", false, 1, "K", cmd);
+    TCLAP::ValueArg<std::string> arg_label(
+        "", "label", "Sensor label of the observations (default STEREO, or RGBD for tum).", false,
+        "", "LABEL", cmd);
+    TCLAP::ValueArg<int> arg_gz(
+        "", "gz-level", "gzip compression level of the rawlog, 0..9 (default 1).", false, 1, "0..9",
+        cmd);
+    TCLAP::SwitchArg arg_quiet("q", "quiet", "No progress or summary output.", cmd, false);
+
+    m_initialized = false;
+    quit_requested = false;
+    // Usage shows the program name, not the path it was started from.
+    std::vector<const char*> args(argv, argv + std::max(argc, 0));
+    if (args.empty())
+    {
+        args.push_back(PROGRAM);
+    }
+    args[0] = PROGRAM;
+    if (!cmd.parse(static_cast<int>(args.size()), args.data()))
+    {
+        if (out.failed)
+        {
+            usageError(out.error + "\nUsage:\n" + text.str());
+        }
+        std::cout << text.str();
+        std::cout.flush();
+        quit_requested = true;
+        return;
+    }
+
+    dataset = arg_dataset.getValue();
+    if (dataset != "kitti" && dataset != "euroc" && dataset != "tum")
+    {
+        usageError("unknown dataset format '" + dataset + "' (expected kitti, euroc or tum)");
+    }
+    input_dir = arg_dir.getValue();
+    output_file = arg_out.getValue();
+    kitti_poses_file = arg_poses.getValue();
+    euroc_gt_file = arg_gt.getValue();
+    gt_out_file = arg_gt_out.getValue();
+    tum_intrinsics = arg_intr.getValue();
+    sensor_label = arg_label.getValue();
+    quiet = arg_quiet.getValue();
+    gz_level = arg_gz.getValue();
+
+    if (arg_poses.isSet() && dataset != "kitti")
+    {
+        usageError("--poses is for kitti only (euroc: --gt; tum: groundtruth.txt is read)");
+    }
+    if (arg_gt.isSet() && dataset != "euroc")
+    {
+        usageError("--gt is for euroc only (kitti: --poses; tum: groundtruth.txt is read)");
+    }
+    if (arg_intr.isSet() && dataset != "tum")
+    {
+        usageError("--intrinsics is for tum only (kitti/euroc read their calibration files)");
+    }
+    if (arg_time_offset.isSet() && dataset != "kitti")
+    {
+        usageError("--time-offset is for kitti only (euroc and tum carry UNIX times)");
+    }
+    kitti_time_offset.reset();
+    if (arg_time_offset.isSet())
+    {
+        kitti_time_offset = arg_time_offset.getValue();
+    }
+    if (!tum_intrinsics.empty())
+    {
+        parseIntrinsics(tum_intrinsics);
+    }
+    if (arg_first.getValue() < 0)
+    {
+        usageError("--first must be >= 0");
+    }
+    if (arg_last.isSet() && arg_last.getValue() < 0)
+    {
+        usageError("--last must be >= 0");
+    }
+    if (arg_step.getValue() < 1)
+    {
+        usageError("--step must be >= 1");
+    }
+    if (arg_last.isSet() && arg_last.getValue() < arg_first.getValue())
+    {
+        usageError("--last must not be smaller than --first");
+    }
+    if (gz_level < 0 || gz_level > 9)
+    {
+        usageError("--gz-level must be in 0..9");
+    }
+    first = static_cast<std::size_t>(arg_first.getValue());
+    last.reset();
+    if (arg_last.isSet())
+    {
+        last = static_cast<std::size_t>(arg_last.getValue());
+    }
+    step = static_cast<std::size_t>(arg_step.getValue());
+    if (!gt_out_file.empty())
+    {
+        if (dataset == "kitti" && kitti_poses_file.empty())
+        {
+            usageError("--gt-out needs --poses for kitti");
+        }
+        if (dataset == "euroc" && euroc_gt_file.empty())
+        {
+            usageError("--gt-out needs --gt for euroc");
+        }
+        if (fs::path(gt_out_file).lexically_normal() == fs::path(output_file).lexically_normal())
+        {
+            usageError("--gt-out and --output name the same file");
+        }
+    }
+    m_initialized = true;
+}
+
+void ImportApp::run()
+{
+    if (quit_requested)
+    {
+        return;
+    }
+    ASSERTMSG_(
+        m_initialized || !dataset.empty(),
+        "ImportApp::run(): call initialize() (or fill the settings) first");
+    ASSERTMSG_(!output_file.empty(), "ImportApp: no output file");
+    ASSERTMSG_(step >= 1, "ImportApp: step must be >= 1");
+    const auto t_start = std::chrono::steady_clock::now();
+    frames_written = 0;
+    poses_written = 0;
+    frames_without_gt = 0;
+    output_bytes = 0;
+
+    // Open and validate the dataset.
+    FrameSource src;
+    if (dataset == "kitti")
+    {
+        auto r = std::make_shared<emslam::stereo::KittiSequence>();
+        r->sensor_label = sensor_label.empty() ? "STEREO" : sensor_label;
+        if (kitti_time_offset)
+        {
+            r->time_offset = *kitti_time_offset;
+        }
+        r->open(input_dir, kitti_poses_file);
+        src = makeSource(
+            r, r->hasGroundTruth(),
+            mrpt::format(
+                "KITTI sequence '%s' (%zu frames, %ux%u)", input_dir.c_str(), r->size(),
+                r->imageWidth(), r->imageHeight()));
+    }
+    else if (dataset == "euroc")
+    {
+        auto r = std::make_shared<emslam::stereo::EurocSequence>();
+        r->sensor_label = sensor_label.empty() ? "STEREO" : sensor_label;
+        r->open(input_dir, euroc_gt_file);
+        src = makeSource(
+            r, r->hasGroundTruth(),
+            mrpt::format(
+                "EuRoC sequence '%s' (%zu stereo pairs, %ux%u, %zu unpaired)",
+                r->directory().c_str(), r->size(), r->imageWidth(), r->imageHeight(),
+                r->unpairedCount()));
+    }
+    else if (dataset == "tum")
+    {
+        auto r = std::make_shared<emslam::stereo::TumRgbdSequence>();
+        r->sensor_label = sensor_label.empty() ? "RGBD" : sensor_label;
+        if (!tum_intrinsics.empty())
+        {
+            const auto v = parseIntrinsics(tum_intrinsics);
+            r->intrinsics.setIntrinsicParamsFromValues(v[0], v[1], v[2], v[3]);
+        }
+        r->open(input_dir);
+        src = makeSource(
+            r, r->hasGroundTruth(),
+            mrpt::format(
+                "TUM RGB-D sequence '%s' (%zu colour/depth pairs, %ux%u, %zu colour images without "
+                "depth)",
+                input_dir.c_str(), r->size(), r->imageWidth(), r->imageHeight(),
+                r->unassociatedCount()));
+        if (!gt_out_file.empty() && !r->hasGroundTruth())
+        {
+            THROW_EXCEPTION_FMT(
+                "--gt-out given but '%s/groundtruth.txt' does not exist", input_dir.c_str());
+        }
+    }
+    else
+    {
+        THROW_EXCEPTION_FMT("Unknown dataset format '%s'", dataset.c_str());
+    }
+
+    // Frame selection.
+    if (first >= src.size)
+    {
+        THROW_EXCEPTION_FMT(
+            "--first %zu is beyond the last frame (%zu) of %s", first, src.size - 1,
+            src.description.c_str());
+    }
+    const std::size_t last_idx = last.value_or(src.size - 1);
+    if (last_idx >= src.size)
+    {
+        THROW_EXCEPTION_FMT(
+            "--last %zu is beyond the last frame (%zu) of %s", last_idx, src.size - 1,
+            src.description.c_str());
+    }
+    std::vector<std::size_t> indices;
+    for (std::size_t i = first; i <= last_idx; i += step)
+    {
+        indices.push_back(i);
+    }
+
+    checkOutputFolder(output_file, "output file");
+    if (!gt_out_file.empty())
+    {
+        checkOutputFolder(gt_out_file, "ground-truth output file");
+    }
+    const std::string partial = output_file + ".partial";
+    const std::string gt_partial = gt_out_file.empty() ? std::string() : gt_out_file + ".partial";
+
+    if (!quiet)
+    {
+        std::cerr << PROGRAM << ": importing " << indices.size() << " of " << src.description
+                  << " into '" << output_file << "'\n";
+    }
+
+    emslam::stereo::TumTrajectory gt;
+    std::optional<mrpt::poses::CPose3D> T_world_ref;
+    try
+    {
+        {
+            mrpt::io::CFileGZOutputStream f;
+            std::string err;
+            if (!f.open(partial, gz_level, err))
+            {
+                THROW_EXCEPTION_FMT("Cannot create '%s': %s", partial.c_str(), err.c_str());
+            }
+            auto arch = mrpt::serialization::archiveFrom(f);
+            Progress progress(indices.size(), !quiet);
+            for (std::size_t k = 0; k < indices.size(); k++)
+            {
+                const auto fr = src.get(indices[k]);
+                arch << *fr.obs;
+                ++frames_written;
+                if (fr.ground_truth)
+                {
+                    if (!T_world_ref)
+                    {
+                        T_world_ref = *fr.ground_truth;
+                    }
+                    // T_ref_cam = inv(T_world_ref) * T_world_cam
+                    gt.push_back(fr.t, *fr.ground_truth - *T_world_ref);
+                }
+                else if (src.has_gt)
+                {
+                    ++frames_without_gt;
+                }
+                progress.update(k + 1);
+            }
+            progress.finish();
+            f.close();
+        }
+        if (!gt_partial.empty())
+        {
+            gt.saveToFile(gt_partial);
+        }
+        fs::rename(partial, output_file);
+        if (!gt_partial.empty())
+        {
+            fs::rename(gt_partial, gt_out_file);
+            poses_written = gt.size();
+        }
+    }
+    catch (...)
+    {
+        removeQuietly(partial);
+        removeQuietly(gt_partial);
+        frames_written = 0;
+        poses_written = 0;
+        throw;
+    }
+
+    output_bytes = fs::file_size(output_file);
+    elapsed_seconds =
+        std::chrono::duration<double>(std::chrono::steady_clock::now() - t_start).count();
+    if (!quiet)
+    {
+        std::cout << PROGRAM << ": wrote " << frames_written << " frames to '" << output_file
+                  << "' (" << humanBytes(output_bytes) << ")";
+        if (!gt_out_file.empty())
+        {
+            std::cout << ", " << poses_written << " ground-truth poses to '" << gt_out_file << "'";
+        }
+        if (frames_without_gt > 0)
+        {
+            std::cout << ", " << frames_without_gt << " frames without ground truth skipped";
+        }
+        std::cout << mrpt::format(
+            ", in %.2f s (%.1f ms/frame)\n", elapsed_seconds,
+            1e3 * elapsed_seconds / static_cast<double>(frames_written));
+        std::cout.flush();
+    }
+}
+
+}  // namespace emslam::apps

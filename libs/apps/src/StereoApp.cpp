@@ -1,0 +1,364 @@
+// SPDX-License-Identifier: BSD-3-Clause
+#include <emslam/apps/CommandLine.h>
+#include <emslam/apps/StereoApp.h>
+#include <emslam/stereo/CalibrationReaders.h>
+#include <emslam/stereo/RangeScanConversion.h>
+#include <emslam/stereo/StereoFrontEnd.h>
+
+#include <mrpt/img/CImage.h>
+#include <mrpt/io/CFileGZInputStream.h>
+#include <mrpt/io/CFileGZOutputStream.h>
+#include <mrpt/obs/CRawlog.h>
+#include <mrpt/serialization/CArchive.h>
+#include <mrpt/system/filesystem.h>
+
+#include <algorithm>
+#include <chrono>
+#include <cstdio>
+#include <fstream>
+#include <iostream>
+#include <iterator>
+#include <opencv2/imgcodecs.hpp>
+#include <opencv2/imgproc.hpp>
+#include <stdexcept>
+
+namespace emslam::apps
+{
+namespace
+{
+constexpr const char* STEREO_SECTION = "Stereo";
+
+void requireFile(const std::string& f, const std::string& what)
+{
+    if (!mrpt::system::fileExists(f))
+    {
+        throw std::runtime_error(what + " '" + f + "' does not exist");
+    }
+}
+
+cv::Mat readImage(const std::string& f, const std::string& what)
+{
+    requireFile(f, what);
+    cv::Mat im = cv::imread(f, cv::IMREAD_UNCHANGED);
+    if (im.empty())
+    {
+        throw std::runtime_error(what + " '" + f + "' is not a readable image");
+    }
+    return im;
+}
+
+void writePly(const emslam::stereo::StereoFrame& f, const std::string& file)
+{
+    std::ofstream o(file);
+    if (!o)
+    {
+        throw std::runtime_error("cannot write '" + file + "'");
+    }
+    o << "ply\nformat ascii 1.0\nelement vertex " << f.points.size()
+      << "\nproperty float x\nproperty float y\nproperty float z\n"
+         "property uchar red\nproperty uchar green\nproperty uchar blue\nend_header\n";
+    for (std::size_t i = 0; i < f.points.size(); ++i)
+    {
+        const auto& p = f.points[i];
+        const int g = f.intensity.at<uint8_t>(f.pixels[i].v, f.pixels[i].u);
+        o << p.x << ' ' << p.y << ' ' << p.z << ' ' << g << ' ' << g << ' ' << g << '\n';
+    }
+}
+
+void writeDisparityPng(const emslam::stereo::StereoFrame& f, const std::string& file)
+{
+    double mx = 0;
+    cv::minMaxLoc(f.disparity, nullptr, &mx);
+    cv::Mat d8, color;
+    f.disparity.convertTo(d8, CV_8U, mx > 0 ? 255.0 / mx : 1.0);
+    cv::applyColorMap(d8, color, cv::COLORMAP_JET);
+    color.setTo(cv::Scalar(0, 0, 0), f.valid == 0);
+    if (!cv::imwrite(file, color))
+    {
+        throw std::runtime_error("cannot write '" + file + "'");
+    }
+}
+
+struct DepthStats
+{
+    double min{0}, median{0}, max{0};
+};
+
+DepthStats depthStats(const emslam::stereo::StereoFrame& f)
+{
+    DepthStats s;
+    if (f.points.empty())
+    {
+        return s;
+    }
+    std::vector<float> z;
+    z.reserve(f.points.size());
+    for (const auto& p : f.points)
+    {
+        z.push_back(p.z);
+    }
+    std::nth_element(z.begin(), z.begin() + z.size() / 2, z.end());
+    s.median = z[z.size() / 2];
+    const auto [mn, mx] = std::minmax_element(z.begin(), z.end());
+    s.min = *mn;
+    s.max = *mx;
+    return s;
+}
+}  // namespace
+
+void StereoApp::initialize(int argc, const char** argv)
+{
+    TCLAP::CmdLine cmd(
+        "emslam-stereo: run the emslam stereo front-end (rectification + disparity -> "
+        "semi-dense 3D) on an image pair or a rawlog and report what it found.",
+        ' ', "0.1");
+    TCLAP::ValueArg<std::string> left("", "left", "Left (reference) image", false, "", "FILE", cmd);
+    TCLAP::ValueArg<std::string> right("", "right", "Right image", false, "", "FILE", cmd);
+    TCLAP::ValueArg<std::string> calib(
+        "", "calib", "Stereo calibration, MRPT TStereoCamera INI form", false, "", "INI", cmd);
+    TCLAP::ValueArg<std::string> calib_section(
+        "", "calib-section", "Calibration section prefix in --calib (default: CAMERA)", false,
+        "CAMERA", "NAME", cmd);
+    TCLAP::ValueArg<std::string> rawlog(
+        "", "rawlog", "Rawlog with CObservationStereoImages / CObservation3DRangeScan", false, "",
+        "FILE", cmd);
+    TCLAP::ValueArg<std::size_t> max_frames(
+        "", "max-frames", "Stop after N frames of the rawlog (0: all)", false, 0, "N", cmd);
+    TCLAP::ValueArg<std::string> config(
+        "c", "config", "INI file with a [Stereo] section", false, "", "INI", cmd);
+    TCLAP::MultiArg<std::string> sets(
+        "", "set", "Override a parameter: SECTION.key=value", false, "SECTION.key=value", cmd);
+    TCLAP::ValueArg<std::string> gt(
+        "", "gt-disparity", "Ground-truth disparity image of the first frame (0 = unknown)", false,
+        "", "PNG", cmd);
+    TCLAP::ValueArg<double> gt_scale(
+        "", "gt-disparity-scale", "Pixels of disparity per ground-truth unit (default 1)", false,
+        1.0, "S", cmd);
+    TCLAP::ValueArg<std::string> out_rawlog(
+        "", "out-rawlog", "Write the frames as CObservation3DRangeScan to this rawlog", false, "",
+        "FILE", cmd);
+    TCLAP::ValueArg<std::string> ply(
+        "", "ply", "Write the first frame's points", false, "", "FILE", cmd);
+    TCLAP::ValueArg<std::string> disp_png(
+        "", "disparity-png", "Write the first frame's disparity image", false, "", "FILE", cmd);
+
+    if (!parseCommandLine(cmd, argc, argv))
+    {
+        m_help_requested = true;
+        return;
+    }
+    m_left = left.getValue();
+    m_right = right.getValue();
+    m_calib = calib.getValue();
+    m_calib_section = calib_section.getValue();
+    m_rawlog = rawlog.getValue();
+    m_max_frames = max_frames.getValue();
+    m_gt_disparity = gt.getValue();
+    m_gt_scale = gt_scale.getValue();
+    m_out_rawlog = out_rawlog.getValue();
+    m_ply = ply.getValue();
+    m_disparity_png = disp_png.getValue();
+
+    const bool pair = !m_left.empty() || !m_right.empty();
+    if (pair == !m_rawlog.empty())
+    {
+        throw std::invalid_argument("give either --left/--right/--calib or --rawlog (see --help)");
+    }
+    if (pair && (m_left.empty() || m_right.empty() || m_calib.empty()))
+    {
+        throw std::invalid_argument("--left, --right and --calib go together (see --help)");
+    }
+    if (!config.getValue().empty())
+    {
+        requireFile(config.getValue(), "config file");
+        std::ifstream f(config.getValue());
+        params.setContent(std::string(std::istreambuf_iterator<char>(f), {}));
+    }
+    applyConfigOverrides(params, sets.getValue());
+}
+
+void StereoApp::run()
+{
+    if (m_help_requested)
+    {
+        return;
+    }
+    emslam::stereo::StereoMatcher::TParameters sp;
+    sp.loadFromConfigFile(params, STEREO_SECTION);
+    emslam::stereo::StereoFrontEnd front(sp);
+    std::cout << "[Stereo] algorithm=" << sp.algorithm << " image_scale=" << sp.image_scale
+              << " num_disparities=" << sp.num_disparities << " block_size=" << sp.block_size
+              << " range=[" << sp.min_range << ", " << sp.max_range << "] m\n";
+
+    std::unique_ptr<mrpt::io::CFileGZOutputStream> out_stream;
+    const std::string out_tmp = m_out_rawlog + ".partial";
+    if (!m_out_rawlog.empty())
+    {
+        out_stream = std::make_unique<mrpt::io::CFileGZOutputStream>();
+        if (!out_stream->open(out_tmp))
+        {
+            throw std::runtime_error("cannot write '" + m_out_rawlog + "'");
+        }
+    }
+
+    double total_ms = 0, total_density = 0;
+    auto handle = [&](const emslam::stereo::StereoFrame& f, double ms)
+    {
+        const auto z = depthStats(f);
+        std::printf(
+            "frame %zu: %dx%d, %zu points (density %.1f %%), depth %.2f / %.2f / %.2f m "
+            "(min/median/max), %.1f ms\n",
+            frames_processed, f.intensity.cols, f.intensity.rows, f.points.size(),
+            100.0 * f.density(), z.min, z.median, z.max, ms);
+        if (frames_processed == 0)
+        {
+            if (!m_ply.empty())
+            {
+                writePly(f, m_ply);
+            }
+            if (!m_disparity_png.empty())
+            {
+                writeDisparityPng(f, m_disparity_png);
+            }
+            if (!m_gt_disparity.empty())
+            {
+                cv::Mat gt = readImage(m_gt_disparity, "ground-truth disparity");
+                if (gt.channels() != 1)
+                {
+                    throw std::runtime_error("ground-truth disparity must be single-channel");
+                }
+                cv::Mat gtf;
+                // Disparities shrink with the image: scale values and size alike.
+                const double k = m_gt_scale * f.intensity.cols / static_cast<double>(gt.cols);
+                gt.convertTo(gtf, CV_32F, k);
+                cv::resize(gtf, gtf, f.intensity.size(), 0, 0, cv::INTER_NEAREST);
+                std::size_t n_gt = 0, n_both = 0, n_bad = 0;
+                for (int v = 0; v < gtf.rows; ++v)
+                {
+                    for (int u = 0; u < gtf.cols; ++u)
+                    {
+                        const float g = gtf.at<float>(v, u);
+                        const float d = f.disparity.at<float>(v, u);
+                        n_gt += g > 0;
+                        if (g > 0 && d > 0)
+                        {
+                            ++n_both;
+                            n_bad += std::abs(d - g) > 1.0f;
+                        }
+                    }
+                }
+                bad_pixel_rate = n_both ? static_cast<double>(n_bad) / n_both : 1.0;
+                gt_coverage = n_gt ? static_cast<double>(n_both) / n_gt : 0.0;
+                std::printf(
+                    "ground truth: bad pixels (|d - d_gt| > 1 px) %.2f %% of %zu matched "
+                    "pixels; %.1f %% of ground-truth pixels matched\n",
+                    100.0 * bad_pixel_rate, n_both, 100.0 * gt_coverage);
+            }
+        }
+        if (out_stream)
+        {
+            auto arch = mrpt::serialization::archiveFrom(*out_stream);
+            arch << *emslam::stereo::toRangeScan(f);
+        }
+        ++frames_processed;
+        total_points += f.points.size();
+        total_ms += ms;
+        total_density += f.density();
+    };
+    using clock = std::chrono::steady_clock;
+    auto msSince = [](clock::time_point t0)
+    { return std::chrono::duration<double, std::milli>(clock::now() - t0).count(); };
+
+    try
+    {
+        if (m_rawlog.empty())
+        {
+            const auto cam = emslam::stereo::loadStereoCameraFromIniFile(m_calib, m_calib_section);
+            const cv::Mat l = readImage(m_left, "left image"),
+                          r = readImage(m_right, "right image");
+            auto obs = mrpt::obs::CObservationStereoImages::Create();
+            obs->sensorLabel = "STEREO";
+            obs->timestamp = mrpt::Clock::now();
+            obs->imageLeft = mrpt::img::CImage(l, mrpt::img::SHALLOW_COPY);
+            obs->imageRight = mrpt::img::CImage(r, mrpt::img::SHALLOW_COPY);
+            obs->hasImageRight = true;
+            obs->setStereoCameraParams(cam);
+            const auto t0 = clock::now();
+            const auto f = front.process(*obs);
+            handle(f, msSince(t0));
+        }
+        else
+        {
+            requireFile(m_rawlog, "rawlog");
+            mrpt::io::CFileGZInputStream in;
+            if (!in.open(m_rawlog))
+            {
+                throw std::runtime_error("cannot open rawlog '" + m_rawlog + "'");
+            }
+            mrpt::img::CImage::setImagesPathBase(
+                mrpt::obs::CRawlog::detectImagesDirectory(m_rawlog));
+            auto arch = mrpt::serialization::archiveFrom(in);
+            mrpt::obs::CActionCollection::Ptr acts;
+            mrpt::obs::CSensoryFrame::Ptr sf;
+            mrpt::obs::CObservation::Ptr obs;
+            std::size_t idx = 0, ignored = 0;
+            while (
+                (m_max_frames == 0 || frames_processed < m_max_frames) &&
+                mrpt::obs::CRawlog::getActionObservationPairOrObservation(arch, acts, sf, obs, idx))
+            {
+                std::vector<mrpt::obs::CObservation::Ptr> batch;
+                if (obs)
+                {
+                    batch.push_back(obs);
+                }
+                else if (sf)
+                {
+                    batch.assign(sf->begin(), sf->end());
+                }
+                for (const auto& o : batch)
+                {
+                    emslam::stereo::StereoFrame f;
+                    const auto t0 = clock::now();
+                    if (!front.process(*o, f))
+                    {
+                        ++ignored;
+                        continue;
+                    }
+                    handle(f, msSince(t0));
+                }
+            }
+            if (ignored > 0)
+            {
+                std::printf("ignored %zu observations of other classes\n", ignored);
+            }
+        }
+    }
+    catch (...)
+    {
+        // Never leave a half-written output behind.
+        out_stream.reset();
+        std::remove(out_tmp.c_str());
+        throw;
+    }
+
+    if (out_stream)
+    {
+        out_stream->close();
+        if (!mrpt::system::renameFile(out_tmp, m_out_rawlog))
+        {
+            throw std::runtime_error("cannot rename '" + out_tmp + "' to '" + m_out_rawlog + "'");
+        }
+    }
+    if (frames_processed == 0)
+    {
+        throw std::runtime_error("no stereo or RGB-D observation found in the input");
+    }
+    mean_density = total_density / frames_processed;
+    mean_ms_per_frame = total_ms / frames_processed;
+    std::printf(
+        "%zu frame(s), %.0f points per frame on average (density %.1f %%), %.1f ms per frame\n",
+        frames_processed, static_cast<double>(total_points) / frames_processed,
+        100.0 * mean_density, mean_ms_per_frame);
+}
+
+}  // namespace emslam::apps

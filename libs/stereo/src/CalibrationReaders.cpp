@@ -1,0 +1,548 @@
+// SPDX-License-Identifier: BSD-3-Clause
+#include <emslam/stereo/CalibrationReaders.h>
+
+#include <mrpt/config/CConfigFile.h>
+#include <mrpt/math/CMatrixFixed.h>
+#include <mrpt/poses/CPose3D.h>
+#include <mrpt/poses/CPose3DQuat.h>
+
+#include <Eigen/Dense>
+#include <array>
+#include <charconv>
+#include <cmath>
+#include <filesystem>
+#include <fstream>
+#include <opencv2/core.hpp>
+#include <optional>
+#include <sstream>
+#include <stdexcept>
+#include <string>
+#include <string_view>
+#include <vector>
+
+namespace emslam::stereo
+{
+namespace
+{
+[[noreturn]] void fail(const std::string& what, const std::string& problem)
+{
+    throw std::runtime_error(what + ": " + problem);
+}
+
+void requireFile(const std::string& file, const std::string& what)
+{
+    std::error_code ec;
+    if (!std::filesystem::is_regular_file(file, ec))
+    {
+        fail(what, "file not found");
+    }
+}
+
+std::string_view trim(std::string_view s)
+{
+    const auto first = s.find_first_not_of(" \t\r\n");
+    if (first == std::string_view::npos)
+    {
+        return {};
+    }
+    const auto last = s.find_last_not_of(" \t\r\n");
+    return s.substr(first, last - first + 1);
+}
+
+/** Strict, locale-independent number parsing: the whole token must be a number. */
+std::optional<double> parseNumber(std::string_view tok)
+{
+    if (!tok.empty() && tok.front() == '+')
+    {
+        tok.remove_prefix(1);  // from_chars rejects a leading '+'
+    }
+    double v = 0;
+    const auto [ptr, ec] = std::from_chars(tok.data(), tok.data() + tok.size(), v);
+    if (ec != std::errc() || ptr != tok.data() + tok.size())
+    {
+        return std::nullopt;
+    }
+    return v;
+}
+
+/** MRPT exceptions carry a call stack: keep only their "Message:" line. */
+std::string shortMessage(const std::exception& e)
+{
+    const std::string msg = e.what();
+    const auto pos = msg.find("Message:");
+    if (pos == std::string::npos)
+    {
+        return std::string(trim(msg));
+    }
+    const auto end = msg.find('\n', pos);
+    return std::string(trim(std::string_view(msg).substr(pos + 8, end - pos - 8)));
+}
+
+std::string fmt(double v)
+{
+    std::ostringstream s;
+    s.precision(10);
+    s << v;
+    return s.str();
+}
+
+// ---------------------------------------------------------------------------
+// KITTI
+// ---------------------------------------------------------------------------
+/** One `Pn:` line: 3x4 row-major projection matrix and where it came from. */
+struct KittiProjection
+{
+    std::array<double, 12> p{};
+    std::size_t line_no{0};
+};
+
+std::array<double, 12> parseKittiMatrix(
+    std::string_view rest, const std::string& what, const std::string& key, std::size_t line_no)
+{
+    std::array<double, 12> p{};
+    std::size_t n = 0;
+    const std::string where = "line " + std::to_string(line_no) + " (" + key + ")";
+    std::size_t pos = 0;
+    while (true)
+    {
+        pos = rest.find_first_not_of(" \t", pos);
+        if (pos == std::string_view::npos)
+        {
+            break;
+        }
+        const auto end = std::min(rest.find_first_of(" \t", pos), rest.size());
+        const std::string_view tok = rest.substr(pos, end - pos);
+        pos = end;
+        const auto v = parseNumber(tok);
+        if (!v)
+        {
+            fail(what, where + ": '" + std::string(tok) + "' is not a number");
+        }
+        if (!std::isfinite(*v))
+        {
+            fail(what, where + ": non-finite value '" + std::string(tok) + "'");
+        }
+        if (n == p.size())
+        {
+            fail(what, where + ": more than 12 numbers");
+        }
+        p[n++] = *v;
+    }
+    if (n != p.size())
+    {
+        fail(what, where + ": " + std::to_string(n) + " numbers, expected 12 (3x4 row-major)");
+    }
+    // A rectified KITTI projection is K [I | t]: its last row must be (0 0 1 *).
+    if (p[8] != 0.0 || p[9] != 0.0 || std::abs(p[10] - 1.0) > 1e-9)
+    {
+        fail(what, where + ": not a rectified projection K[I|t] (third row must be 0 0 1 t)");
+    }
+    return p;
+}
+
+mrpt::img::TCamera cameraFromProjection(
+    const std::array<double, 12>& p, unsigned int w, unsigned int h)
+{
+    mrpt::img::TCamera c;
+    c.ncols = w;
+    c.nrows = h;
+    c.setIntrinsicParamsFromValues(p[0], p[5], p[2], p[6]);
+    c.distortion = mrpt::img::DistortionModel::none;
+    c.dist.fill(0.0);
+    return c;
+}
+
+// ---------------------------------------------------------------------------
+// EuRoC (ASL sensor.yaml)
+// ---------------------------------------------------------------------------
+std::vector<double> readYamlNumbers(
+    const cv::FileNode& parent,
+    const std::string& key,
+    const std::string& full_key,
+    const std::vector<std::size_t>& allowed_sizes,
+    const std::string& what)
+{
+    const cv::FileNode node = parent[key];
+    if (node.empty() || node.isNone())
+    {
+        fail(what, "missing key '" + full_key + "'");
+    }
+    if (!node.isSeq())
+    {
+        fail(what, "key '" + full_key + "' is not a list of numbers");
+    }
+    std::vector<double> out;
+    out.reserve(node.size());
+    for (const cv::FileNode& e : node)
+    {
+        if (!e.isInt() && !e.isReal())
+        {
+            fail(
+                what, "key '" + full_key + "' element " + std::to_string(out.size()) +
+                          " is not a number");
+        }
+        const double v = e.real();
+        if (!std::isfinite(v))
+        {
+            fail(
+                what,
+                "key '" + full_key + "' element " + std::to_string(out.size()) + " is not finite");
+        }
+        out.push_back(v);
+    }
+    bool size_ok = false;
+    std::string expected;
+    for (const auto n : allowed_sizes)
+    {
+        size_ok = size_ok || out.size() == n;
+        expected += (expected.empty() ? "" : " or ") + std::to_string(n);
+    }
+    if (!size_ok)
+    {
+        fail(
+            what, "key '" + full_key + "' has " + std::to_string(out.size()) +
+                      " numbers, expected " + expected);
+    }
+    return out;
+}
+
+std::optional<std::string> readYamlString(const cv::FileNode& parent, const std::string& key)
+{
+    const cv::FileNode node = parent[key];
+    if (node.empty() || node.isNone() || !node.isString())
+    {
+        return std::nullopt;
+    }
+    return node.string();
+}
+
+/** T_BS (4x4, row-major) as a rigid pose. The yaml numbers are rounded, so the
+ * rotation is re-orthonormalised (SVD) after checking it is close to one. */
+mrpt::poses::CPose3D readYamlPose(const cv::FileNode& root, const std::string& what)
+{
+    const cv::FileNode t_bs = root["T_BS"];
+    if (t_bs.empty() || t_bs.isNone())
+    {
+        fail(what, "missing key 'T_BS'");
+    }
+    if (!t_bs.isMap())
+    {
+        fail(what, "key 'T_BS' must be a map with 'rows', 'cols' and 'data'");
+    }
+    for (const char* dim : {"rows", "cols"})
+    {
+        const cv::FileNode d = t_bs[dim];
+        if (!d.empty() && !d.isNone() && (!d.isInt() || d.real() != 4.0))
+        {
+            fail(what, std::string("key 'T_BS.") + dim + "' must be 4");
+        }
+    }
+    const std::vector<double> m = readYamlNumbers(t_bs, "data", "T_BS.data", {16}, what);
+    if (m[12] != 0.0 || m[13] != 0.0 || m[14] != 0.0 || m[15] != 1.0)
+    {
+        fail(what, "key 'T_BS.data': last row must be 0 0 0 1");
+    }
+    Eigen::Matrix3d r;
+    r << m[0], m[1], m[2], m[4], m[5], m[6], m[8], m[9], m[10];
+    if ((r.transpose() * r - Eigen::Matrix3d::Identity()).cwiseAbs().maxCoeff() > 1e-4 ||
+        r.determinant() <= 0.0)
+    {
+        fail(what, "key 'T_BS.data': the 3x3 block is not a rotation matrix");
+    }
+    const Eigen::JacobiSVD<Eigen::Matrix3d> svd(r, Eigen::ComputeFullU | Eigen::ComputeFullV);
+    const Eigen::Matrix3d r_ortho = svd.matrixU() * svd.matrixV().transpose();
+
+    mrpt::math::CMatrixDouble44 h = mrpt::math::CMatrixDouble44::Identity();
+    for (int i = 0; i < 3; i++)
+    {
+        for (int j = 0; j < 3; j++)
+        {
+            h(i, j) = r_ortho(i, j);
+        }
+        h(i, 3) = m[4 * static_cast<std::size_t>(i) + 3];
+    }
+    return mrpt::poses::CPose3D(h);
+}
+
+/** Reads one EuRoC camera; also returns its pose in the body frame (T_body_cam). */
+mrpt::img::TCamera readEurocCamera(const std::string& file, mrpt::poses::CPose3D& T_body_cam)
+{
+    const std::string what = "EuRoC sensor.yaml '" + file + "'";
+    requireFile(file, what);
+
+    std::error_code ec;
+    if (std::filesystem::file_size(file, ec) == 0)
+    {
+        fail(what, "empty file");
+    }
+    cv::FileStorage fs;
+    try
+    {
+        // OpenCV's YAML reader accepts the ASL files (%YAML:1.0, flow lists
+        // spanning several lines, trailing comments).
+        fs.open(file, cv::FileStorage::READ);
+    }
+    catch (const cv::Exception& e)
+    {
+        // OpenCV puts a parse error's "file(line): reason" in the function-name field.
+        fail(what, "malformed YAML: " + (e.code == cv::Error::StsParseError ? e.func : e.err));
+    }
+    if (!fs.isOpened())
+    {
+        fail(what, "cannot be parsed as YAML");
+    }
+    const cv::FileNode root = fs.root();
+    if (!root.isMap())
+    {
+        fail(what, "malformed YAML: top level is not a map of keys");
+    }
+
+    if (const auto type = readYamlString(root, "sensor_type"); type && *type != "camera")
+    {
+        fail(what, "sensor_type is '" + *type + "', expected 'camera'");
+    }
+    if (const auto model = readYamlString(root, "camera_model"); model && *model != "pinhole")
+    {
+        fail(what, "unsupported camera_model '" + *model + "' (only 'pinhole')");
+    }
+
+    const auto res = readYamlNumbers(root, "resolution", "resolution", {2}, what);
+    for (const double v : res)
+    {
+        if (v < 1.0 || v != std::floor(v) || v > 1e6)
+        {
+            fail(what, "key 'resolution' must hold two positive integers [width, height]");
+        }
+    }
+    const auto k = readYamlNumbers(root, "intrinsics", "intrinsics", {4}, what);
+
+    const auto model = readYamlString(root, "distortion_model");
+    if (!model)
+    {
+        fail(what, "missing key 'distortion_model'");
+    }
+    if (*model != "radial-tangential" && *model != "radtan" && *model != "plumb_bob")
+    {
+        fail(what, "unsupported distortion_model '" + *model + "' (only radial-tangential)");
+    }
+    const auto d =
+        readYamlNumbers(root, "distortion_coefficients", "distortion_coefficients", {4, 5}, what);
+
+    mrpt::img::TCamera cam;
+    cam.ncols = static_cast<uint32_t>(res[0]);
+    cam.nrows = static_cast<uint32_t>(res[1]);
+    cam.setIntrinsicParamsFromValues(k[0], k[1], k[2], k[3]);
+    cam.setDistortionPlumbBob(d[0], d[1], d[2], d[3], d.size() > 4 ? d[4] : 0.0);
+
+    T_body_cam = readYamlPose(root, what);
+    return cam;
+}
+
+void validateCamera(const mrpt::img::TCamera& c, const std::string& what, const char* side)
+{
+    const std::string pre = std::string(side) + " camera: ";
+    if (c.ncols == 0 || c.nrows == 0)
+    {
+        fail(
+            what,
+            pre + "zero image size " + std::to_string(c.ncols) + "x" + std::to_string(c.nrows));
+    }
+    for (const double v : {c.fx(), c.fy(), c.cx(), c.cy()})
+    {
+        if (!std::isfinite(v))
+        {
+            fail(what, pre + "non-finite intrinsic parameter (NaN or inf)");
+        }
+    }
+    if (c.fx() <= 0.0 || c.fy() <= 0.0)
+    {
+        fail(what, pre + "non-positive focal length fx=" + fmt(c.fx()) + " fy=" + fmt(c.fy()));
+    }
+    for (const double v : c.dist)
+    {
+        if (!std::isfinite(v))
+        {
+            fail(what, pre + "non-finite distortion coefficient");
+        }
+    }
+}
+
+}  // namespace
+
+// ---------------------------------------------------------------------------
+mrpt::img::TStereoCamera loadKittiCalibration(
+    const std::string& calib_txt, unsigned int image_width, unsigned int image_height)
+{
+    const std::string what = "KITTI calib.txt '" + calib_txt + "'";
+    requireFile(calib_txt, what);
+    if (image_width == 0 || image_height == 0)
+    {
+        fail(
+            what, "image size must be given (got " + std::to_string(image_width) + "x" +
+                      std::to_string(image_height) + ")");
+    }
+    std::ifstream in(calib_txt);
+    if (!in)
+    {
+        fail(what, "cannot open file");
+    }
+
+    std::optional<KittiProjection> p0, p1;
+    std::string line;
+    std::size_t line_no = 0;
+    while (std::getline(in, line))
+    {
+        line_no++;
+        const std::string_view l = trim(line);  // also drops a CR of CRLF files
+        const auto colon = l.find(':');
+        if (colon == std::string_view::npos)
+        {
+            continue;
+        }
+        const std::string key(trim(l.substr(0, colon)));
+        if (key != "P0" && key != "P1")
+        {
+            continue;  // P2, P3, Tr, ... are not needed
+        }
+        auto& slot = key == "P0" ? p0 : p1;
+        if (slot)
+        {
+            fail(
+                what, "line " + std::to_string(line_no) + ": duplicate " + key +
+                          " (first at line " + std::to_string(slot->line_no) + ")");
+        }
+        slot = KittiProjection{parseKittiMatrix(l.substr(colon + 1), what, key, line_no), line_no};
+    }
+    if (!p0)
+    {
+        fail(what, "missing 'P0:' line (left camera projection)");
+    }
+    if (!p1)
+    {
+        fail(what, "missing 'P1:' line (right camera projection)");
+    }
+
+    mrpt::img::TStereoCamera cam;
+    cam.leftCamera = cameraFromProjection(p0->p, image_width, image_height);
+    cam.rightCamera = cameraFromProjection(p1->p, image_width, image_height);
+    for (const auto* pc : {&*p0, &*p1})
+    {
+        if (pc->p[0] <= 0.0)
+        {
+            fail(
+                what, "line " + std::to_string(pc->line_no) + ": non-positive focal length " +
+                          fmt(pc->p[0]));
+        }
+    }
+    // P = K [I | t] with t = (-x_cam * fx, 0, 0): positions along the rectified x
+    // axis are -P[0,3]/fx. P0[0,3] is 0 in KITTI, so this is -P1[0,3]/fx there.
+    const double x_left = -p0->p[3] / p0->p[0];
+    const double x_right = -p1->p[3] / p1->p[0];
+    const double baseline = x_right - x_left;
+    if (!(baseline > 0.0))
+    {
+        fail(
+            what, "line " + std::to_string(p1->line_no) +
+                      ": non-positive baseline -P1[0,3]/fx = " + fmt(baseline) + " m");
+    }
+    cam.rightCameraPose = mrpt::math::TPose3DQuat(baseline, 0, 0, 1, 0, 0, 0);
+    validateStereoCamera(cam, what);
+    return cam;
+}
+
+mrpt::img::TStereoCamera loadEurocCalibration(
+    const std::string& cam0_sensor_yaml, const std::string& cam1_sensor_yaml)
+{
+    mrpt::poses::CPose3D T_body_left, T_body_right;
+    mrpt::img::TStereoCamera cam;
+    cam.leftCamera = readEurocCamera(cam0_sensor_yaml, T_body_left);
+    cam.rightCamera = readEurocCamera(cam1_sensor_yaml, T_body_right);
+
+    // a - b is MRPT's inverse composition b^-1 * a: T_left_right = inv(T_body_left) * T_body_right.
+    const mrpt::poses::CPose3D T_left_right = T_body_right - T_body_left;
+    cam.rightCameraPose = mrpt::poses::CPose3DQuat(T_left_right).asTPose();
+
+    validateStereoCamera(
+        cam, "EuRoC calibration '" + cam0_sensor_yaml + "' + '" + cam1_sensor_yaml + "'");
+    return cam;
+}
+
+mrpt::img::TStereoCamera loadStereoCameraFromConfig(
+    const mrpt::config::CConfigFileBase& cfg, const std::string& section)
+{
+    const std::string what = "stereo calibration INI section prefix '" + section + "'";
+    for (const char* suffix : {"_LEFT", "_RIGHT", "_LEFT2RIGHT_POSE"})
+    {
+        if (!cfg.sectionExists(section + suffix))
+        {
+            fail(what, "missing section [" + section + suffix + "]");
+        }
+    }
+    mrpt::img::TStereoCamera cam;
+    try
+    {
+        cam.loadFromConfigFile(section, cfg);
+    }
+    catch (const std::exception& e)
+    {
+        fail(what, "cannot be read: " + shortMessage(e));
+    }
+    validateStereoCamera(cam, what);
+    // saveToConfigFile() writes the quaternion with 6 decimals: make it unit again.
+    auto& p = cam.rightCameraPose;
+    const double qn = std::sqrt(p.qr * p.qr + p.qx * p.qx + p.qy * p.qy + p.qz * p.qz);
+    p.qr /= qn;
+    p.qx /= qn;
+    p.qy /= qn;
+    p.qz /= qn;
+    return cam;
+}
+
+mrpt::img::TStereoCamera loadStereoCameraFromIniFile(
+    const std::string& ini_file, const std::string& section)
+{
+    const std::string what = "stereo calibration INI '" + ini_file + "'";
+    requireFile(ini_file, what);
+    const mrpt::config::CConfigFile cfg(ini_file);
+    try
+    {
+        return loadStereoCameraFromConfig(cfg, section);
+    }
+    catch (const std::exception& e)
+    {
+        fail(what, e.what());
+    }
+}
+
+void validateStereoCamera(const mrpt::img::TStereoCamera& cam, const std::string& what)
+{
+    validateCamera(cam.leftCamera, what, "left");
+    validateCamera(cam.rightCamera, what, "right");
+
+    const auto& p = cam.rightCameraPose;
+    for (const double v : {p.x, p.y, p.z, p.qr, p.qx, p.qy, p.qz})
+    {
+        if (!std::isfinite(v))
+        {
+            fail(what, "non-finite value (NaN or inf) in the right camera pose");
+        }
+    }
+    const double qn = std::sqrt(p.qr * p.qr + p.qx * p.qx + p.qy * p.qy + p.qz * p.qz);
+    if (std::abs(qn - 1.0) > 1e-3)
+    {
+        fail(what, "right camera pose quaternion is not unit (norm " + fmt(qn) + ")");
+    }
+    const double b = baselineOf(cam);
+    if (!(b > 1e-9))
+    {
+        fail(what, "zero baseline (right camera at the left camera's position)");
+    }
+}
+
+double baselineOf(const mrpt::img::TStereoCamera& cam)
+{
+    const auto& p = cam.rightCameraPose;
+    return std::sqrt(p.x * p.x + p.y * p.y + p.z * p.z);
+}
+
+}  // namespace emslam::stereo

@@ -1,0 +1,232 @@
+// SPDX-License-Identifier: BSD-3-Clause
+#include <emslam/stereo/CalibrationReaders.h>
+#include <emslam/stereo/StereoMatcher.h>
+
+#include <mrpt/config/CConfigFileBase.h>
+#include <mrpt/core/exceptions.h>
+
+#include <cmath>
+#include <opencv2/calib3d.hpp>
+#include <opencv2/imgproc.hpp>
+
+namespace emslam::stereo
+{
+namespace
+{
+int roundUpTo16(int n)
+{
+    return ((n + 15) / 16) * 16;
+}
+
+cv::Mat toGray(const cv::Mat& im)
+{
+    if (im.channels() == 1)
+    {
+        return im;
+    }
+    cv::Mat g;
+    cv::cvtColor(im, g, im.channels() == 4 ? cv::COLOR_BGRA2GRAY : cv::COLOR_BGR2GRAY);
+    return g;
+}
+
+/** Intrinsics after resizing an image by `s` (pixel centres stay aligned). */
+mrpt::img::TCamera scaledCamera(const mrpt::img::TCamera& c, double s)
+{
+    mrpt::img::TCamera o = c;
+    o.ncols = static_cast<uint32_t>(std::lround(c.ncols * s));
+    o.nrows = static_cast<uint32_t>(std::lround(c.nrows * s));
+    o.setIntrinsicParamsFromValues(
+        c.fx() * s, c.fy() * s, (c.cx() + 0.5) * s - 0.5, (c.cy() + 0.5) * s - 0.5);
+    return o;
+}
+}  // namespace
+
+void StereoMatcher::TParameters::loadFromConfigFile(
+    const mrpt::config::CConfigFileBase& c, const std::string& s)
+{
+    MRPT_LOAD_CONFIG_VAR(algorithm, string, c, s);
+    MRPT_LOAD_CONFIG_VAR(image_scale, double, c, s);
+    MRPT_LOAD_CONFIG_VAR(num_disparities, int, c, s);
+    MRPT_LOAD_CONFIG_VAR(min_disparity, int, c, s);
+    MRPT_LOAD_CONFIG_VAR(block_size, int, c, s);
+    MRPT_LOAD_CONFIG_VAR(uniqueness_ratio, int, c, s);
+    MRPT_LOAD_CONFIG_VAR(speckle_window_size, int, c, s);
+    MRPT_LOAD_CONFIG_VAR(speckle_range, int, c, s);
+    MRPT_LOAD_CONFIG_VAR(lr_max_diff, int, c, s);
+    MRPT_LOAD_CONFIG_VAR(texture_threshold, int, c, s);
+    MRPT_LOAD_CONFIG_VAR(pre_filter_cap, int, c, s);
+    MRPT_LOAD_CONFIG_VAR(min_range, double, c, s);
+    MRPT_LOAD_CONFIG_VAR(max_range, double, c, s);
+    validate();
+}
+
+void StereoMatcher::TParameters::saveToConfigFile(
+    mrpt::config::CConfigFileBase& c, const std::string& s) const
+{
+    MRPT_SAVE_CONFIG_VAR_COMMENT(algorithm, "sgbm | sgbm_3way | bm");
+    MRPT_SAVE_CONFIG_VAR_COMMENT(image_scale, "Resize factor before matching, (0,1]");
+    MRPT_SAVE_CONFIG_VAR_COMMENT(num_disparities, "Disparity range [px] at working scale");
+    MRPT_SAVE_CONFIG_VAR_COMMENT(min_disparity, "Smallest disparity searched [px]");
+    MRPT_SAVE_CONFIG_VAR_COMMENT(block_size, "Matching window side [px], odd");
+    MRPT_SAVE_CONFIG_VAR_COMMENT(uniqueness_ratio, "Uniqueness margin [%]");
+    MRPT_SAVE_CONFIG_VAR_COMMENT(speckle_window_size, "Speckle blob size removed [px]; 0: off");
+    MRPT_SAVE_CONFIG_VAR_COMMENT(speckle_range, "Max disparity step inside a blob [px]");
+    MRPT_SAVE_CONFIG_VAR_COMMENT(lr_max_diff, "Left-right check tolerance [px]; <0: off");
+    MRPT_SAVE_CONFIG_VAR_COMMENT(texture_threshold, "BM only: minimum texture");
+    MRPT_SAVE_CONFIG_VAR_COMMENT(pre_filter_cap, "Prefilter clip value");
+    MRPT_SAVE_CONFIG_VAR_COMMENT(min_range, "Minimum depth kept [m]");
+    MRPT_SAVE_CONFIG_VAR_COMMENT(max_range, "Maximum depth kept [m]");
+}
+
+void StereoMatcher::TParameters::validate() const
+{
+    ASSERTMSG_(
+        algorithm == "sgbm" || algorithm == "sgbm_3way" || algorithm == "bm",
+        "[Stereo] algorithm must be sgbm, sgbm_3way or bm, got '" + algorithm + "'");
+    ASSERTMSG_(image_scale > 0 && image_scale <= 1.0, "[Stereo] image_scale must be in (0, 1]");
+    ASSERTMSG_(num_disparities > 0, "[Stereo] num_disparities must be > 0");
+    ASSERTMSG_(block_size >= 1 && block_size % 2 == 1, "[Stereo] block_size must be odd, >= 1");
+    ASSERTMSG_(
+        algorithm != "bm" || (block_size >= 5 && block_size <= 255),
+        "[Stereo] block_size must be in [5, 255] for bm");
+    ASSERTMSG_(
+        uniqueness_ratio >= 0 && uniqueness_ratio <= 100,
+        "[Stereo] uniqueness_ratio must be in [0, 100]");
+    ASSERTMSG_(speckle_window_size >= 0, "[Stereo] speckle_window_size must be >= 0");
+    ASSERTMSG_(speckle_range >= 0, "[Stereo] speckle_range must be >= 0");
+    ASSERTMSG_(
+        pre_filter_cap >= 1 && pre_filter_cap <= 63, "[Stereo] pre_filter_cap must be in [1, 63]");
+    ASSERTMSG_(min_range >= 0, "[Stereo] min_range must be >= 0");
+    ASSERTMSG_(max_range > min_range, "[Stereo] max_range must be > min_range");
+}
+
+struct StereoMatcher::Impl
+{
+    cv::Ptr<cv::StereoMatcher> matcher;
+};
+
+StereoMatcher::StereoMatcher() : StereoMatcher(TParameters()) {}
+StereoMatcher::StereoMatcher(const TParameters& p) : m_impl(std::make_unique<Impl>())
+{
+    setParameters(p);
+}
+StereoMatcher::~StereoMatcher() = default;
+StereoMatcher::StereoMatcher(StereoMatcher&&) noexcept = default;
+StereoMatcher& StereoMatcher::operator=(StereoMatcher&&) noexcept = default;
+
+void StereoMatcher::setParameters(const TParameters& p)
+{
+    p.validate();
+    m_params = p;
+    const int nd = roundUpTo16(p.num_disparities);
+    const int lr = p.lr_max_diff < 0 ? -1 : p.lr_max_diff;
+    if (p.algorithm == "bm")
+    {
+        auto bm = cv::StereoBM::create(nd, p.block_size);
+        bm->setMinDisparity(p.min_disparity);
+        bm->setUniquenessRatio(p.uniqueness_ratio);
+        bm->setTextureThreshold(p.texture_threshold);
+        bm->setPreFilterCap(p.pre_filter_cap);
+        bm->setSpeckleWindowSize(p.speckle_window_size);
+        bm->setSpeckleRange(p.speckle_range);
+        bm->setDisp12MaxDiff(lr);
+        m_impl->matcher = bm;
+        return;
+    }
+    // The usual smoothness penalties for a single-channel image.
+    const int area = p.block_size * p.block_size;
+    auto sgbm = cv::StereoSGBM::create(
+        p.min_disparity, nd, p.block_size, 8 * area, 32 * area, lr, p.pre_filter_cap,
+        p.uniqueness_ratio, p.speckle_window_size, p.speckle_range,
+        p.algorithm == "sgbm_3way" ? cv::StereoSGBM::MODE_SGBM_3WAY : cv::StereoSGBM::MODE_SGBM);
+    m_impl->matcher = sgbm;
+}
+
+cv::Mat StereoMatcher::computeDisparity(const cv::Mat& left_gray, const cv::Mat& right_gray) const
+{
+    ASSERTMSG_(!left_gray.empty() && !right_gray.empty(), "Stereo: empty image");
+    ASSERTMSG_(left_gray.size() == right_gray.size(), "Stereo: left/right image sizes differ");
+    cv::Mat l = toGray(left_gray), r = toGray(right_gray);
+    ASSERTMSG_(l.depth() == CV_8U, "Stereo: images must be 8-bit");
+    if (m_params.image_scale != 1.0)
+    {
+        cv::resize(l, l, cv::Size(), m_params.image_scale, m_params.image_scale, cv::INTER_AREA);
+        cv::resize(r, r, cv::Size(), m_params.image_scale, m_params.image_scale, cv::INTER_AREA);
+    }
+    cv::Mat disp16;
+    m_impl->matcher->compute(l, r, disp16);
+    // OpenCV returns fixed point (x16) with min_disparity-1 marking invalid pixels.
+    cv::Mat disp;
+    disp16.convertTo(disp, CV_32F, 1.0 / 16.0);
+    cv::Mat invalid = disp16 < static_cast<short>(m_params.min_disparity * 16);
+    disp.setTo(0.0f, invalid);
+    return disp;
+}
+
+StereoFrame StereoMatcher::compute(
+    const cv::Mat& left, const cv::Mat& right, const mrpt::img::TStereoCamera& camera) const
+{
+    ASSERTMSG_(!left.empty() && !right.empty(), "Stereo: empty image");
+    ASSERTMSG_(
+        left.cols == static_cast<int>(camera.leftCamera.ncols) &&
+            left.rows == static_cast<int>(camera.leftCamera.nrows),
+        mrpt::format(
+            "Stereo: image size %dx%d differs from the calibration's %ux%u", left.cols, left.rows,
+            camera.leftCamera.ncols, camera.leftCamera.nrows));
+    validateStereoCamera(camera, "stereo calibration");
+
+    StereoFrame f;
+    const double s = m_params.image_scale;
+    f.camera = camera;
+    f.camera.leftCamera = scaledCamera(camera.leftCamera, s);
+    f.camera.rightCamera = scaledCamera(camera.rightCamera, s);
+
+    f.disparity = computeDisparity(left, right);
+    const cv::Mat gray = toGray(left);
+    if (s != 1.0)
+    {
+        cv::resize(gray, f.intensity, f.disparity.size(), 0, 0, cv::INTER_AREA);
+    }
+    else
+    {
+        f.intensity = gray.clone();
+    }
+
+    const auto& lc = f.camera.leftCamera;
+    const double fx = lc.fx(), fy = lc.fy(), cx = lc.cx(), cy = lc.cy();
+    // A rectified pair may keep different principal points (e.g. Middlebury):
+    // the true disparity is then d + (cx_right - cx_left).
+    const double doffs = f.camera.rightCamera.cx() - cx;
+    const double fb = fx * baselineOf(camera);
+
+    f.valid = cv::Mat::zeros(f.disparity.size(), CV_8UC1);
+    f.points.reserve(f.disparity.total() / 2);
+    f.pixels.reserve(f.disparity.total() / 2);
+    for (int v = 0; v < f.disparity.rows; ++v)
+    {
+        float* drow = f.disparity.ptr<float>(v);
+        uint8_t* mrow = f.valid.ptr<uint8_t>(v);
+        for (int u = 0; u < f.disparity.cols; ++u)
+        {
+            if (drow[u] <= 0.0f)
+            {
+                continue;
+            }
+            const double d = drow[u] + doffs;
+            const double z = d > 0.0 ? fb / d : -1.0;
+            if (z < m_params.min_range || z > m_params.max_range)
+            {
+                drow[u] = 0.0f;  // keep `disparity` consistent with `valid`
+                continue;
+            }
+            mrow[u] = 255;
+            f.points.emplace_back(
+                static_cast<float>((u - cx) * z / fx), static_cast<float>((v - cy) * z / fy),
+                static_cast<float>(z));
+            f.pixels.push_back({static_cast<uint16_t>(u), static_cast<uint16_t>(v)});
+        }
+    }
+    return f;
+}
+
+}  // namespace emslam::stereo

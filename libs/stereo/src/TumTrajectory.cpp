@@ -1,0 +1,162 @@
+// SPDX-License-Identifier: BSD-3-Clause
+#include <emslam/stereo/TumTrajectory.h>
+
+#include <mrpt/core/exceptions.h>
+#include <mrpt/math/CQuaternion.h>
+
+#include <charconv>
+#include <cmath>
+#include <cstdio>
+#include <fstream>
+#include <ostream>
+#include <sstream>
+
+namespace emslam::stereo
+{
+namespace
+{
+/** Shortest decimal text that reads back to the same double. */
+std::string shortest(double v)
+{
+    char buf[64];
+    const auto res = std::to_chars(buf, buf + sizeof(buf), v);
+    return std::string(buf, res.ptr);
+}
+
+/** Splits on spaces, tabs and commas; parses every token as a double. Returns
+ * false if a token is not a number. */
+bool parseNumbers(const std::string& line, std::vector<double>& out)
+{
+    out.clear();
+    std::size_t i = 0;
+    const std::size_t n = line.size();
+    auto is_sep = [](char c) { return c == ' ' || c == '\t' || c == ',' || c == '\r'; };
+    while (i < n)
+    {
+        while (i < n && is_sep(line[i]))
+        {
+            ++i;
+        }
+        if (i >= n)
+        {
+            break;
+        }
+        std::size_t j = i;
+        while (j < n && !is_sep(line[j]))
+        {
+            ++j;
+        }
+        const char* first = line.data() + i;
+        const char* last = line.data() + j;
+        if (*first == '+')
+        {
+            ++first;
+        }
+        double v = 0;
+        const auto res = std::from_chars(first, last, v);
+        if (res.ec != std::errc() || res.ptr != last)
+        {
+            return false;
+        }
+        out.push_back(v);
+        i = j;
+    }
+    return true;
+}
+}  // namespace
+
+std::string TumTrajectory::formatLine(const TumPose& p)
+{
+    mrpt::math::CQuaternionDouble q;
+    p.pose.getAsQuaternion(q);
+    q.ensurePositiveRealPart();
+    char tbuf[64];
+    std::snprintf(tbuf, sizeof(tbuf), "%.9f", p.t);
+    std::string s = tbuf;
+    for (const double v : {p.pose.x(), p.pose.y(), p.pose.z(), q.x(), q.y(), q.z(), q.r()})
+    {
+        s += ' ';
+        s += shortest(v);
+    }
+    return s;
+}
+
+void TumTrajectory::writeTo(std::ostream& out) const
+{
+    for (const auto& p : poses)
+    {
+        out << formatLine(p) << '\n';
+    }
+}
+
+void TumTrajectory::saveToFile(const std::string& file) const
+{
+    std::ofstream f(file, std::ios::out | std::ios::trunc);
+    if (!f.is_open())
+    {
+        THROW_EXCEPTION_FMT("Cannot open trajectory file '%s' for writing", file.c_str());
+    }
+    writeTo(f);
+    f.flush();
+    if (!f.good())
+    {
+        THROW_EXCEPTION_FMT("Error writing trajectory file '%s'", file.c_str());
+    }
+}
+
+void TumTrajectory::loadFromFile(const std::string& file)
+{
+    std::ifstream f(file);
+    if (!f.is_open())
+    {
+        THROW_EXCEPTION_FMT("Cannot open trajectory file '%s'", file.c_str());
+    }
+    std::vector<TumPose> out;
+    std::vector<double> v;
+    std::string line;
+    std::size_t line_no = 0;
+    while (std::getline(f, line))
+    {
+        ++line_no;
+        const auto first = line.find_first_not_of(" \t\r");
+        if (first == std::string::npos || line[first] == '#')
+        {
+            continue;
+        }
+        if (!parseNumbers(line, v) || v.size() != 8)
+        {
+            THROW_EXCEPTION_FMT(
+                "%s:%zu: expected 8 numbers 'timestamp tx ty tz qx qy qz qw', got '%s'",
+                file.c_str(), line_no, line.c_str());
+        }
+        for (const double x : v)
+        {
+            if (!std::isfinite(x))
+            {
+                THROW_EXCEPTION_FMT(
+                    "%s:%zu: non-finite number in '%s'", file.c_str(), line_no, line.c_str());
+            }
+        }
+        const double norm = std::sqrt(v[4] * v[4] + v[5] * v[5] + v[6] * v[6] + v[7] * v[7]);
+        if (norm < 1e-9)
+        {
+            THROW_EXCEPTION_FMT("%s:%zu: zero quaternion", file.c_str(), line_no);
+        }
+        const mrpt::math::CQuaternionDouble q(v[7] / norm, v[4] / norm, v[5] / norm, v[6] / norm);
+        out.push_back({v[0], mrpt::poses::CPose3D(q, v[1], v[2], v[3])});
+    }
+    if (f.bad())
+    {
+        THROW_EXCEPTION_FMT("Error reading trajectory file '%s'", file.c_str());
+    }
+    poses = std::move(out);
+}
+
+TumTrajectory TumTrajectory::FromFile(const std::string& file)
+{
+    TumTrajectory t;
+    t.loadFromFile(file);
+    return t;
+}
+
+}  // namespace emslam::stereo

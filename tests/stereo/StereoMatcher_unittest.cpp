@@ -1,0 +1,248 @@
+// SPDX-License-Identifier: BSD-3-Clause
+#include "SyntheticStereo.h"
+#include "TestData.h"
+
+#include <emslam/stereo/StereoMatcher.h>
+
+#include <mrpt/config/CConfigFile.h>
+#include <mrpt/config/CConfigFileMemory.h>
+
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <cmath>
+#include <filesystem>
+#include <opencv2/imgcodecs.hpp>
+#include <opencv2/imgproc.hpp>
+#include <vector>
+
+using emslam::stereo::StereoMatcher;
+
+namespace
+{
+double median(std::vector<double> v)
+{
+    std::nth_element(v.begin(), v.begin() + v.size() / 2, v.end());
+    return v[v.size() / 2];
+}
+
+// Depth error of a fronto-parallel plane: returns {median |dz|, fraction within tol, density}.
+struct PlaneResult
+{
+    double median_abs_err{0}, inlier_fraction{0}, density{0};
+};
+
+PlaneResult reconstructPlane(const StereoMatcher::TParameters& p, double z_true)
+{
+    const auto cam = emslam::test::idealStereoCamera(320, 240, 200.0, 0.10);
+    cv::Mat l, r;
+    emslam::test::renderFrontoParallelPlane(cam, z_true, 7, l, r);
+    const auto f = StereoMatcher(p).compute(l, r, cam);
+    PlaneResult res;
+    std::vector<double> err;
+    std::size_t inliers = 0;
+    // Disparity-quantisation-level noise: sigma_z = z^2 / (f B) * 0.25 px.
+    const double tol = 3.0 * z_true * z_true / (200.0 * 0.10) * 0.25;
+    for (const auto& pt : f.points)
+    {
+        err.push_back(std::abs(pt.z - z_true));
+        inliers += err.back() < tol;
+    }
+    if (!err.empty())
+    {
+        res.median_abs_err = median(err);
+        res.inlier_fraction = static_cast<double>(inliers) / err.size();
+    }
+    res.density = f.density();
+    return res;
+}
+}  // namespace
+
+TEST(StereoMatcher, frontoParallelPlaneReconstructsAtItsDepth)
+{
+    StereoMatcher::TParameters p;
+    for (const double z : {1.3, 2.3, 4.1})
+    {
+        const auto r = reconstructPlane(p, z);
+        // SGBM's parabolic sub-pixel fit is biased toward whole pixels
+        // ("pixel locking"): up to ~0.25 px at fractional disparities.
+        const double dz_per_px = z * z / (200.0 * 0.10);
+        EXPECT_LT(r.median_abs_err, 0.3 * dz_per_px) << "z=" << z;
+        EXPECT_GT(r.inlier_fraction, 0.97) << "z=" << z;
+        // Everything but the left band where the right camera sees nothing.
+        EXPECT_GT(r.density, 0.6) << "z=" << z;
+    }
+    // A whole-pixel disparity (16 px at 1.25 m) is recovered almost exactly.
+    const auto r = reconstructPlane(p, 1.25);
+    EXPECT_LT(r.median_abs_err, 0.05 * 1.25 * 1.25 / 20.0);
+}
+
+TEST(StereoMatcher, blockMatchingAlsoReconstructsThePlane)
+{
+    StereoMatcher::TParameters p;
+    p.algorithm = "bm";
+    p.block_size = 9;
+    const auto r = reconstructPlane(p, 2.3);
+    EXPECT_LT(r.median_abs_err, 0.3 * 2.3 * 2.3 / 20.0);
+    EXPECT_GT(r.inlier_fraction, 0.95);
+    EXPECT_GT(r.density, 0.5);
+}
+
+TEST(StereoMatcher, pointsAreInTheLeftCameraFrameAndMatchTheirPixels)
+{
+    const auto cam = emslam::test::idealStereoCamera(320, 240, 200.0, 0.10);
+    cv::Mat l, r;
+    emslam::test::renderFrontoParallelPlane(cam, 2.0, 3, l, r);
+    const auto f = StereoMatcher().compute(l, r, cam);
+    ASSERT_FALSE(f.empty());
+    ASSERT_EQ(f.points.size(), f.pixels.size());
+    EXPECT_EQ(static_cast<std::size_t>(cv::countNonZero(f.valid)), f.points.size());
+    for (std::size_t i = 0; i < f.points.size(); i += 97)
+    {
+        const auto& p = f.points[i];
+        const double u = 200.0 * p.x / p.z + cam.leftCamera.cx();
+        const double v = 200.0 * p.y / p.z + cam.leftCamera.cy();
+        EXPECT_NEAR(u, f.pixels[i].u, 1e-3);
+        EXPECT_NEAR(v, f.pixels[i].v, 1e-3);
+        EXPECT_GT(f.disparity.at<float>(f.pixels[i].v, f.pixels[i].u), 0.0f);
+    }
+}
+
+TEST(StereoMatcher, imageScaleHalvesTheFrameAndKeepsDepth)
+{
+    StereoMatcher::TParameters p;
+    p.image_scale = 0.5;
+    p.num_disparities = 32;
+    const auto cam = emslam::test::idealStereoCamera(640, 480, 400.0, 0.10);
+    cv::Mat l, r;
+    emslam::test::renderFrontoParallelPlane(cam, 2.0, 11, l, r);
+    const auto f = StereoMatcher(p).compute(l, r, cam);
+    EXPECT_EQ(f.intensity.cols, 320);
+    EXPECT_EQ(f.intensity.rows, 240);
+    EXPECT_EQ(f.camera.leftCamera.ncols, 320u);
+    EXPECT_NEAR(f.camera.leftCamera.fx(), 200.0, 1e-9);
+    EXPECT_NEAR(f.camera.leftCamera.cx(), (319.5 + 0.5) * 0.5 - 0.5, 1e-9);
+    std::vector<double> z;
+    for (const auto& pt : f.points)
+    {
+        z.push_back(pt.z);
+    }
+    ASSERT_GT(z.size(), 10000u);
+    EXPECT_NEAR(median(z), 2.0, 0.02);
+}
+
+TEST(StereoMatcher, maxRangeDropsFarPoints)
+{
+    StereoMatcher::TParameters p;
+    p.max_range = 2.0;
+    const auto r = reconstructPlane(p, 4.1);
+    EXPECT_EQ(r.density, 0.0);
+}
+
+TEST(StereoMatcher, emptyAndMismatchedImagesThrow)
+{
+    const auto cam = emslam::test::idealStereoCamera(320, 240, 200.0, 0.10);
+    StereoMatcher m;
+    cv::Mat l, r;
+    emslam::test::renderFrontoParallelPlane(cam, 2.0, 1, l, r);
+    EXPECT_THROW(m.compute(cv::Mat(), r, cam), std::exception);
+    EXPECT_THROW(m.compute(l, r(cv::Rect(0, 0, 300, 240)).clone(), cam), std::exception);
+    const auto wrong = emslam::test::idealStereoCamera(640, 480, 200.0, 0.10);
+    EXPECT_THROW(m.compute(l, r, wrong), std::exception);
+    const auto no_baseline = emslam::test::idealStereoCamera(320, 240, 200.0, 0.0);
+    EXPECT_THROW(m.compute(l, r, no_baseline), std::exception);
+}
+
+TEST(StereoMatcher, textureLessPairGivesNoPoints)
+{
+    const auto cam = emslam::test::idealStereoCamera(320, 240, 200.0, 0.10);
+    const cv::Mat flat(240, 320, CV_8UC1, cv::Scalar(128));
+    const auto f = StereoMatcher().compute(flat, flat, cam);
+    EXPECT_LT(f.density(), 0.01);
+}
+
+TEST(StereoMatcherParameters, loadsNonDefaultValuesFromIni)
+{
+    mrpt::config::CConfigFileMemory c(std::string(R"(
+[Stereo]
+algorithm = bm
+image_scale = 0.5
+num_disparities = 48
+min_disparity = 2
+block_size = 11
+uniqueness_ratio = 15
+speckle_window_size = 50
+speckle_range = 3
+lr_max_diff = -1
+texture_threshold = 20
+pre_filter_cap = 40
+min_range = 0.5
+max_range = 20
+)"));
+    StereoMatcher::TParameters p;
+    p.loadFromConfigFile(c, "Stereo");
+    EXPECT_EQ(p.algorithm, "bm");
+    EXPECT_EQ(p.image_scale, 0.5);
+    EXPECT_EQ(p.num_disparities, 48);
+    EXPECT_EQ(p.min_disparity, 2);
+    EXPECT_EQ(p.block_size, 11);
+    EXPECT_EQ(p.uniqueness_ratio, 15);
+    EXPECT_EQ(p.speckle_window_size, 50);
+    EXPECT_EQ(p.speckle_range, 3);
+    EXPECT_EQ(p.lr_max_diff, -1);
+    EXPECT_EQ(p.texture_threshold, 20);
+    EXPECT_EQ(p.pre_filter_cap, 40);
+    EXPECT_EQ(p.min_range, 0.5);
+    EXPECT_EQ(p.max_range, 20.0);
+}
+
+TEST(StereoMatcherParameters, saveAndReloadRoundTrips)
+{
+    StereoMatcher::TParameters p;
+    p.algorithm = "sgbm_3way";
+    p.image_scale = 0.25;
+    p.num_disparities = 80;
+    p.block_size = 7;
+    p.max_range = 30.5;
+    mrpt::config::CConfigFileMemory c;
+    p.saveToConfigFile(c, "Stereo");
+    const mrpt::config::CConfigFileMemory reparsed(c.getContent());
+    StereoMatcher::TParameters q;
+    q.loadFromConfigFile(reparsed, "Stereo");
+    EXPECT_EQ(q.algorithm, p.algorithm);
+    EXPECT_EQ(q.image_scale, p.image_scale);
+    EXPECT_EQ(q.num_disparities, p.num_disparities);
+    EXPECT_EQ(q.block_size, p.block_size);
+    EXPECT_EQ(q.max_range, p.max_range);
+    EXPECT_EQ(q.min_range, p.min_range);
+}
+
+TEST(StereoMatcherParameters, invalidValuesThrow)
+{
+    const char* bad[] = {"algorithm = census",    "image_scale = 0", "image_scale = 1.5",
+                         "num_disparities = 0",   "block_size = 4",  "max_range = 0.1",
+                         "uniqueness_ratio = 101"};
+    for (const char* line : bad)
+    {
+        mrpt::config::CConfigFileMemory c(std::string("[Stereo]\n") + line + "\n");
+        StereoMatcher::TParameters p;
+        EXPECT_THROW(p.loadFromConfigFile(c, "Stereo"), std::exception) << line;
+    }
+}
+
+TEST(StereoMatcherParameters, shippedConfigsLoad)
+{
+    const std::string dir = emslam::test::sourceDir() + "/config/stereo";
+    std::vector<std::string> files;
+    for (const auto& e : std::filesystem::directory_iterator(dir))
+    {
+        if (e.path().extension() == ".ini")
+        {
+            mrpt::config::CConfigFile c(e.path().string());
+            StereoMatcher::TParameters p;
+            EXPECT_NO_THROW(p.loadFromConfigFile(c, "Stereo")) << e.path();
+            files.push_back(e.path().string());
+        }
+    }
+    EXPECT_FALSE(files.empty());
+}
