@@ -15,9 +15,11 @@ class ThrowingOutput : public TCLAP::StdOutput
 public:
     void failure(TCLAP::CmdLineInterface& c, TCLAP::ArgException& e) override
     {
+        // TCLAP's argId() is blank when no single argument is to blame.
+        const bool has_id = e.argId().find_first_not_of(' ') != std::string::npos;
         throw std::invalid_argument(
-            "bad command line: " + e.error() + (e.argId().empty() ? "" : " (" + e.argId() + ")") +
-            "; try " + c.getProgramName() + " --help");
+            "bad command line: " + e.error() + (has_id ? " (" + e.argId() + ")" : "") + "; try " +
+            c.getProgramName() + " --help");
     }
 };
 }  // namespace

@@ -1,4 +1,5 @@
 // SPDX-License-Identifier: BSD-3-Clause
+#include <emslam/apps/CommandLine.h>
 #include <emslam/apps/ImportApp.h>
 #include <emslam/stereo/EurocSequence.h>
 #include <emslam/stereo/KittiSequence.h>
@@ -33,33 +34,10 @@ namespace
 {
 constexpr const char* PROGRAM = "emslam-import";
 
-/** TCLAP output that keeps usage text and parse errors instead of printing. */
-class CapturingOutput : public TCLAP::StdOutput
-{
-public:
-    explicit CapturingOutput(std::ostringstream& text) : TCLAP::StdOutput(text), m_text(text) {}
-
-    void failure(TCLAP::CmdLineInterface& c, TCLAP::ArgException& e) override
-    {
-        failed = true;
-        const std::string id = e.argId();
-        error = (id.empty() || id == " " || id == "undefined argument") ? e.error()
-                                                                        : id + ": " + e.error();
-        m_text.str("");
-        _shortUsage(c, m_text);
-    }
-
-    bool failed{false};
-    std::string error;
-
-private:
-    std::ostringstream& m_text;
-};
-
 [[noreturn]] void usageError(const std::string& msg)
 {
     throw std::invalid_argument(
-        std::string(PROGRAM) + ": " + msg + "\nRun '" + PROGRAM + " --help' for the usage.");
+        "bad command line: " + msg + "; try " + std::string(PROGRAM) + " --help");
 }
 
 /** A dataset reader seen through one interface. */
@@ -213,8 +191,6 @@ void ImportApp::initialize(int argc, char** argv)
 
 void ImportApp::initialize(int argc, const char** argv)
 {
-    std::ostringstream text;
-    CapturingOutput out(text);
     TCLAP::CmdLine cmd(
         "Imports a KITTI odometry, EuRoC MAV or TUM RGB-D sequence into a gz-compressed rawlog of "
         "stock MRPT observations (CObservationStereoImages / CObservation3DRangeScan), and its "
@@ -227,8 +203,6 @@ void ImportApp::initialize(int argc, const char** argv)
             "v101.tum', '" +
             PROGRAM + " tum rgbd_dataset_freiburg1_xyz -o fr1xyz.rawlog --gt-out fr1xyz.tum'.",
         ' ', std::string("emslam-import (") + mrpt::system::MRPT_getVersion() + ")");
-    const std::unique_ptr<TCLAP::CmdLineOutput> default_output(cmd.getOutput());
-    cmd.setOutput(&out);
 
     TCLAP::UnlabeledValueArg<std::string> arg_dataset(
         "dataset", "Dataset format: kitti, euroc or tum.", true, "", "kitti|euroc|tum", cmd);
@@ -283,15 +257,9 @@ void ImportApp::initialize(int argc, const char** argv)
         args.push_back(PROGRAM);
     }
     args[0] = PROGRAM;
-    if (!cmd.parse(static_cast<int>(args.size()), args.data()))
+    if (!parseCommandLine(cmd, static_cast<int>(args.size()), args.data()))
     {
-        if (out.failed)
-        {
-            usageError(out.error + "\nUsage:\n" + text.str());
-        }
-        std::cout << text.str();
-        std::cout.flush();
-        quit_requested = true;
+        quit_requested = true;  // --help / --version: already printed
         return;
     }
 
@@ -511,9 +479,13 @@ void ImportApp::run()
                     if (!T_world_ref)
                     {
                         T_world_ref = *fr.ground_truth;
+                        gt.add(fr.t, mrpt::poses::CPose3D());  // exactly the identity
                     }
-                    // T_ref_cam = inv(T_world_ref) * T_world_cam
-                    gt.push_back(fr.t, *fr.ground_truth - *T_world_ref);
+                    else
+                    {
+                        // T_ref_cam = inv(T_world_ref) * T_world_cam
+                        gt.add(fr.t, *fr.ground_truth - *T_world_ref);
+                    }
                 }
                 else if (src.has_gt)
                 {

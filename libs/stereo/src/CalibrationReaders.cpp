@@ -1,5 +1,6 @@
 // SPDX-License-Identifier: BSD-3-Clause
 #include <emslam/stereo/CalibrationReaders.h>
+#include <emslam/stereo/ExceptionMessage.h>
 
 #include <mrpt/config/CConfigFile.h>
 #include <mrpt/math/CMatrixFixed.h>
@@ -63,19 +64,6 @@ std::optional<double> parseNumber(std::string_view tok)
         return std::nullopt;
     }
     return v;
-}
-
-/** MRPT exceptions carry a call stack: keep only their "Message:" line. */
-std::string shortMessage(const std::exception& e)
-{
-    const std::string msg = e.what();
-    const auto pos = msg.find("Message:");
-    if (pos == std::string::npos)
-    {
-        return std::string(trim(msg));
-    }
-    const auto end = msg.find('\n', pos);
-    return std::string(trim(std::string_view(msg).substr(pos + 8, end - pos - 8)));
 }
 
 std::string fmt(double v)
@@ -485,7 +473,7 @@ mrpt::img::TStereoCamera loadStereoCameraFromConfig(
     }
     catch (const std::exception& e)
     {
-        fail(what, "cannot be read: " + shortMessage(e));
+        fail(what, "cannot be read: " + shortExceptionMessage(e));
     }
     validateStereoCamera(cam, what);
     // saveToConfigFile() writes the quaternion with 6 decimals: make it unit again.

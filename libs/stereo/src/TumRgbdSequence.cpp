@@ -13,6 +13,7 @@
 #include <limits>
 #include <opencv2/imgcodecs.hpp>
 #include <sstream>
+#include <utility>
 
 namespace fs = std::filesystem;
 
@@ -58,7 +59,10 @@ std::vector<ListEntry> readList(const std::string& dir, const std::string& name)
                 "%s:%zu: expected 'timestamp filename', got '%s'", file.c_str(), line_no,
                 line.c_str());
         }
-        out.push_back({t, dir + "/" + fname});
+        std::string path = dir;
+        path += "/";
+        path += fname;
+        out.push_back({t, std::move(path)});
     }
     if (out.empty())
     {
@@ -228,7 +232,7 @@ void TumRgbdSequence::open(const std::string& rgbd_dir)
     const std::string gt_file = rgbd_dir + "/groundtruth.txt";
     if (fs::exists(gt_file, ec))
     {
-        auto traj = TumTrajectory::FromFile(gt_file);
+        auto traj = TumTrajectory::fromFile(gt_file);
         std::stable_sort(
             traj.poses.begin(), traj.poses.end(),
             [](const auto& a, const auto& b) { return a.t < b.t; });

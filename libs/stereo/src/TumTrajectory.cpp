@@ -6,7 +6,6 @@
 
 #include <charconv>
 #include <cmath>
-#include <cstdio>
 #include <fstream>
 #include <ostream>
 #include <sstream>
@@ -70,9 +69,7 @@ std::string TumTrajectory::formatLine(const TumPose& p)
     mrpt::math::CQuaternionDouble q;
     p.pose.getAsQuaternion(q);
     q.ensurePositiveRealPart();
-    char tbuf[64];
-    std::snprintf(tbuf, sizeof(tbuf), "%.9f", p.t);
-    std::string s = tbuf;
+    std::string s = shortest(p.t);
     for (const double v : {p.pose.x(), p.pose.y(), p.pose.z(), q.x(), q.y(), q.z(), q.r()})
     {
         s += ' ';
@@ -152,7 +149,7 @@ void TumTrajectory::loadFromFile(const std::string& file)
     poses = std::move(out);
 }
 
-TumTrajectory TumTrajectory::FromFile(const std::string& file)
+TumTrajectory TumTrajectory::fromFile(const std::string& file)
 {
     TumTrajectory t;
     t.loadFromFile(file);

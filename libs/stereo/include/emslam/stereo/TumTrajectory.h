@@ -25,10 +25,10 @@ struct TumPose
  * spaces (or tabs, or commas when reading). Lines that are empty or start with
  * `#` are comments.
  *
- * Writing uses a fixed 9-decimal timestamp and the shortest decimal form that
- * reads back to the same `double` for the other numbers, so a write/read round
- * trip is exact up to the 0.5 ns rounding of the timestamp. Quaternions are
- * written with `qw >= 0`; reading normalizes them.
+ * Writing uses, for every number, the shortest decimal form that reads back to
+ * the same `double`, so a write/read round trip is exact (up to the
+ * quaternion conversion of the rotation, ~1e-16). Quaternions are written
+ * with `qw >= 0`; reading normalizes them.
  * \ingroup emslam_stereo_grp \sa TumPose */
 class TumTrajectory
 {
@@ -41,7 +41,7 @@ public:
 
     std::size_t size() const { return poses.size(); }
     bool empty() const { return poses.empty(); }
-    void push_back(double t, const mrpt::poses::CPose3D& pose) { poses.push_back({t, pose}); }
+    void add(double t, const mrpt::poses::CPose3D& pose) { poses.push_back({t, pose}); }
 
     /** Writes all poses to a text file (overwritten). Throws naming the file if
      * it cannot be written. */
@@ -56,7 +56,7 @@ public:
     void loadFromFile(const std::string& file);
 
     /** Convenience: `TumTrajectory t; t.loadFromFile(file); return t;` */
-    static TumTrajectory FromFile(const std::string& file);
+    static TumTrajectory fromFile(const std::string& file);
 
     /** Formats one pose as a TUM line (no line end). */
     static std::string formatLine(const TumPose& p);

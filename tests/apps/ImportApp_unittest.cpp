@@ -1,0 +1,344 @@
+// SPDX-License-Identifier: BSD-3-Clause
+#include "TestData.h"
+
+#include <emslam/apps/ImportApp.h>
+#include <emslam/stereo/TumTrajectory.h>
+
+#include <mrpt/core/Clock.h>
+#include <mrpt/io/CFileGZInputStream.h>
+#include <mrpt/obs/CObservation3DRangeScan.h>
+#include <mrpt/obs/CObservationStereoImages.h>
+#include <mrpt/serialization/CArchive.h>
+
+#include <gtest/gtest.h>
+
+#include <cstdio>
+#include <filesystem>
+#include <fstream>
+#include <opencv2/core.hpp>
+#include <opencv2/imgcodecs.hpp>
+#include <string>
+#include <vector>
+
+using emslam::apps::ImportApp;
+namespace fs = std::filesystem;
+
+namespace
+{
+void writeFile(const std::string& path, const std::string& text)
+{
+    std::ofstream f(path, std::ios::binary);
+    f << text;
+}
+
+std::string readFile(const std::string& path)
+{
+    std::ifstream f(path, std::ios::binary);
+    return {std::istreambuf_iterator<char>(f), std::istreambuf_iterator<char>()};
+}
+
+void initApp(ImportApp& app, std::vector<std::string> args)
+{
+    args.insert(args.begin(), "emslam-import");
+    std::vector<const char*> argv;
+    for (const auto& a : args)
+    {
+        argv.push_back(a.c_str());
+    }
+    app.initialize(static_cast<int>(argv.size()), argv.data());
+}
+
+/** Every object of an observations-only rawlog. */
+std::vector<mrpt::serialization::CSerializable::Ptr> readRawlog(const std::string& file)
+{
+    std::vector<mrpt::serialization::CSerializable::Ptr> objs;
+    mrpt::io::CFileGZInputStream f(file);
+    auto arch = mrpt::serialization::archiveFrom(f);
+    while (true)
+    {
+        try
+        {
+            objs.push_back(arch.ReadObject());
+        }
+        catch (const mrpt::serialization::CExceptionEOF&)
+        {
+            break;
+        }
+    }
+    return objs;
+}
+
+std::size_t countLines(const std::string& file)
+{
+    std::ifstream f(file);
+    std::size_t n = 0;
+    for (std::string l; std::getline(f, l);)
+    {
+        ++n;
+    }
+    return n;
+}
+
+std::string frameName(const std::string& dir, const char* sub, int i)
+{
+    char name[16];
+    std::snprintf(name, sizeof(name), "%06d.png", i);
+    return dir + "/" + sub + "/" + name;
+}
+
+/** A tiny valid KITTI sequence (`n` frames) in `root/seq`, poses in `root/poses.txt`. */
+std::string writeKitti(const std::string& root, int n)
+{
+    std::string dir = root + "/seq";
+    fs::create_directories(dir + "/image_0");
+    fs::create_directories(dir + "/image_1");
+    writeFile(
+        dir + "/calib.txt", "P0: 50 0 16 0 0 50 10 0 0 0 1 0\nP1: 50 0 16 -25 0 50 10 0 0 0 1 0\n");
+    std::string times, poses;
+    for (int i = 0; i < n; i++)
+    {
+        times += std::to_string(0.1 * i) + "\n";
+        poses += "1 0 0 0 0 1 0 0 0 0 1 " + std::to_string(i) + "\n";
+        for (const char* sub : {"image_0", "image_1"})
+        {
+            cv::imwrite(frameName(dir, sub, i), cv::Mat(20, 32, CV_8UC1, cv::Scalar(i)));
+        }
+    }
+    writeFile(dir + "/times.txt", times);
+    writeFile(root + "/poses.txt", poses);
+    return dir;
+}
+
+bool hasPartialFiles(const std::string& dir)
+{
+    for (const auto& e : fs::directory_iterator(dir))
+    {
+        if (e.path().extension() == ".partial")
+        {
+            return true;
+        }
+    }
+    return false;
+}
+}  // namespace
+
+TEST(ImportApp, importsRealKittiWithStep)
+{
+    EMSLAM_REQUIRE_TEST_DATA(seq, "kitti-odometry/sequences/06");
+    EMSLAM_REQUIRE_TEST_DATA(poses, "kitti-odometry/poses/06.txt");
+    const std::string out = emslam::test::makeTempDir("import_kitti");
+    ImportApp app;
+    initApp(
+        app, {"kitti", seq, "--poses", poses, "-o", out + "/k06.rawlog", "--gt-out",
+              out + "/k06.tum", "--step", "10", "--quiet"});
+    app.run();
+    EXPECT_EQ(app.frames_written, 6U);  // frames 0, 10, ..., 50
+    EXPECT_EQ(app.poses_written, 6U);
+    EXPECT_EQ(app.frames_without_gt, 0U);
+    EXPECT_EQ(app.output_bytes, fs::file_size(out + "/k06.rawlog"));
+    EXPECT_FALSE(hasPartialFiles(out));
+
+    const auto objs = readRawlog(out + "/k06.rawlog");
+    ASSERT_EQ(objs.size(), 6U);
+    const auto gt = emslam::stereo::TumTrajectory::fromFile(out + "/k06.tum");
+    ASSERT_EQ(gt.size(), 6U);
+    EXPECT_EQ(countLines(out + "/k06.tum"), 6U);
+    double last_t = -1;
+    for (std::size_t k = 0; k < objs.size(); k++)
+    {
+        const auto obs = std::dynamic_pointer_cast<mrpt::obs::CObservationStereoImages>(objs[k]);
+        ASSERT_TRUE(obs) << objs[k]->GetRuntimeClass()->className;
+        EXPECT_TRUE(obs->hasImageRight);
+        EXPECT_EQ(obs->sensorLabel, "STEREO");
+        EXPECT_EQ(obs->imageLeft.getWidth(), 1226U);
+        EXPECT_EQ(obs->imageRight.getHeight(), 370U);
+        EXPECT_FALSE(obs->imageLeft.isExternallyStored());
+        const auto cam = obs->getStereoCameraParams();
+        EXPECT_NEAR(cam.rightCameraPose.x, 0.5372, 1e-4);
+        EXPECT_NEAR(cam.leftCamera.fx(), 707.0912, 1e-9);
+        const double t = mrpt::Clock::toDouble(obs->timestamp);
+        EXPECT_GT(t, last_t);
+        last_t = t;
+        EXPECT_NEAR(gt.poses[k].t, t, 1e-6);
+    }
+    // GT relative to the first imported frame: identity first, then ~1.2 m per frame forward.
+    const std::string first_line = emslam::stereo::TumTrajectory::formatLine(gt.poses[0]);
+    EXPECT_EQ(first_line.substr(first_line.find(' ')), " 0 0 0 0 0 0 1");
+    EXPECT_NEAR(gt.poses[5].pose.z(), 59.84, 0.01);
+}
+
+TEST(ImportApp, importsRealEurocRange)
+{
+    EMSLAM_REQUIRE_TEST_DATA(mav0, "euroc-v101-rest/mav0");
+    EMSLAM_REQUIRE_TEST_DATA(gt, "euroc-v101-rest/groundtruth_left_cam.csv");
+    const std::string out = emslam::test::makeTempDir("import_euroc");
+    ImportApp app;
+    initApp(
+        app, {"euroc", mav0, "--gt", gt, "-o", out + "/e.rawlog", "--gt-out", out + "/e.tum",
+              "--first", "5", "--last", "14", "--step", "3", "--label", "VI", "-q"});
+    app.run();
+    EXPECT_EQ(app.frames_written, 4U);  // 5, 8, 11, 14
+    EXPECT_EQ(app.poses_written, 4U);
+    const auto objs = readRawlog(out + "/e.rawlog");
+    ASSERT_EQ(objs.size(), 4U);
+    const auto obs = std::dynamic_pointer_cast<mrpt::obs::CObservationStereoImages>(objs[0]);
+    ASSERT_TRUE(obs);
+    EXPECT_EQ(obs->sensorLabel, "VI");
+    EXPECT_NEAR(obs->rightCameraPose.x(), 0.110, 0.002);
+    const auto traj = emslam::stereo::TumTrajectory::fromFile(out + "/e.tum");
+    ASSERT_EQ(traj.size(), 4U);
+    EXPECT_NEAR(traj.poses[0].t, mrpt::Clock::toDouble(obs->timestamp), 1e-6);
+    EXPECT_LT(traj.poses[3].pose.translation().norm(), 0.003);  // at rest
+}
+
+TEST(ImportApp, importsSyntheticTumRgbd)
+{
+    const std::string root = emslam::test::makeTempDir("import_tum");
+    const std::string dir = root + "/rgbd";
+    fs::create_directories(dir + "/rgb");
+    fs::create_directories(dir + "/depth");
+    std::string rgb, depth, gt;
+    for (int i = 0; i < 3; i++)
+    {
+        const std::string t = std::to_string(100 + i) + ".000000";
+        const std::string td = std::to_string(100 + i) + ".010000";
+        rgb += t + " rgb/" + t + ".png\n";
+        depth += td + " depth/" + td + ".png\n";
+        gt += t + " " + std::to_string(i) + " 0 0 0 0 0 1\n";
+        cv::imwrite(dir + "/rgb/" + t + ".png", cv::Mat(12, 16, CV_8UC3, cv::Scalar(i, 2, 3)));
+        cv::imwrite(dir + "/depth/" + td + ".png", cv::Mat(12, 16, CV_16UC1, cv::Scalar(5000)));
+    }
+    writeFile(dir + "/rgb.txt", rgb);
+    writeFile(dir + "/depth.txt", depth);
+    writeFile(dir + "/groundtruth.txt", gt);
+
+    ImportApp app;
+    initApp(
+        app, {"tum", dir, "-o", root + "/t.rawlog", "--gt-out", root + "/t.tum", "--intrinsics",
+              "100,101,8,6", "--first", "1", "-q"});
+    app.run();
+    EXPECT_EQ(app.frames_written, 2U);
+    EXPECT_EQ(app.poses_written, 2U);
+    const auto objs = readRawlog(root + "/t.rawlog");
+    ASSERT_EQ(objs.size(), 2U);
+    const auto obs = std::dynamic_pointer_cast<mrpt::obs::CObservation3DRangeScan>(objs[1]);
+    ASSERT_TRUE(obs);
+    EXPECT_EQ(obs->sensorLabel, "RGBD");
+    EXPECT_DOUBLE_EQ(obs->cameraParams.fy(), 101.0);
+    EXPECT_TRUE(obs->hasRangeImage);
+    EXPECT_NEAR(obs->rangeImage(3, 4) * obs->rangeUnits, 1.0, 1e-6);
+    const auto traj = emslam::stereo::TumTrajectory::fromFile(root + "/t.tum");
+    ASSERT_EQ(traj.size(), 2U);
+    EXPECT_DOUBLE_EQ(traj.poses[0].t, 101.0);
+    EXPECT_NEAR(traj.poses[1].pose.x(), 1.0, 1e-12);  // relative to frame 1 (x = 1)
+}
+
+TEST(ImportApp, poseCountMismatchLeavesNoOutput)
+{
+    const std::string root = emslam::test::makeTempDir("import_badposes");
+    const std::string seq = writeKitti(root, 4);
+    writeFile(root + "/poses.txt", "1 0 0 0 0 1 0 0 0 0 1 0\n");
+    ImportApp app;
+    initApp(
+        app, {"kitti", seq, "--poses", root + "/poses.txt", "-o", root + "/out.rawlog", "--gt-out",
+              root + "/out.tum", "-q"});
+    try
+    {
+        app.run();
+        ADD_FAILURE() << "no exception";
+    }
+    catch (const std::exception& e)
+    {
+        const std::string msg = e.what();
+        EXPECT_NE(msg.find(root + "/poses.txt"), std::string::npos) << msg;
+    }
+    EXPECT_FALSE(fs::exists(root + "/out.rawlog"));
+    EXPECT_FALSE(fs::exists(root + "/out.tum"));
+    EXPECT_FALSE(hasPartialFiles(root));
+    EXPECT_EQ(app.frames_written, 0U);
+}
+
+TEST(ImportApp, failureMidwayKeepsPreviousOutputAndRemovesPartials)
+{
+    const std::string root = emslam::test::makeTempDir("import_midway");
+    const std::string seq = writeKitti(root, 5);
+    writeFile(frameName(seq, "image_1", 3), "not a png");  // open() passes, frame 3 fails
+    writeFile(root + "/out.rawlog", "previous");
+    ImportApp app;
+    initApp(
+        app, {"kitti", seq, "--poses", root + "/poses.txt", "-o", root + "/out.rawlog", "--gt-out",
+              root + "/out.tum", "-q"});
+    EXPECT_ANY_THROW(app.run());
+    EXPECT_EQ(readFile(root + "/out.rawlog"), "previous");
+    EXPECT_FALSE(fs::exists(root + "/out.tum"));
+    EXPECT_FALSE(hasPartialFiles(root));
+
+    // The same sequence up to frame 2 imports fine.
+    ImportApp ok;
+    initApp(
+        ok, {"kitti", seq, "--poses", root + "/poses.txt", "-o", root + "/out.rawlog", "--gt-out",
+             root + "/out.tum", "--last", "2", "-q"});
+    ok.run();
+    EXPECT_EQ(ok.frames_written, 3U);
+    EXPECT_EQ(readRawlog(root + "/out.rawlog").size(), 3U);
+    EXPECT_EQ(countLines(root + "/out.tum"), 3U);
+}
+
+TEST(ImportApp, badArgumentsThrow)
+{
+    const std::string root = emslam::test::makeTempDir("import_args");
+    const std::string seq = writeKitti(root, 3);
+    const std::string o = root + "/o.rawlog";
+    const std::vector<std::vector<std::string>> bad = {
+        {},                                                      // nothing
+        {"kitti", seq},                                          // no -o
+        {"kinect", seq, "-o", o},                                // unknown format
+        {"kitti", seq, "-o", o, "--step", "0"},                  // step < 1
+        {"kitti", seq, "-o", o, "--step", "two"},                // not a number
+        {"kitti", seq, "-o", o, "--first", "2", "--last", "1"},  // empty range
+        {"kitti", seq, "-o", o, "--gt", "x.csv"},                // euroc option
+        {"euroc", seq, "-o", o, "--poses", "p.txt"},             // kitti option
+        {"kitti", seq, "-o", o, "--intrinsics", "1,2,3,4"},      // tum option
+        {"tum", seq, "-o", o, "--intrinsics", "1,2,3"},          // 3 numbers
+        {"kitti", seq, "-o", o, "--gt-out", root + "/g.tum"},    // no GT source
+        {"euroc", seq, "-o", o, "--gt-out", root + "/g.tum"},    // no GT source
+        {"kitti", seq, "-o", o, "--poses", "p", "--gt-out", o},  // same file
+        {"kitti", seq, "-o", o, "--no-such-option"},             // unknown option
+    };
+    for (const auto& args : bad)
+    {
+        ImportApp app;
+        std::string joined;
+        for (const auto& a : args)
+        {
+            joined += a + " ";
+        }
+        EXPECT_THROW(initApp(app, args), std::invalid_argument) << joined;
+    }
+    // Range beyond the sequence: detected by run().
+    for (const auto& r : std::vector<std::vector<std::string>>{{"--first", "3"}, {"--last", "3"}})
+    {
+        ImportApp app;
+        std::vector<std::string> args = {"kitti", seq, "-o", o, "-q"};
+        args.insert(args.end(), r.begin(), r.end());
+        initApp(app, args);
+        EXPECT_ANY_THROW(app.run());
+        EXPECT_FALSE(fs::exists(o));
+    }
+    // Output folder missing.
+    ImportApp app;
+    initApp(app, {"kitti", seq, "-o", root + "/no/such/dir/o.rawlog", "-q"});
+    EXPECT_ANY_THROW(app.run());
+}
+
+TEST(ImportApp, helpRequestsQuit)
+{
+    ImportApp app;
+    testing::internal::CaptureStdout();
+    initApp(app, {"--help"});
+    const std::string text = testing::internal::GetCapturedStdout();
+    EXPECT_TRUE(app.quit_requested);
+    EXPECT_NE(text.find("--gt-out"), std::string::npos);
+    EXPECT_NO_THROW(app.run());
+    EXPECT_EQ(app.frames_written, 0U);
+}
