@@ -1,0 +1,56 @@
+// SPDX-License-Identifier: BSD-3-Clause
+#pragma once
+
+#include <cstdint>
+#include <string_view>
+#include <vector>
+
+namespace emslam::stereo
+{
+/** \defgroup emslam_stereo_text_grp Text parsing helpers
+ * Strict, locale-independent parsing of the numbers of dataset text files
+ * (KITTI, EuRoC, TUM): a token is a number only if all of it is one.
+ * \ingroup emslam_stereo_grp */
+
+/** `s` without its leading and trailing blanks (space, tab, CR, LF); empty if
+ * `s` is all blanks. The result views the memory of `s`.
+ * \ingroup emslam_stereo_grp \sa isBlank */
+std::string_view trimmed(std::string_view s);
+
+/** True if `line` holds only blanks (space, tab, CR, LF), or nothing.
+ * \ingroup emslam_stereo_grp \sa isCommentOrBlank, trimmed */
+bool isBlank(std::string_view line);
+
+/** True if `line` is blank (isBlank()) or its first non-blank character is
+ * `#` (a comment line of the TUM and EuRoC text formats).
+ * \ingroup emslam_stereo_grp \sa isBlank */
+bool isCommentOrBlank(std::string_view line);
+
+/** Parses the whole of `token` as a `double` (`std::from_chars` general
+ * format: decimal or exponent notation, `inf`, `nan`), also accepting one
+ * leading `+`. Returns false, leaving `v` unchanged, if `token` is empty, is
+ * not a number, has trailing characters (blanks included) or is out of the
+ * range of `double`. Non-finite values (`inf`, `nan`) are accepted: check
+ * them with `std::isfinite` where they are not allowed.
+ * \ingroup emslam_stereo_grp \sa parseInt64, parseNumbers */
+bool parseDouble(std::string_view token, double& v);
+
+/** Parses the whole of `token` as a decimal `std::int64_t` (an optional `-`,
+ * then digits; a leading `+` is *not* accepted). Returns false, leaving `v`
+ * unchanged, if `token` is empty, is not an integer, has trailing characters
+ * or does not fit in 64 bits.
+ * \ingroup emslam_stereo_grp \sa parseDouble */
+bool parseInt64(std::string_view token, std::int64_t& v);
+
+/** Splits `line` into tokens at any run of the characters of `separators`
+ * (leading and trailing separators ignored) and parses every token with
+ * parseDouble(). `out` is cleared first and receives the numbers in order;
+ * a blank line gives an empty `out` and true. Returns false at the first
+ * token that is not a number (`out` then holds the numbers before it).
+ * The default separators are space, tab and CR (the CR of CRLF files); pass
+ * `" \t,\r"` to also accept commas.
+ * \ingroup emslam_stereo_grp \sa parseDouble */
+bool parseNumbers(
+    std::string_view line, std::vector<double>& out, std::string_view separators = " \t\r");
+
+}  // namespace emslam::stereo
