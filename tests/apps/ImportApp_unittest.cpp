@@ -1,5 +1,6 @@
 // SPDX-License-Identifier: BSD-3-Clause
 #include "TestData.h"
+#include "TestHelpers.h"
 
 #include <emslam/apps/ImportApp.h>
 #include <emslam/stereo/TumTrajectory.h>
@@ -23,14 +24,10 @@
 using emslam::apps::ImportApp;
 namespace fs = std::filesystem;
 
+using emslam::test::writeFile;
+
 namespace
 {
-void writeFile(const std::string& path, const std::string& text)
-{
-    std::ofstream f(path, std::ios::binary);
-    f << text;
-}
-
 std::string readFile(const std::string& path)
 {
     std::ifstream f(path, std::ios::binary);

@@ -1,5 +1,6 @@
 // SPDX-License-Identifier: BSD-3-Clause
 #include "TestData.h"
+#include "TestHelpers.h"
 
 #include <emslam/stereo/CalibrationReaders.h>
 
@@ -10,9 +11,7 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
-#include <fstream>
 #include <functional>
-#include <initializer_list>
 #include <limits>
 #include <string>
 
@@ -23,33 +22,11 @@ using emslam::stereo::loadStereoCameraFromConfig;
 using emslam::stereo::loadStereoCameraFromIniFile;
 using emslam::stereo::validateStereoCamera;
 
+using emslam::test::expectThrowContaining;
+using emslam::test::writeFile;
+
 namespace
 {
-void writeFile(const std::string& path, const std::string& text)
-{
-    std::ofstream f(path, std::ios::binary);  // binary: keep CRLF as written
-    f << text;
-}
-
-/** Expects `fn` to throw std::exception whose message contains every `parts`. */
-void expectThrowContaining(
-    const std::function<void()>& fn, std::initializer_list<std::string> parts)
-{
-    try
-    {
-        fn();
-        ADD_FAILURE() << "no exception thrown";
-    }
-    catch (const std::exception& e)
-    {
-        const std::string msg = e.what();
-        for (const auto& p : parts)
-        {
-            EXPECT_NE(msg.find(p), std::string::npos) << "message lacks '" << p << "': " << msg;
-        }
-    }
-}
-
 // KITTI sequence 06 numbers, written with CRLF and the extra lines of the full dataset.
 const std::string KITTI_P0 =
     "P0: 7.070912000000e+02 0.000000000000e+00 6.018873000000e+02 0.000000000000e+00 "

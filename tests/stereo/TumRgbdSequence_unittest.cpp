@@ -1,5 +1,6 @@
 // SPDX-License-Identifier: BSD-3-Clause
 #include "TestData.h"
+#include "TestHelpers.h"
 
 #include <emslam/stereo/TumRgbdSequence.h>
 
@@ -13,9 +14,6 @@
 #include <cstdint>
 #include <cstdio>
 #include <filesystem>
-#include <fstream>
-#include <functional>
-#include <initializer_list>
 #include <opencv2/core.hpp>
 #include <opencv2/imgcodecs.hpp>
 #include <string>
@@ -23,32 +21,11 @@
 using emslam::stereo::TumRgbdSequence;
 namespace fs = std::filesystem;
 
+using emslam::test::expectThrowContaining;
+using emslam::test::writeFile;
+
 namespace
 {
-void writeFile(const std::string& path, const std::string& text)
-{
-    std::ofstream f(path, std::ios::binary);
-    f << text;
-}
-
-void expectThrowContaining(
-    const std::function<void()>& fn, std::initializer_list<std::string> parts)
-{
-    try
-    {
-        fn();
-        ADD_FAILURE() << "no exception thrown";
-    }
-    catch (const std::exception& e)
-    {
-        const std::string msg = e.what();
-        for (const auto& p : parts)
-        {
-            EXPECT_NE(msg.find(p), std::string::npos) << "message lacks '" << p << "': " << msg;
-        }
-    }
-}
-
 constexpr int W = 24;
 constexpr int H = 16;
 constexpr double T0 = 1305031102.175304;

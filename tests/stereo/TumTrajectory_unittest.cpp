@@ -1,5 +1,6 @@
 // SPDX-License-Identifier: BSD-3-Clause
 #include "TestData.h"
+#include "TestHelpers.h"
 
 #include <emslam/stereo/TumTrajectory.h>
 
@@ -10,40 +11,17 @@
 #include <gtest/gtest.h>
 
 #include <fstream>
-#include <functional>
-#include <initializer_list>
 #include <sstream>
 #include <string>
 
 using emslam::stereo::TumPose;
 using emslam::stereo::TumTrajectory;
 
+using emslam::test::expectThrowContaining;
+using emslam::test::writeFile;
+
 namespace
 {
-void writeFile(const std::string& path, const std::string& text)
-{
-    std::ofstream f(path, std::ios::binary);
-    f << text;
-}
-
-void expectThrowContaining(
-    const std::function<void()>& fn, std::initializer_list<std::string> parts)
-{
-    try
-    {
-        fn();
-        ADD_FAILURE() << "no exception thrown";
-    }
-    catch (const std::exception& e)
-    {
-        const std::string msg = e.what();
-        for (const auto& p : parts)
-        {
-            EXPECT_NE(msg.find(p), std::string::npos) << "message lacks '" << p << "': " << msg;
-        }
-    }
-}
-
 /** Largest absolute difference between the 3x4 matrices of two poses. */
 double poseDiff(const mrpt::poses::CPose3D& a, const mrpt::poses::CPose3D& b)
 {

@@ -1,6 +1,7 @@
 // SPDX-License-Identifier: BSD-3-Clause
 #include <emslam/stereo/CalibrationReaders.h>
 #include <emslam/stereo/ExceptionMessage.h>
+#include <emslam/stereo/TextParsing.h>
 
 #include <mrpt/config/CConfigFile.h>
 #include <mrpt/math/CMatrixFixed.h>
@@ -9,7 +10,6 @@
 
 #include <Eigen/Dense>
 #include <array>
-#include <charconv>
 #include <cmath>
 #include <filesystem>
 #include <fstream>
@@ -37,33 +37,6 @@ void requireFile(const std::string& file, const std::string& what)
     {
         fail(what, "file not found");
     }
-}
-
-std::string_view trim(std::string_view s)
-{
-    const auto first = s.find_first_not_of(" \t\r\n");
-    if (first == std::string_view::npos)
-    {
-        return {};
-    }
-    const auto last = s.find_last_not_of(" \t\r\n");
-    return s.substr(first, last - first + 1);
-}
-
-/** Strict, locale-independent number parsing: the whole token must be a number. */
-std::optional<double> parseNumber(std::string_view tok)
-{
-    if (!tok.empty() && tok.front() == '+')
-    {
-        tok.remove_prefix(1);  // from_chars rejects a leading '+'
-    }
-    double v = 0;
-    const auto [ptr, ec] = std::from_chars(tok.data(), tok.data() + tok.size(), v);
-    if (ec != std::errc() || ptr != tok.data() + tok.size())
-    {
-        return std::nullopt;
-    }
-    return v;
 }
 
 std::string fmt(double v)
@@ -101,12 +74,12 @@ std::array<double, 12> parseKittiMatrix(
         const auto end = std::min(rest.find_first_of(" \t", pos), rest.size());
         const std::string_view tok = rest.substr(pos, end - pos);
         pos = end;
-        const auto v = parseNumber(tok);
-        if (!v)
+        double v = 0;
+        if (!parseDouble(tok, v))
         {
             fail(what, where + ": '" + std::string(tok) + "' is not a number");
         }
-        if (!std::isfinite(*v))
+        if (!std::isfinite(v))
         {
             fail(what, where + ": non-finite value '" + std::string(tok) + "'");
         }
@@ -114,7 +87,7 @@ std::array<double, 12> parseKittiMatrix(
         {
             fail(what, where + ": more than 12 numbers");
         }
-        p[n++] = *v;
+        p[n++] = v;
     }
     if (n != p.size())
     {
@@ -381,13 +354,13 @@ mrpt::img::TStereoCamera loadKittiCalibration(
     while (std::getline(in, line))
     {
         line_no++;
-        const std::string_view l = trim(line);  // also drops a CR of CRLF files
+        const std::string_view l = trimmed(line);  // also drops a CR of CRLF files
         const auto colon = l.find(':');
         if (colon == std::string_view::npos)
         {
             continue;
         }
-        const std::string key(trim(l.substr(0, colon)));
+        const std::string key(trimmed(l.substr(0, colon)));
         if (key != "P0" && key != "P1")
         {
             continue;  // P2, P3, Tr, ... are not needed

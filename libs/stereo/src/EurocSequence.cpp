@@ -1,18 +1,20 @@
 // SPDX-License-Identifier: BSD-3-Clause
+#include "ImageFile.h"
+
 #include <emslam/stereo/CalibrationReaders.h>
 #include <emslam/stereo/EurocSequence.h>
+#include <emslam/stereo/TextParsing.h>
 
 #include <mrpt/core/Clock.h>
 #include <mrpt/core/exceptions.h>
 #include <mrpt/math/CQuaternion.h>
 
 #include <algorithm>
-#include <charconv>
 #include <cmath>
 #include <filesystem>
 #include <fstream>
 #include <map>
-#include <opencv2/imgcodecs.hpp>
+#include <string_view>
 
 namespace fs = std::filesystem;
 
@@ -20,26 +22,15 @@ namespace emslam::stereo
 {
 namespace
 {
-std::string trim(const std::string& s)
-{
-    const auto a = s.find_first_not_of(" \t\r\n");
-    if (a == std::string::npos)
-    {
-        return {};
-    }
-    const auto b = s.find_last_not_of(" \t\r\n");
-    return s.substr(a, b - a + 1);
-}
-
-std::vector<std::string> splitComma(const std::string& line)
+std::vector<std::string> splitComma(std::string_view line)
 {
     std::vector<std::string> out;
     std::size_t start = 0;
     while (true)
     {
         const auto p = line.find(',', start);
-        out.push_back(trim(line.substr(start, p == std::string::npos ? p : p - start)));
-        if (p == std::string::npos)
+        out.emplace_back(trimmed(line.substr(start, p == std::string_view::npos ? p : p - start)));
+        if (p == std::string_view::npos)
         {
             break;
         }
@@ -48,33 +39,15 @@ std::vector<std::string> splitComma(const std::string& line)
     return out;
 }
 
-bool parseInt64(const std::string& s, std::int64_t& v)
-{
-    const auto res = std::from_chars(s.data(), s.data() + s.size(), v);
-    return !s.empty() && res.ec == std::errc() && res.ptr == s.data() + s.size();
-}
-
-bool parseDouble(const std::string& s, double& v)
-{
-    const char* first = s.data();
-    if (!s.empty() && *first == '+')
-    {
-        ++first;
-    }
-    const auto res = std::from_chars(first, s.data() + s.size(), v);
-    return !s.empty() && res.ec == std::errc() && res.ptr == s.data() + s.size() &&
-           std::isfinite(v);
-}
-
 /** "1403715274312143104" or "1403715274312143104.0000": integer nanoseconds. */
-bool parseNs(const std::string& s, std::int64_t& v)
+bool parseNs(std::string_view s, std::int64_t& v)
 {
     const auto dot = s.find('.');
-    if (dot == std::string::npos)
+    if (dot == std::string_view::npos)
     {
         return parseInt64(s, v);
     }
-    const std::string frac = s.substr(dot + 1);
+    const std::string_view frac = s.substr(dot + 1);
     if (!std::all_of(frac.begin(), frac.end(), [](char c) { return c >= '0' && c <= '9'; }))
     {
         return false;
@@ -82,10 +55,21 @@ bool parseNs(const std::string& s, std::int64_t& v)
     return parseInt64(s.substr(0, dot), v);
 }
 
-bool isCommentOrBlank(const std::string& line)
+/** Opens the EuRoC CSV file `file` (throws "Cannot open EuRoC <what> '<file>'"
+ * if it cannot) and calls `on_row(fields, line, line_no)` for every line that is
+ * not blank or a `#` comment: `fields` are its comma-separated fields,
+ * trimmed; `line_no` counts from 1. */
+template <typename RowFn>
+void forEachCsvRow(const std::string& file, const char* what, RowFn&& on_row)
 {
-    const auto a = line.find_first_not_of(" \t\r");
-    return a == std::string::npos || line[a] == '#';
+    std::ifstream f(file);
+    if (!f.is_open())
+    {
+        THROW_EXCEPTION_FMT("Cannot open EuRoC %s '%s'", what, file.c_str());
+    }
+    forEachDataLine(
+        f, [&](const std::string& line, std::size_t line_no)
+        { on_row(splitComma(line), line, line_no); });
 }
 
 struct CsvImage
@@ -97,51 +81,25 @@ struct CsvImage
 std::vector<CsvImage> readDataCsv(const std::string& cam_dir)
 {
     const std::string file = cam_dir + "/data.csv";
-    std::ifstream f(file);
-    if (!f.is_open())
-    {
-        THROW_EXCEPTION_FMT("Cannot open EuRoC image list '%s'", file.c_str());
-    }
     std::vector<CsvImage> out;
-    std::string line;
-    std::size_t line_no = 0;
-    while (std::getline(f, line))
-    {
-        ++line_no;
-        if (isCommentOrBlank(line))
+    forEachCsvRow(
+        file, "image list",
+        [&](const std::vector<std::string>& fields, const std::string& line, std::size_t line_no)
         {
-            continue;
-        }
-        const auto fields = splitComma(line);
-        std::int64_t t = 0;
-        if (fields.size() != 2 || !parseInt64(fields[0], t) || fields[1].empty())
-        {
-            THROW_EXCEPTION_FMT(
-                "%s:%zu: expected 'timestamp_ns,filename', got '%s'", file.c_str(), line_no,
-                line.c_str());
-        }
-        out.push_back({t, cam_dir + "/data/" + fields[1]});
-    }
+            std::int64_t t = 0;
+            if (fields.size() != 2 || !parseInt64(fields[0], t) || fields[1].empty())
+            {
+                THROW_EXCEPTION_FMT(
+                    "%s:%zu: expected 'timestamp_ns,filename', got '%s'", file.c_str(), line_no,
+                    line.c_str());
+            }
+            out.push_back({t, cam_dir + "/data/" + fields[1]});
+        });
     if (out.empty())
     {
         THROW_EXCEPTION_FMT("EuRoC image list '%s' lists no image", file.c_str());
     }
     return out;
-}
-
-cv::Mat loadImage(const std::string& file)
-{
-    std::error_code ec;
-    if (!fs::is_regular_file(file, ec))
-    {
-        THROW_EXCEPTION_FMT("Image file '%s' does not exist", file.c_str());
-    }
-    cv::Mat im = cv::imread(file, cv::IMREAD_UNCHANGED);
-    if (im.empty())
-    {
-        THROW_EXCEPTION_FMT("Cannot read image '%s' (not a valid image file)", file.c_str());
-    }
-    return im;
 }
 
 mrpt::Clock::time_point fromNs(std::int64_t t_ns)
@@ -154,57 +112,47 @@ mrpt::Clock::time_point fromNs(std::int64_t t_ns)
 
 std::vector<EurocSequence::GtRow> EurocSequence::readGroundTruthCsv(const std::string& file)
 {
-    std::ifstream f(file);
-    if (!f.is_open())
-    {
-        THROW_EXCEPTION_FMT("Cannot open EuRoC ground-truth file '%s'", file.c_str());
-    }
     std::vector<GtRow> rows;
-    std::string line;
-    std::size_t line_no = 0;
-    while (std::getline(f, line))
-    {
-        ++line_no;
-        if (isCommentOrBlank(line))
+    forEachCsvRow(
+        file, "ground-truth file",
+        [&](const std::vector<std::string>& fields, const std::string& line, std::size_t line_no)
         {
-            continue;
-        }
-        const auto fields = splitComma(line);
-        if (fields.size() == 17)
-        {
-            THROW_EXCEPTION_FMT(
-                "%s:%zu: 17 columns: this looks like EuRoC's state_groundtruth_estimate0 "
-                "(body/IMU pose, quaternion w first). Expected the left camera's pose: "
-                "'timestamp_ns,x,y,z,qx,qy,qz,qw'",
-                file.c_str(), line_no);
-        }
-        if (fields.size() != 8)
-        {
-            THROW_EXCEPTION_FMT(
-                "%s:%zu: expected 8 fields 'timestamp_ns,x,y,z,qx,qy,qz,qw', got %zu", file.c_str(),
-                line_no, fields.size());
-        }
-        GtRow row;
-        double v[7];
-        bool ok = parseNs(fields[0], row.t_ns);
-        for (int k = 0; k < 7 && ok; k++)
-        {
-            ok = parseDouble(fields[k + 1], v[k]);
-        }
-        if (!ok)
-        {
-            THROW_EXCEPTION_FMT(
-                "%s:%zu: not a number in '%s'", file.c_str(), line_no, line.c_str());
-        }
-        const double norm = std::sqrt(v[3] * v[3] + v[4] * v[4] + v[5] * v[5] + v[6] * v[6]);
-        if (norm < 1e-9)
-        {
-            THROW_EXCEPTION_FMT("%s:%zu: zero quaternion", file.c_str(), line_no);
-        }
-        const mrpt::math::CQuaternionDouble q(v[6] / norm, v[3] / norm, v[4] / norm, v[5] / norm);
-        row.pose = mrpt::poses::CPose3D(q, v[0], v[1], v[2]);
-        rows.push_back(row);
-    }
+            if (fields.size() == 17)
+            {
+                THROW_EXCEPTION_FMT(
+                    "%s:%zu: 17 columns: this looks like EuRoC's state_groundtruth_estimate0 "
+                    "(body/IMU pose, quaternion w first). Expected the left camera's pose: "
+                    "'timestamp_ns,x,y,z,qx,qy,qz,qw'",
+                    file.c_str(), line_no);
+            }
+            if (fields.size() != 8)
+            {
+                THROW_EXCEPTION_FMT(
+                    "%s:%zu: expected 8 fields 'timestamp_ns,x,y,z,qx,qy,qz,qw', got %zu",
+                    file.c_str(), line_no, fields.size());
+            }
+            GtRow row;
+            double v[7];
+            bool ok = parseNs(fields[0], row.t_ns);
+            for (int k = 0; k < 7 && ok; k++)
+            {
+                ok = parseDouble(fields[k + 1], v[k]) && std::isfinite(v[k]);
+            }
+            if (!ok)
+            {
+                THROW_EXCEPTION_FMT(
+                    "%s:%zu: not a number in '%s'", file.c_str(), line_no, line.c_str());
+            }
+            const double norm = std::sqrt(v[3] * v[3] + v[4] * v[4] + v[5] * v[5] + v[6] * v[6]);
+            if (norm < 1e-9)
+            {
+                THROW_EXCEPTION_FMT("%s:%zu: zero quaternion", file.c_str(), line_no);
+            }
+            const mrpt::math::CQuaternionDouble q(
+                v[6] / norm, v[3] / norm, v[4] / norm, v[5] / norm);
+            row.pose = mrpt::poses::CPose3D(q, v[0], v[1], v[2]);
+            rows.push_back(row);
+        });
     if (rows.empty())
     {
         THROW_EXCEPTION_FMT("EuRoC ground-truth file '%s' holds no pose", file.c_str());
@@ -281,8 +229,8 @@ void EurocSequence::open(const std::string& mav0_dir, const std::string& gt_csv)
     }
 
     m_calib = loadEurocCalibration(dir + "/cam0/sensor.yaml", dir + "/cam1/sensor.yaml");
-    const cv::Mat l0 = loadImage(lf[0]);
-    const cv::Mat r0 = loadImage(rf[0]);
+    const cv::Mat l0 = loadImageFile(lf[0]);
+    const cv::Mat r0 = loadImageFile(rf[0]);
     if (l0.size() != r0.size())
     {
         THROW_EXCEPTION_FMT(
@@ -375,8 +323,8 @@ EurocSequence::Frame EurocSequence::frame(std::size_t i) const
 {
     ASSERTMSG_(isOpen(), "EurocSequence: open() a sequence first");
     ASSERT_LT_(i, m_stamps.size());
-    const cv::Mat left = loadImage(m_left_files[i]);
-    const cv::Mat right = loadImage(m_right_files[i]);
+    const cv::Mat left = loadImageFile(m_left_files[i]);
+    const cv::Mat right = loadImageFile(m_right_files[i]);
     for (const auto& [im, file] :
          {std::pair{&left, &m_left_files[i]}, std::pair{&right, &m_right_files[i]}})
     {

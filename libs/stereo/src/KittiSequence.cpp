@@ -1,17 +1,18 @@
 // SPDX-License-Identifier: BSD-3-Clause
+#include "ImageFile.h"
+
 #include <emslam/stereo/CalibrationReaders.h>
 #include <emslam/stereo/KittiSequence.h>
+#include <emslam/stereo/TextParsing.h>
 
 #include <mrpt/core/Clock.h>
 #include <mrpt/core/exceptions.h>
 #include <mrpt/math/CMatrixFixed.h>
 
 #include <Eigen/Dense>
-#include <charconv>
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
-#include <opencv2/imgcodecs.hpp>
 
 namespace fs = std::filesystem;
 
@@ -19,51 +20,6 @@ namespace emslam::stereo
 {
 namespace
 {
-/** Splits on blanks; parses every token as a double. False on a bad token. */
-bool parseNumbers(const std::string& line, std::vector<double>& out)
-{
-    out.clear();
-    std::size_t i = 0;
-    const std::size_t n = line.size();
-    auto is_sep = [](char c) { return c == ' ' || c == '\t' || c == '\r'; };
-    while (i < n)
-    {
-        while (i < n && is_sep(line[i]))
-        {
-            ++i;
-        }
-        if (i >= n)
-        {
-            break;
-        }
-        std::size_t j = i;
-        while (j < n && !is_sep(line[j]))
-        {
-            ++j;
-        }
-        const char* first = line.data() + i;
-        const char* last = line.data() + j;
-        if (*first == '+')
-        {
-            ++first;
-        }
-        double v = 0;
-        const auto res = std::from_chars(first, last, v);
-        if (res.ec != std::errc() || res.ptr != last)
-        {
-            return false;
-        }
-        out.push_back(v);
-        i = j;
-    }
-    return true;
-}
-
-bool isBlank(const std::string& line)
-{
-    return line.find_first_not_of(" \t\r") == std::string::npos;
-}
-
 std::size_t countPngs(const std::string& dir)
 {
     std::size_t n = 0;
@@ -82,21 +38,6 @@ std::string imageFile(const std::string& dir, const char* sub, std::size_t i)
     char name[32];
     std::snprintf(name, sizeof(name), "%06zu.png", i);
     return dir + "/" + sub + "/" + name;
-}
-
-cv::Mat loadImage(const std::string& file)
-{
-    std::error_code ec;
-    if (!fs::is_regular_file(file, ec))
-    {
-        THROW_EXCEPTION_FMT("Image file '%s' does not exist", file.c_str());
-    }
-    cv::Mat im = cv::imread(file, cv::IMREAD_UNCHANGED);
-    if (im.empty())
-    {
-        THROW_EXCEPTION_FMT("Cannot read image '%s' (not a valid image file)", file.c_str());
-    }
-    return im;
 }
 }  // namespace
 
@@ -224,8 +165,8 @@ void KittiSequence::open(const std::string& sequence_dir, const std::string& pos
     }
 
     // Image size from the first pair, then the calibration.
-    const cv::Mat left = loadImage(imageFile(sequence_dir, "image_0", 0));
-    const cv::Mat right = loadImage(imageFile(sequence_dir, "image_1", 0));
+    const cv::Mat left = loadImageFile(imageFile(sequence_dir, "image_0", 0));
+    const cv::Mat right = loadImageFile(imageFile(sequence_dir, "image_1", 0));
     if (left.size() != right.size())
     {
         THROW_EXCEPTION_FMT(
@@ -287,8 +228,8 @@ KittiSequence::Frame KittiSequence::frame(std::size_t i) const
     ASSERT_LT_(i, m_times.size());
     const std::string fl = leftImageFile(i);
     const std::string fr = rightImageFile(i);
-    const cv::Mat left = loadImage(fl);
-    const cv::Mat right = loadImage(fr);
+    const cv::Mat left = loadImageFile(fl);
+    const cv::Mat right = loadImageFile(fr);
     for (const auto& [im, file] : {std::pair{&left, &fl}, std::pair{&right, &fr}})
     {
         if (static_cast<unsigned int>(im->cols) != m_width ||

@@ -1,7 +1,9 @@
 // SPDX-License-Identifier: BSD-3-Clause
 #include <emslam/stereo/TextParsing.h>
 
+#include <algorithm>
 #include <charconv>
+#include <istream>
 #include <system_error>
 
 namespace emslam::stereo
@@ -10,10 +12,23 @@ namespace
 {
 constexpr std::string_view BLANKS = " \t\r\n";
 
-/** True if `[first, last)` was consumed entirely by a successful from_chars. */
-bool consumedAll(const std::from_chars_result& res, const char* last)
+/** Parses all of a non-empty `token` with std::from_chars; sets `v` only on success. */
+template <typename T>
+bool parseWhole(std::string_view token, T& v)
 {
-    return res.ec == std::errc() && res.ptr == last;
+    if (token.empty())
+    {
+        return false;
+    }
+    const char* last = token.data() + token.size();
+    T x{};
+    const auto res = std::from_chars(token.data(), last, x);
+    if (res.ec != std::errc() || res.ptr != last)
+    {
+        return false;
+    }
+    v = x;
+    return true;
 }
 }  // namespace
 
@@ -39,20 +54,34 @@ bool isCommentOrBlank(std::string_view line)
     return first == std::string_view::npos || line[first] == '#';
 }
 
+void forEachDataLine(
+    std::istream& in,
+    const std::function<void(const std::string& line, std::size_t line_no)>& on_line)
+{
+    std::string line;
+    std::size_t line_no = 0;
+    while (std::getline(in, line))
+    {
+        ++line_no;
+        if (!isCommentOrBlank(line))
+        {
+            on_line(line, line_no);
+        }
+    }
+}
+
 bool parseDouble(std::string_view token, double& v)
 {
     if (!token.empty() && token.front() == '+')
     {
         token.remove_prefix(1);  // from_chars rejects a leading '+'
     }
-    const char* last = token.data() + token.size();
-    return consumedAll(std::from_chars(token.data(), last, v), last);
+    return parseWhole(token, v);
 }
 
 bool parseInt64(std::string_view token, std::int64_t& v)
 {
-    const char* last = token.data() + token.size();
-    return consumedAll(std::from_chars(token.data(), last, v), last);
+    return parseWhole(token, v);
 }
 
 bool parseNumbers(std::string_view line, std::vector<double>& out, std::string_view separators)

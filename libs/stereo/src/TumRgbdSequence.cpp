@@ -1,4 +1,7 @@
 // SPDX-License-Identifier: BSD-3-Clause
+#include "ImageFile.h"
+
+#include <emslam/stereo/TextParsing.h>
 #include <emslam/stereo/TumRgbdSequence.h>
 #include <emslam/stereo/TumTrajectory.h>
 
@@ -6,12 +9,10 @@
 #include <mrpt/core/exceptions.h>
 
 #include <algorithm>
-#include <charconv>
 #include <cmath>
 #include <filesystem>
 #include <fstream>
 #include <limits>
-#include <opencv2/imgcodecs.hpp>
 #include <sstream>
 #include <utility>
 
@@ -37,33 +38,27 @@ std::vector<ListEntry> readList(const std::string& dir, const std::string& name)
         THROW_EXCEPTION_FMT("Cannot open TUM RGB-D list '%s'", file.c_str());
     }
     std::vector<ListEntry> out;
-    std::string line;
-    std::size_t line_no = 0;
-    while (std::getline(f, line))
-    {
-        ++line_no;
-        const auto a = line.find_first_not_of(" \t\r");
-        if (a == std::string::npos || line[a] == '#')
+    forEachDataLine(
+        f,
+        [&](const std::string& line, std::size_t line_no)
         {
-            continue;
-        }
-        std::istringstream ss(line);
-        std::string ts, fname, extra;
-        ss >> ts >> fname;
-        double t = 0;
-        const auto res = std::from_chars(ts.data(), ts.data() + ts.size(), t);
-        if (fname.empty() || (ss >> extra) || res.ec != std::errc() ||
-            res.ptr != ts.data() + ts.size() || !std::isfinite(t))
-        {
-            THROW_EXCEPTION_FMT(
-                "%s:%zu: expected 'timestamp filename', got '%s'", file.c_str(), line_no,
-                line.c_str());
-        }
-        std::string path = dir;
-        path += "/";
-        path += fname;
-        out.push_back({t, std::move(path)});
-    }
+            std::istringstream ss(line);
+            std::string ts, fname, extra;
+            ss >> ts >> fname;
+            double t = 0;
+            // A leading '+' was never accepted in these lists (parseDouble() takes one).
+            const bool ts_ok = !ts.empty() && ts.front() != '+' && parseDouble(ts, t);
+            if (fname.empty() || (ss >> extra) || !ts_ok || !std::isfinite(t))
+            {
+                THROW_EXCEPTION_FMT(
+                    "%s:%zu: expected 'timestamp filename', got '%s'", file.c_str(), line_no,
+                    line.c_str());
+            }
+            std::string path = dir;
+            path += "/";
+            path += fname;
+            out.push_back({t, std::move(path)});
+        });
     if (out.empty())
     {
         THROW_EXCEPTION_FMT("TUM RGB-D list '%s' lists no image", file.c_str());
@@ -73,24 +68,9 @@ std::vector<ListEntry> readList(const std::string& dir, const std::string& name)
     return out;
 }
 
-cv::Mat loadImage(const std::string& file, int flags)
-{
-    std::error_code ec;
-    if (!fs::is_regular_file(file, ec))
-    {
-        THROW_EXCEPTION_FMT("Image file '%s' does not exist", file.c_str());
-    }
-    cv::Mat im = cv::imread(file, flags);
-    if (im.empty())
-    {
-        THROW_EXCEPTION_FMT("Cannot read image '%s' (not a valid image file)", file.c_str());
-    }
-    return im;
-}
-
 cv::Mat loadDepth(const std::string& file)
 {
-    cv::Mat d = loadImage(file, cv::IMREAD_UNCHANGED);
+    cv::Mat d = loadImageFile(file);
     if (d.type() != CV_16UC1)
     {
         THROW_EXCEPTION_FMT(
@@ -215,7 +195,7 @@ void TumRgbdSequence::open(const std::string& rgbd_dir)
         }
     }
 
-    const cv::Mat c0 = loadImage(rgb_files[0], cv::IMREAD_UNCHANGED);
+    const cv::Mat c0 = loadImageFile(rgb_files[0]);
     const cv::Mat d0 = loadDepth(depth_files[0]);
     if (c0.size() != d0.size())
     {
@@ -300,7 +280,7 @@ TumRgbdSequence::Frame TumRgbdSequence::frame(std::size_t i) const
 {
     ASSERTMSG_(isOpen(), "TumRgbdSequence: open() a sequence first");
     ASSERT_LT_(i, m_rgb_t.size());
-    const cv::Mat colour = loadImage(m_rgb_files[i], cv::IMREAD_UNCHANGED);
+    const cv::Mat colour = loadImageFile(m_rgb_files[i]);
     const cv::Mat depth = loadDepth(m_depth_files[i]);
     for (const auto& [im, file] :
          {std::pair{&colour, &m_rgb_files[i]}, std::pair{&depth, &m_depth_files[i]}})

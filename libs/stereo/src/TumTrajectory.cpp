@@ -1,4 +1,5 @@
 // SPDX-License-Identifier: BSD-3-Clause
+#include <emslam/stereo/TextParsing.h>
 #include <emslam/stereo/TumTrajectory.h>
 
 #include <mrpt/core/exceptions.h>
@@ -20,47 +21,6 @@ std::string shortest(double v)
     char buf[64];
     const auto res = std::to_chars(buf, buf + sizeof(buf), v);
     return std::string(buf, res.ptr);
-}
-
-/** Splits on spaces, tabs and commas; parses every token as a double. Returns
- * false if a token is not a number. */
-bool parseNumbers(const std::string& line, std::vector<double>& out)
-{
-    out.clear();
-    std::size_t i = 0;
-    const std::size_t n = line.size();
-    auto is_sep = [](char c) { return c == ' ' || c == '\t' || c == ',' || c == '\r'; };
-    while (i < n)
-    {
-        while (i < n && is_sep(line[i]))
-        {
-            ++i;
-        }
-        if (i >= n)
-        {
-            break;
-        }
-        std::size_t j = i;
-        while (j < n && !is_sep(line[j]))
-        {
-            ++j;
-        }
-        const char* first = line.data() + i;
-        const char* last = line.data() + j;
-        if (*first == '+')
-        {
-            ++first;
-        }
-        double v = 0;
-        const auto res = std::from_chars(first, last, v);
-        if (res.ec != std::errc() || res.ptr != last)
-        {
-            return false;
-        }
-        out.push_back(v);
-        i = j;
-    }
-    return true;
 }
 }  // namespace
 
@@ -110,38 +70,33 @@ void TumTrajectory::loadFromFile(const std::string& file)
     }
     std::vector<TumPose> out;
     std::vector<double> v;
-    std::string line;
-    std::size_t line_no = 0;
-    while (std::getline(f, line))
-    {
-        ++line_no;
-        const auto first = line.find_first_not_of(" \t\r");
-        if (first == std::string::npos || line[first] == '#')
+    forEachDataLine(
+        f,
+        [&](const std::string& line, std::size_t line_no)
         {
-            continue;
-        }
-        if (!parseNumbers(line, v) || v.size() != 8)
-        {
-            THROW_EXCEPTION_FMT(
-                "%s:%zu: expected 8 numbers 'timestamp tx ty tz qx qy qz qw', got '%s'",
-                file.c_str(), line_no, line.c_str());
-        }
-        for (const double x : v)
-        {
-            if (!std::isfinite(x))
+            if (!parseNumbers(line, v, " \t,\r") || v.size() != 8)
             {
                 THROW_EXCEPTION_FMT(
-                    "%s:%zu: non-finite number in '%s'", file.c_str(), line_no, line.c_str());
+                    "%s:%zu: expected 8 numbers 'timestamp tx ty tz qx qy qz qw', got '%s'",
+                    file.c_str(), line_no, line.c_str());
             }
-        }
-        const double norm = std::sqrt(v[4] * v[4] + v[5] * v[5] + v[6] * v[6] + v[7] * v[7]);
-        if (norm < 1e-9)
-        {
-            THROW_EXCEPTION_FMT("%s:%zu: zero quaternion", file.c_str(), line_no);
-        }
-        const mrpt::math::CQuaternionDouble q(v[7] / norm, v[4] / norm, v[5] / norm, v[6] / norm);
-        out.push_back({v[0], mrpt::poses::CPose3D(q, v[1], v[2], v[3])});
-    }
+            for (const double x : v)
+            {
+                if (!std::isfinite(x))
+                {
+                    THROW_EXCEPTION_FMT(
+                        "%s:%zu: non-finite number in '%s'", file.c_str(), line_no, line.c_str());
+                }
+            }
+            const double norm = std::sqrt(v[4] * v[4] + v[5] * v[5] + v[6] * v[6] + v[7] * v[7]);
+            if (norm < 1e-9)
+            {
+                THROW_EXCEPTION_FMT("%s:%zu: zero quaternion", file.c_str(), line_no);
+            }
+            const mrpt::math::CQuaternionDouble q(
+                v[7] / norm, v[4] / norm, v[5] / norm, v[6] / norm);
+            out.push_back({v[0], mrpt::poses::CPose3D(q, v[1], v[2], v[3])});
+        });
     if (f.bad())
     {
         THROW_EXCEPTION_FMT("Error reading trajectory file '%s'", file.c_str());

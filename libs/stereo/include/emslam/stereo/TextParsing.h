@@ -1,16 +1,18 @@
 // SPDX-License-Identifier: BSD-3-Clause
 #pragma once
 
+#include <cstddef>
 #include <cstdint>
+#include <functional>
+#include <iosfwd>
+#include <string>
 #include <string_view>
 #include <vector>
 
 namespace emslam::stereo
 {
-/** \defgroup emslam_stereo_text_grp Text parsing helpers
- * Strict, locale-independent parsing of the numbers of dataset text files
- * (KITTI, EuRoC, TUM): a token is a number only if all of it is one.
- * \ingroup emslam_stereo_grp */
+// Strict, locale-independent parsing of the lines and numbers of dataset text
+// files (KITTI, EuRoC, TUM): a token is a number only if all of it is one.
 
 /** `s` without its leading and trailing blanks (space, tab, CR, LF); empty if
  * `s` is all blanks. The result views the memory of `s`.
@@ -26,12 +28,22 @@ bool isBlank(std::string_view line);
  * \ingroup emslam_stereo_grp \sa isBlank */
 bool isCommentOrBlank(std::string_view line);
 
+/** Reads `in` to its end, line by line (`std::getline`), and calls
+ * `on_line(line, line_no)` for every line that is not isCommentOrBlank().
+ * `line_no` counts every line of `in` from 1, skipped ones included, for
+ * "file:line" messages; exceptions thrown by `on_line` propagate.
+ * \ingroup emslam_stereo_grp \sa isCommentOrBlank */
+void forEachDataLine(
+    std::istream& in,
+    const std::function<void(const std::string& line, std::size_t line_no)>& on_line);
+
 /** Parses the whole of `token` as a `double` (`std::from_chars` general
  * format: decimal or exponent notation, `inf`, `nan`), also accepting one
- * leading `+`. Returns false, leaving `v` unchanged, if `token` is empty, is
- * not a number, has trailing characters (blanks included) or is out of the
- * range of `double`. Non-finite values (`inf`, `nan`) are accepted: check
- * them with `std::isfinite` where they are not allowed.
+ * leading `+` (dropped before parsing, so `+-1` reads as -1). Returns false,
+ * leaving `v` unchanged, if `token` is empty, is not a number, has trailing
+ * characters (blanks included) or is out of the range of `double`.
+ * Non-finite values (`inf`, `nan`) are accepted: check them with
+ * `std::isfinite` where they are not allowed.
  * \ingroup emslam_stereo_grp \sa parseInt64, parseNumbers */
 bool parseDouble(std::string_view token, double& v);
 
@@ -45,10 +57,10 @@ bool parseInt64(std::string_view token, std::int64_t& v);
 /** Splits `line` into tokens at any run of the characters of `separators`
  * (leading and trailing separators ignored) and parses every token with
  * parseDouble(). `out` is cleared first and receives the numbers in order;
- * a blank line gives an empty `out` and true. Returns false at the first
- * token that is not a number (`out` then holds the numbers before it).
- * The default separators are space, tab and CR (the CR of CRLF files); pass
- * `" \t,\r"` to also accept commas.
+ * an empty line, or one of separators only, gives an empty `out` and true.
+ * Returns false at the first token that is not a number (`out` then holds
+ * the numbers before it). The default separators are space, tab and CR (the
+ * CR of CRLF files); pass `" \t,\r"` to also accept commas.
  * \ingroup emslam_stereo_grp \sa parseDouble */
 bool parseNumbers(
     std::string_view line, std::vector<double>& out, std::string_view separators = " \t\r");

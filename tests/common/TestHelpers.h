@@ -1,0 +1,20 @@
+// SPDX-License-Identifier: BSD-3-Clause
+#pragma once
+
+#include <functional>
+#include <initializer_list>
+#include <string>
+
+namespace emslam::test
+{
+/** Writes `text` to `path` as is (binary mode: a CRLF stays CRLF), replacing
+ * any previous content. */
+void writeFile(const std::string& path, const std::string& text);
+
+/** Expects `fn` to throw a `std::exception` whose what() contains every one of
+ * `parts`; adds a GoogleTest failure (naming the missing part and the full
+ * message) otherwise, or if `fn` does not throw at all. */
+void expectThrowContaining(
+    const std::function<void()>& fn, std::initializer_list<std::string> parts);
+
+}  // namespace emslam::test
