@@ -1,5 +1,8 @@
 // SPDX-License-Identifier: BSD-3-Clause
 #include <emslam/apps/registerAllClasses.h>
+#include <emslam/egomotion/registerAllClasses.h>
+#include <emslam/maps/registerAllClasses.h>
+#include <emslam/sim/registerAllClasses.h>
 #include <emslam/stereo/registerAllClasses.h>
 
 #include <mrpt/core/initializer.h>
@@ -10,6 +13,9 @@ namespace emslam::apps
 void registerAllClasses()
 {
     emslam::stereo::registerAllClasses();
+    emslam::egomotion::registerAllClasses();
+    emslam::maps::registerAllClasses();
+    emslam::sim::registerAllClasses();
     mrpt::maps::registerAllClasses_mrpt_maps();
 }
 }  // namespace emslam::apps

@@ -1,0 +1,61 @@
+// SPDX-License-Identifier: BSD-3-Clause
+#pragma once
+
+#include <mrpt/math/TPoint3D.h>
+#include <mrpt/poses/CPose3D.h>
+
+#include <vector>
+
+namespace emslam::egomotion
+{
+/** Stage 4 of §2.1: the action (R, t) that maps current-frame points into
+ * the previous frame, M_hat = R b + t, minimising E = sum_i Dpp(a_i, M_hat_i)
+ * (Eq. 4, 7): the product of the two point-to-ray distances, which ignores
+ * each point's depth noise along its own camera ray. Minimised by alternating
+ * conjugate gradient on the translation and on the rotation, with an adaptive
+ * step, until neither changes.
+ * \ingroup emslam_egomotion_grp */
+class DppPoseEstimator
+{
+public:
+    struct TParameters
+    {
+        /** Start from the closed-form Euclidean (Horn/Umeyama) fit instead of
+         * identity. Not in the paper: an option, measured. */
+        bool euclidean_init{true};
+        int max_alternations{50};   //!< translation/rotation rounds
+        int max_cg_iterations{50};  //!< per conjugate-gradient run
+        double tolerance{1e-9};     //!< relative energy change that counts as "no change"
+    };
+
+    struct Result
+    {
+        mrpt::poses::CPose3D T_prev_cur;  //!< pose of the current camera in the previous one
+        double energy{0};                 //!< final sum of Dpp [m^2]
+        double initial_energy{0};
+        int alternations{0};
+        int evaluations{0};  //!< energy/gradient evaluations
+    };
+
+    DppPoseEstimator() = default;
+    explicit DppPoseEstimator(const TParameters& p) : m_params(p) {}
+    const TParameters& parameters() const { return m_params; }
+
+    /** Dpp of Eq. 7 for one pair: `a` in the previous frame, `b_hat` = R b + t,
+     * `t` the current camera centre in the previous frame. */
+    static double dpp(
+        const mrpt::math::TPoint3D& a,
+        const mrpt::math::TPoint3D& b_hat,
+        const mrpt::math::TPoint3D& t);
+
+    /** Estimates T_prev_cur from matched points (a[i] <-> b[i]); needs >= 3 pairs. */
+    Result estimate(
+        const std::vector<mrpt::math::TPoint3Df>& a,
+        const std::vector<mrpt::math::TPoint3Df>& b,
+        const mrpt::poses::CPose3D& initial_guess = mrpt::poses::CPose3D()) const;
+
+private:
+    TParameters m_params;
+};
+
+}  // namespace emslam::egomotion

@@ -1,0 +1,39 @@
+// SPDX-License-Identifier: BSD-3-Clause
+#pragma once
+
+#include <mrpt/math/TPoint3D.h>
+
+#include <cstdint>
+#include <vector>
+
+namespace emslam::egomotion
+{
+/** \defgroup emslam_egomotion_grp Egomotion (libs/egomotion, paper §2.1) */
+
+/** A gradient-local-maximum (GLM) feature: a pixel of the reference image
+ * whose gradient magnitude is a strict local maximum in its window, with the
+ * stereo 3D point seen there (left camera frame, metres).
+ * \ingroup emslam_egomotion_grp */
+struct Feature
+{
+    std::uint16_t u{0}, v{0};     //!< pixel (column, row)
+    mrpt::math::TPoint3Df point;  //!< 3D point, left camera frame [m]
+    float gradient_angle{0};      //!< atan2(Iy, Ix) [rad], in (-pi, pi]
+    float gradient_magnitude{0};  //!< |grad I| (Sobel units)
+};
+
+using FeatureList = std::vector<Feature>;
+
+/** A putative correspondence: feature `prev` of the previous frame matches
+ * feature `cur` of the current one with similarity S = |rho| in [0, 1].
+ * \ingroup emslam_egomotion_grp */
+struct Match
+{
+    int prev{-1};
+    int cur{-1};
+    float similarity{0};
+};
+
+using MatchList = std::vector<Match>;
+
+}  // namespace emslam::egomotion

@@ -1,0 +1,10 @@
+// SPDX-License-Identifier: BSD-3-Clause
+#pragma once
+
+namespace emslam::egomotion
+{
+/** Registers this library's MRPT classes (RTTI, map types, sensors). Mains and
+ * test mains call it, which also keeps the linker from dropping the library.
+ * Idempotent. */
+void registerAllClasses();
+}  // namespace emslam::egomotion
