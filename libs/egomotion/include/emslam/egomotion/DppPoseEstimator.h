@@ -4,6 +4,7 @@
 #include <mrpt/math/TPoint3D.h>
 #include <mrpt/poses/CPose3D.h>
 
+#include <array>
 #include <vector>
 
 namespace emslam::egomotion
@@ -25,7 +26,7 @@ public:
         bool euclidean_init{true};
         int max_alternations{50};   //!< translation/rotation rounds
         int max_cg_iterations{50};  //!< per conjugate-gradient run
-        double tolerance{1e-9};     //!< relative energy change that counts as "no change"
+        double tolerance{1e-7};     //!< relative energy change that counts as "no change"
     };
 
     struct Result
@@ -47,6 +48,23 @@ public:
         const mrpt::math::TPoint3D& a,
         const mrpt::math::TPoint3D& b_hat,
         const mrpt::math::TPoint3D& t);
+
+    /** Energy E of Eq. 4 at pose `T_prev_cur` = (R, t) and, if asked, its
+     * analytic gradient with respect to t (`grad_t`, [m]) and to a rotation
+     * vector w applied on the left, R <- exp(w) R (`grad_w`, [m^2/rad]).
+     * Pairs that are not finite are ignored. */
+    static double energy(
+        const std::vector<mrpt::math::TPoint3Df>& a,
+        const std::vector<mrpt::math::TPoint3Df>& b,
+        const mrpt::poses::CPose3D& T_prev_cur,
+        std::array<double, 3>* grad_t = nullptr,
+        std::array<double, 3>* grad_w = nullptr);
+
+    /** The closed-form least-squares Euclidean fit (Horn/Umeyama, no scale):
+     * the optional initialisation of estimate(), also a baseline for tests.
+     * Needs >= 3 non-collinear pairs. */
+    static mrpt::poses::CPose3D euclideanFit(
+        const std::vector<mrpt::math::TPoint3Df>& a, const std::vector<mrpt::math::TPoint3Df>& b);
 
     /** Estimates T_prev_cur from matched points (a[i] <-> b[i]); needs >= 3 pairs. */
     Result estimate(

@@ -53,6 +53,7 @@ struct EgomotionResult
  * lp_num_angles     = 16
  * lp_radius         = 8
  * euclidean_init    = true   ; closed-form start before the Dpp conjugate gradient
+ * max_lwo_matches   = 2000   ; most similar matches kept for LWO (O(M^2) memory/time)
  * \endcode
  * \ingroup emslam_egomotion_grp */
 class EgomotionEstimator
@@ -65,15 +66,30 @@ public:
         void saveToConfigFile(
             mrpt::config::CConfigFileBase& c, const std::string& s) const override;
 
+        /** Throws std::exception naming the key when a value is out of range. */
+        void validate() const;
+
+        /** Side |W| of the GLM non-maximum window [px], >= 3. (Default: 8) */
         int window_size{8};
+        /** Gradient magnitude floor for features (Sobel units), >= 0. (Default: 0) */
         double min_gradient{0};
+        /** S_min, the appearance similarity threshold, in (0, 1]. (Default: 0.8) */
         double similarity_min{0.8};
+        /** sigma_min, LWO stops when the std. dev. of the D_i is below it, > 0. (Default: 0.005) */
         double lwo_sigma_min{0.005};
+        /** A step with fewer matches after LWO failed, >= 3. (Default: 12) */
         int min_final_matches{12};
+        /** Log-polar descriptor rings, >= 2. (Default: 8) */
         int lp_num_rings{8};
+        /** Log-polar descriptor angles, >= 4. (Default: 16) */
         int lp_num_angles{16};
+        /** Log-polar window radius [px], > 1. (Default: 8) */
         double lp_radius{8};
+        /** Closed-form Euclidean start of the Dpp minimisation. (Default: true) */
         bool euclidean_init{true};
+        /** Upper bound on the matches given to LWO (the most similar are kept),
+         * bounding its O(M^2) matrix; >= min_final_matches. (Default: 2000) */
+        int max_lwo_matches{2000};
     };
 
     EgomotionEstimator() = default;

@@ -9,7 +9,15 @@ namespace emslam::egomotion
 /** Stage 1 of §2.1: the reduced observation. Keeps the pixels whose |grad I|
  * is a *strict* local maximum within a `window_size` x `window_size` window
  * (no plateau pixel survives) and that have a valid stereo 3D point.
- * \ingroup emslam_egomotion_grp */
+ *
+ * Details: |grad I| is the 3x3 Sobel magnitude of `intensity`. The window of
+ * pixel (u, v) spans offsets -W/2 .. W-1-W/2 (integer division) on each axis:
+ * centred for odd W, one pixel more towards -u/-v for even W; it is clipped
+ * at the image border. A feature must be strictly greater than every other
+ * pixel of its window, > 0 and >= `min_gradient`, lie off the outermost
+ * 1-pixel border (where Sobel sees a mirrored image) and be valid in
+ * `frame.valid`. Features come in the order of `frame.points`.
+ * \ingroup emslam_egomotion_grp \sa LogPolarDescriptorExtractor */
 class GlmFeatureExtractor
 {
 public:
@@ -25,7 +33,9 @@ public:
     explicit GlmFeatureExtractor(const TParameters& p) : m_params(p) {}
     const TParameters& parameters() const { return m_params; }
 
-    /** Features of `frame` (its `intensity`, `valid`, points/pixels). */
+    /** Features of `frame` (its `intensity`, `valid`, points/pixels).
+     * Throws if window_size < 1, min_gradient < 0, `intensity` is not
+     * CV_8UC1, or `valid`/`pixels` disagree in size with the image/points. */
     FeatureList extract(const emslam::stereo::StereoFrame& frame) const;
 
 private:

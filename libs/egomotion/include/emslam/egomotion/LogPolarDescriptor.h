@@ -24,7 +24,14 @@ struct Descriptors
 /** Stage 2a of §2.1: the log-polar transform of the window around each
  * feature, rotated so that the feature's gradient points along the image's
  * +x axis (a cyclic shift of the angle axis in log-polar space).
- * \ingroup emslam_egomotion_grp */
+ *
+ * Sample (k, j), stored at k * num_angles + j, is the bilinear interpolation
+ * of the image at radius r_k = min_radius * (radius/min_radius)^(k/(num_rings-1))
+ * and angle gradient_angle + 2 pi j / num_angles around the feature pixel:
+ * the grid turns by the exact gradient angle (a continuous, not a
+ * whole-sample, shift). A feature whose disc of `radius` leaves the image, or
+ * whose samples are flat (RMS < 1e-3 grey levels), gets a zero row.
+ * \ingroup emslam_egomotion_grp \sa GlmFeatureExtractor, matchMutual */
 class LogPolarDescriptorExtractor
 {
 public:
@@ -40,7 +47,8 @@ public:
     explicit LogPolarDescriptorExtractor(const TParameters& p) : m_params(p) {}
     const TParameters& parameters() const { return m_params; }
 
-    /** `image` is the 8-bit reference image the features come from. */
+    /** `image` is the 8-bit reference image the features come from; one row
+     * per feature, in order. Throws on invalid parameters or a non-CV_8UC1 image. */
     Descriptors compute(const cv::Mat& image, const FeatureList& features) const;
 
 private:

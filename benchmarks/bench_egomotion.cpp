@@ -1,0 +1,227 @@
+// SPDX-License-Identifier: BSD-3-Clause
+// Per-frame cost of the egomotion stages (§2.1) between two consecutive real
+// KITTI 06 frames (0 and 1), single-threaded, at the paper's 320x240 and at
+// KITTI's full 1226x370. Run: bench_egomotion [--benchmark_filter=...]
+// Needs the KITTI excerpt (EMSLAM_TEST_DATA, default ../shared/data).
+#include <emslam/egomotion/DppPoseEstimator.h>
+#include <emslam/egomotion/EgomotionEstimator.h>
+#include <emslam/egomotion/FeatureMatcher.h>
+#include <emslam/egomotion/LwoRefinement.h>
+#include <emslam/stereo/CalibrationReaders.h>
+#include <emslam/stereo/StereoFrontEnd.h>
+
+#include <benchmark/benchmark.h>
+
+#include <cstdio>
+#include <cstdlib>
+#include <map>
+#include <memory>
+#include <opencv2/core/utility.hpp>
+#include <opencv2/imgcodecs.hpp>
+#include <opencv2/imgproc.hpp>
+#include <string>
+
+namespace
+{
+using emslam::egomotion::EgomotionEstimator;
+using emslam::stereo::StereoFrame;
+
+std::string dataDir()
+{
+    const char* env = std::getenv("EMSLAM_TEST_DATA");
+    return (env != nullptr && *env != '\0') ? env : EMSLAM_TEST_DATA_DEFAULT;
+}
+
+/** KITTI 06 frame `idx` through the stereo front-end, optionally as a
+ * central 4:3 crop resized to width x height (as bench_stereo_frontend does).
+ * Null if the data is absent. */
+std::shared_ptr<StereoFrame> kittiFrame(int idx, int width, int height)
+{
+    const std::string seq = dataDir() + "/kitti-odometry/sequences/06/";
+    char name[16];
+    std::snprintf(name, sizeof(name), "%06d.png", idx);
+    cv::Mat l = cv::imread(seq + "image_0/" + name, cv::IMREAD_GRAYSCALE);
+    cv::Mat r = cv::imread(seq + "image_1/" + name, cv::IMREAD_GRAYSCALE);
+    if (l.empty() || r.empty())
+    {
+        return nullptr;
+    }
+    auto cam = emslam::stereo::loadKittiCalibration(seq + "calib.txt", l.cols, l.rows);
+    emslam::stereo::StereoMatcher::TParameters p;
+    p.num_disparities = 128;
+    p.min_range = 1.0;
+    p.max_range = 20.0;  // as config/odometry/kitti.ini
+    if (width > 0)
+    {
+        const int cw = l.rows * width / height;
+        const cv::Rect roi((l.cols - cw) / 2, 0, cw, l.rows);
+        const double s = static_cast<double>(width) / cw;
+        cv::resize(l(roi), l, cv::Size(width, height), 0, 0, cv::INTER_AREA);
+        cv::resize(r(roi), r, cv::Size(width, height), 0, 0, cv::INTER_AREA);
+        for (auto* c : {&cam.leftCamera, &cam.rightCamera})
+        {
+            c->ncols = width;
+            c->nrows = height;
+            c->setIntrinsicParamsFromValues(
+                c->fx() * s, c->fy() * s, (c->cx() - roi.x + 0.5) * s - 0.5,
+                (c->cy() + 0.5) * s - 0.5);
+        }
+        p.num_disparities = 64;
+    }
+    auto obs = mrpt::obs::CObservationStereoImages::Create();
+    obs->imageLeft = mrpt::img::CImage(l, mrpt::img::DEEP_COPY);
+    obs->imageRight = mrpt::img::CImage(r, mrpt::img::DEEP_COPY);
+    obs->hasImageRight = true;
+    obs->setStereoCameraParams(cam);
+    return std::make_shared<StereoFrame>(emslam::stereo::StereoFrontEnd(p).process(*obs));
+}
+
+struct Pair
+{
+    std::shared_ptr<StereoFrame> prev, cur;
+    std::vector<mrpt::math::TPoint3Df> a, b;    //!< matched points (before LWO)
+    std::vector<mrpt::math::TPoint3Df> ka, kb;  //!< after LWO
+};
+
+/** Frames 0 and 1 with their matches, computed once per size. */
+const Pair* kittiPair(int width, int height)
+{
+    static std::map<int, std::unique_ptr<Pair>> cache;
+    auto& slot = cache[width];
+    if (!slot)
+    {
+        auto p = std::make_unique<Pair>();
+        p->prev = kittiFrame(0, width, height);
+        p->cur = kittiFrame(1, width, height);
+        if (!p->prev || !p->cur)
+        {
+            return nullptr;
+        }
+        const EgomotionEstimator::TParameters ep;
+        emslam::egomotion::GlmFeatureExtractor::TParameters gp;
+        gp.window_size = ep.window_size;
+        const emslam::egomotion::GlmFeatureExtractor glm(gp);
+        const emslam::egomotion::LogPolarDescriptorExtractor lp;
+        const auto fp = glm.extract(*p->prev), fc = glm.extract(*p->cur);
+        const auto matches = emslam::egomotion::matchMutual(
+            lp.compute(p->prev->intensity, fp), lp.compute(p->cur->intensity, fc),
+            static_cast<float>(ep.similarity_min));
+        for (const auto& m : matches)
+        {
+            p->a.push_back(fp[static_cast<std::size_t>(m.prev)].point);
+            p->b.push_back(fc[static_cast<std::size_t>(m.cur)].point);
+        }
+        const auto lwo = emslam::egomotion::refineLwo(p->a, p->b, ep.lwo_sigma_min);
+        for (int i : lwo.kept)
+        {
+            p->ka.push_back(p->a[static_cast<std::size_t>(i)]);
+            p->kb.push_back(p->b[static_cast<std::size_t>(i)]);
+        }
+        slot = std::move(p);
+    }
+    return slot.get();
+}
+
+void runLwo(benchmark::State& state, const Pair* p)
+{
+    if (!p)
+    {
+        state.SkipWithError("test data not found (set EMSLAM_TEST_DATA)");
+        return;
+    }
+    for (auto _ : state)
+    {
+        auto r = emslam::egomotion::refineLwo(p->a, p->b, 0.005);
+        benchmark::DoNotOptimize(r);
+    }
+    state.counters["matches"] = static_cast<double>(p->a.size());
+    state.counters["kept"] = static_cast<double>(p->ka.size());
+}
+
+void runPose(benchmark::State& state, const Pair* p)
+{
+    if (!p || p->ka.size() < 3)
+    {
+        state.SkipWithError("test data not found (set EMSLAM_TEST_DATA)");
+        return;
+    }
+    const emslam::egomotion::DppPoseEstimator est;
+    int evals = 0;
+    for (auto _ : state)
+    {
+        auto r = est.estimate(p->ka, p->kb);
+        evals = r.evaluations;
+        benchmark::DoNotOptimize(r);
+    }
+    state.counters["pairs"] = static_cast<double>(p->ka.size());
+    state.counters["evaluations"] = evals;
+}
+
+/** Stages 1-5: features, descriptors (of both frames), matching, LWO, pose. */
+void runEstimate(benchmark::State& state, const Pair* p)
+{
+    if (!p)
+    {
+        state.SkipWithError("test data not found (set EMSLAM_TEST_DATA)");
+        return;
+    }
+    const EgomotionEstimator em;
+    emslam::egomotion::EgomotionResult r;
+    for (auto _ : state)
+    {
+        r = em.estimate(*p->prev, *p->cur);
+        benchmark::DoNotOptimize(r);
+    }
+    state.counters["final_matches"] = static_cast<double>(r.final_matches);
+    state.counters["ms_features"] = r.ms_features;
+    state.counters["ms_descriptors"] = r.ms_descriptors;
+    state.counters["ms_matching"] = r.ms_matching;
+    state.counters["ms_lwo"] = r.ms_lwo;
+    state.counters["ms_pose"] = r.ms_pose;
+}
+
+void BM_Kitti320x240_Lwo(benchmark::State& s)
+{
+    runLwo(s, kittiPair(320, 240));
+}
+void BM_Kitti320x240_Pose(benchmark::State& s)
+{
+    runPose(s, kittiPair(320, 240));
+}
+void BM_Kitti320x240_Estimate(benchmark::State& s)
+{
+    runEstimate(s, kittiPair(320, 240));
+}
+void BM_KittiFull_Lwo(benchmark::State& s)
+{
+    runLwo(s, kittiPair(0, 0));
+}
+void BM_KittiFull_Pose(benchmark::State& s)
+{
+    runPose(s, kittiPair(0, 0));
+}
+void BM_KittiFull_Estimate(benchmark::State& s)
+{
+    runEstimate(s, kittiPair(0, 0));
+}
+}  // namespace
+
+BENCHMARK(BM_Kitti320x240_Lwo)->Unit(benchmark::kMillisecond);
+BENCHMARK(BM_Kitti320x240_Pose)->Unit(benchmark::kMillisecond);
+BENCHMARK(BM_Kitti320x240_Estimate)->Unit(benchmark::kMillisecond);
+BENCHMARK(BM_KittiFull_Lwo)->Unit(benchmark::kMillisecond);
+BENCHMARK(BM_KittiFull_Pose)->Unit(benchmark::kMillisecond);
+BENCHMARK(BM_KittiFull_Estimate)->Unit(benchmark::kMillisecond);
+
+int main(int argc, char** argv)
+{
+    cv::setNumThreads(1);  // the target is per frame on one core
+    benchmark::Initialize(&argc, argv);
+    if (benchmark::ReportUnrecognizedArguments(argc, argv))
+    {
+        return 1;
+    }
+    benchmark::RunSpecifiedBenchmarks();
+    benchmark::Shutdown();
+    return 0;
+}

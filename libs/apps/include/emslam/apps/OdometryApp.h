@@ -1,0 +1,62 @@
+// SPDX-License-Identifier: BSD-3-Clause
+#pragma once
+
+#include <emslam/stereo/TumTrajectory.h>
+
+#include <mrpt/config/CConfigFileMemory.h>
+
+#include <cstddef>
+#include <string>
+
+namespace emslam::apps
+{
+/** `emslam-odometry`: stereo visual odometry alone (paper §2.1, no global
+ * rectification). Every stereo / RGB-D observation of a rawlog goes through
+ * the stereo front-end and EgomotionEstimator::process(); the steps are
+ * composed into the pose of the left camera in the first frame's left
+ * camera, written as a TUM trajectory. A failed step keeps the previous pose
+ * and is counted.
+ *
+ * \code
+ * emslam-odometry --rawlog IN.rawlog -o TRAJ.tum [--config X.ini]
+ *   [--set Section.key=value ...] [--max-frames N] [--quiet]
+ * \endcode
+ * Parameters: `[Stereo]` (StereoMatcher::TParameters) and `[Egomotion]`
+ * (EgomotionEstimator::TParameters); see config/odometry/kitti.ini.
+ * \ingroup emslam_apps_grp \sa emslam::egomotion::EgomotionEstimator */
+class OdometryApp
+{
+public:
+    /** Parses the command line. Throws on bad arguments. After `--help` or
+     * `--version`, helpRequested() is true and run() does nothing. */
+    void initialize(int argc, const char** argv);
+    void initialize(int argc, char** argv) { initialize(argc, const_cast<const char**>(argv)); }
+    /** Runs the odometry and writes the trajectory. Throws with a message
+     * naming the file on bad input or when no frame was found. */
+    void run();
+
+    bool helpRequested() const { return m_help_requested; }
+
+    /** Effective configuration; tests may edit it between initialize() and run(). */
+    mrpt::config::CConfigFileMemory params;
+
+    // ---- Results of run() ----
+    std::size_t frames_processed{0};
+    /** Steps (frame pairs) whose egomotion failed (excludes the first frame). */
+    std::size_t failures{0};
+    /** T_first_left of every processed frame, as written to the output. */
+    emslam::stereo::TumTrajectory trajectory;
+    /** Mean time per frame [ms]: stereo front-end, egomotion stages, total. */
+    double mean_ms_stereo{0}, mean_ms_features{0}, mean_ms_descriptors{0}, mean_ms_matching{0},
+        mean_ms_lwo{0}, mean_ms_pose{0}, mean_ms_egomotion{0};
+    /** Mean matches per step before / after LWO. */
+    double mean_initial_matches{0}, mean_final_matches{0};
+
+private:
+    bool m_help_requested{false};
+    bool m_quiet{false};
+    std::string m_rawlog, m_output;
+    std::size_t m_max_frames{0};
+};
+
+}  // namespace emslam::apps

@@ -1,0 +1,212 @@
+// SPDX-License-Identifier: BSD-3-Clause
+#include <emslam/apps/CommandLine.h>
+#include <emslam/apps/OdometryApp.h>
+#include <emslam/egomotion/EgomotionEstimator.h>
+#include <emslam/stereo/StereoFrontEnd.h>
+
+#include <mrpt/img/CImage.h>
+#include <mrpt/io/CFileGZInputStream.h>
+#include <mrpt/obs/CRawlog.h>
+#include <mrpt/serialization/CArchive.h>
+#include <mrpt/system/filesystem.h>
+
+#include <chrono>
+#include <cstdio>
+#include <fstream>
+#include <iterator>
+#include <stdexcept>
+#include <vector>
+
+namespace emslam::apps
+{
+namespace
+{
+constexpr const char* STEREO_SECTION = "Stereo";
+constexpr const char* EGOMOTION_SECTION = "Egomotion";
+
+void requireFile(const std::string& f, const std::string& what)
+{
+    if (!mrpt::system::fileExists(f))
+    {
+        throw std::runtime_error(what + " '" + f + "' does not exist");
+    }
+}
+}  // namespace
+
+void OdometryApp::initialize(int argc, const char** argv)
+{
+    TCLAP::CmdLine cmd(
+        "emslam-odometry: stereo visual odometry (GLM features, log-polar matching, LWO, Dpp "
+        "pose) over a rawlog; writes the camera trajectory in TUM format.",
+        ' ', "0.1");
+    TCLAP::ValueArg<std::string> rawlog(
+        "", "rawlog", "Rawlog with CObservationStereoImages / CObservation3DRangeScan", true, "",
+        "FILE", cmd);
+    TCLAP::ValueArg<std::string> output(
+        "o", "output", "Output trajectory (TUM: t tx ty tz qx qy qz qw)", true, "", "FILE", cmd);
+    TCLAP::ValueArg<std::string> config(
+        "c", "config", "INI file with [Stereo] and [Egomotion] sections", false, "", "INI", cmd);
+    TCLAP::MultiArg<std::string> sets(
+        "", "set", "Override a parameter: SECTION.key=value", false, "SECTION.key=value", cmd);
+    TCLAP::ValueArg<std::size_t> max_frames(
+        "", "max-frames", "Stop after N frames (0: all)", false, 0, "N", cmd);
+    TCLAP::SwitchArg quiet("q", "quiet", "Print the summary only, not every frame", cmd);
+
+    if (!parseCommandLine(cmd, argc, argv))
+    {
+        m_help_requested = true;
+        return;
+    }
+    m_rawlog = rawlog.getValue();
+    m_output = output.getValue();
+    m_max_frames = max_frames.getValue();
+    m_quiet = quiet.getValue();
+    if (!config.getValue().empty())
+    {
+        requireFile(config.getValue(), "config file");
+        std::ifstream f(config.getValue());
+        params.setContent(std::string(std::istreambuf_iterator<char>(f), {}));
+    }
+    applyConfigOverrides(params, sets.getValue());
+}
+
+void OdometryApp::run()
+{
+    if (m_help_requested)
+    {
+        return;
+    }
+    // Parameters are read (and validated) before any input is touched.
+    emslam::stereo::StereoMatcher::TParameters sp;
+    sp.loadFromConfigFile(params, STEREO_SECTION);
+    emslam::egomotion::EgomotionEstimator::TParameters ep;
+    ep.loadFromConfigFile(params, EGOMOTION_SECTION);
+    emslam::stereo::StereoFrontEnd front(sp);
+    emslam::egomotion::EgomotionEstimator egomotion(ep);
+    std::printf(
+        "[Stereo] num_disparities=%d range=[%g, %g] m  [Egomotion] |W|=%d S_min=%g sigma_min=%g "
+        "min_final_matches=%d\n",
+        sp.num_disparities, sp.min_range, sp.max_range, ep.window_size, ep.similarity_min,
+        ep.lwo_sigma_min, ep.min_final_matches);
+
+    requireFile(m_rawlog, "rawlog");
+    mrpt::io::CFileGZInputStream in;
+    if (!in.open(m_rawlog))
+    {
+        throw std::runtime_error("cannot open rawlog '" + m_rawlog + "'");
+    }
+    mrpt::img::CImage::setImagesPathBase(mrpt::obs::CRawlog::detectImagesDirectory(m_rawlog));
+    auto arch = mrpt::serialization::archiveFrom(in);
+
+    using clock = std::chrono::steady_clock;
+    trajectory = {};
+    frames_processed = failures = 0;
+    mrpt::poses::CPose3D T_first_cur;
+    double sum_stereo = 0, sum_feat = 0, sum_desc = 0, sum_match = 0, sum_lwo = 0, sum_pose = 0,
+           sum_ego = 0, sum_init = 0, sum_final = 0;
+    std::size_t steps = 0;
+
+    auto handle = [&](const mrpt::obs::CObservation& o)
+    {
+        emslam::stereo::StereoFrame f;
+        const auto t0 = clock::now();
+        if (!front.process(o, f))
+        {
+            return false;
+        }
+        const double ms_stereo =
+            std::chrono::duration<double, std::milli>(clock::now() - t0).count();
+        const auto r = egomotion.process(f);
+        if (frames_processed > 0)
+        {
+            ++steps;
+            failures += !r.ok;
+            sum_init += static_cast<double>(r.initial_matches);
+            sum_final += static_cast<double>(r.final_matches);
+            sum_match += r.ms_matching;
+            sum_lwo += r.ms_lwo;
+            sum_pose += r.ms_pose;
+        }
+        if (r.ok)
+        {
+            T_first_cur = T_first_cur + r.T_prev_cur;
+        }
+        trajectory.add(mrpt::Clock::toDouble(f.timestamp), T_first_cur);
+        sum_stereo += ms_stereo;
+        sum_feat += r.ms_features;
+        sum_desc += r.ms_descriptors;
+        sum_ego += r.ms_total;
+        if (!m_quiet)
+        {
+            std::printf(
+                "frame %zu: %zu points, %zu features, matches %zu -> %zu (LWO %d it), %s | ms: "
+                "stereo %.1f features %.1f descr %.1f match %.1f lwo %.1f pose %.1f egomotion "
+                "%.1f\n",
+                frames_processed, f.size(), r.features_cur, r.initial_matches, r.final_matches,
+                r.lwo_iterations, r.ok ? "ok" : r.failure_reason.c_str(), ms_stereo, r.ms_features,
+                r.ms_descriptors, r.ms_matching, r.ms_lwo, r.ms_pose, r.ms_total);
+        }
+        ++frames_processed;
+        return true;
+    };
+
+    mrpt::obs::CActionCollection::Ptr acts;
+    mrpt::obs::CSensoryFrame::Ptr sf;
+    mrpt::obs::CObservation::Ptr obs;
+    std::size_t idx = 0, ignored = 0;
+    while ((m_max_frames == 0 || frames_processed < m_max_frames) &&
+           mrpt::obs::CRawlog::getActionObservationPairOrObservation(arch, acts, sf, obs, idx))
+    {
+        std::vector<mrpt::obs::CObservation::Ptr> batch;
+        if (obs)
+        {
+            batch.push_back(obs);
+        }
+        else if (sf)
+        {
+            batch.assign(sf->begin(), sf->end());
+        }
+        for (const auto& o : batch)
+        {
+            if (m_max_frames != 0 && frames_processed >= m_max_frames)
+            {
+                break;
+            }
+            ignored += !handle(*o);
+        }
+    }
+    if (frames_processed == 0)
+    {
+        throw std::runtime_error(
+            "no stereo or RGB-D observation found in rawlog '" + m_rawlog + "'");
+    }
+    trajectory.saveToFile(m_output);
+
+    const double n = static_cast<double>(frames_processed);
+    mean_ms_stereo = sum_stereo / n;
+    mean_ms_features = sum_feat / n;
+    mean_ms_descriptors = sum_desc / n;
+    mean_ms_egomotion = sum_ego / n;
+    const double ns = steps > 0 ? static_cast<double>(steps) : 1.0;
+    mean_ms_matching = sum_match / ns;
+    mean_ms_lwo = sum_lwo / ns;
+    mean_ms_pose = sum_pose / ns;
+    mean_initial_matches = sum_init / ns;
+    mean_final_matches = sum_final / ns;
+    if (ignored > 0)
+    {
+        std::printf("ignored %zu observations of other classes\n", ignored);
+    }
+    const auto& T = T_first_cur;
+    std::printf(
+        "%zu frames, %zu failed steps; matches %.0f -> %.0f after LWO on average\n"
+        "mean ms per frame: stereo %.1f, features %.1f, descriptors %.1f, matching %.1f, LWO "
+        "%.1f, pose %.1f, egomotion total %.1f\n"
+        "final pose: x %.3f y %.3f z %.3f m (%.3f m from the start); trajectory written to "
+        "'%s'\n",
+        frames_processed, failures, mean_initial_matches, mean_final_matches, mean_ms_stereo,
+        mean_ms_features, mean_ms_descriptors, mean_ms_matching, mean_ms_lwo, mean_ms_pose,
+        mean_ms_egomotion, T.x(), T.y(), T.z(), T.norm(), m_output.c_str());
+}
+
+}  // namespace emslam::apps

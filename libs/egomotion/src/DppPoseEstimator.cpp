@@ -1,0 +1,380 @@
+// SPDX-License-Identifier: BSD-3-Clause
+#include <emslam/egomotion/DppPoseEstimator.h>
+
+#include <mrpt/core/exceptions.h>
+#include <mrpt/math/CMatrixFixed.h>
+
+#include <Eigen/Dense>
+#include <Eigen/Geometry>
+#include <algorithm>
+#include <cmath>
+#include <limits>
+
+namespace emslam::egomotion
+{
+namespace
+{
+using Vec3 = Eigen::Vector3d;
+using Mat3 = Eigen::Matrix3d;
+
+/** A point closer than this to its camera centre [m] defines no ray: Eq. 7
+ * divides by its norm. Such pairs are left out of E (their term would not
+ * depend on the pose anyway, since |R b| = |b|). */
+constexpr double MIN_RAY_NORM = 1e-6;
+/** Keeps the derivative of a norm finite where the norm vanishes (the term
+ * itself is then 0, so this only decides which subgradient is used). */
+constexpr double TINY = 1e-300;
+
+Vec3 toVec(const mrpt::math::TPoint3D& p)
+{
+    return {p.x, p.y, p.z};
+}
+
+bool usable(const mrpt::math::TPoint3Df& p)
+{
+    return std::isfinite(p.x) && std::isfinite(p.y) && std::isfinite(p.z) &&
+           double(p.x) * p.x + double(p.y) * p.y + double(p.z) * p.z >= MIN_RAY_NORM * MIN_RAY_NORM;
+}
+
+/** The pairs of the problem as Eigen vectors, degenerate ones dropped. */
+struct Pairs
+{
+    std::vector<Vec3> a, b;
+    std::vector<double> inv_na;  //!< 1 / |a|
+    std::vector<double> inv_nb;  //!< 1 / |b| (= 1 / |R b|)
+};
+
+Pairs makePairs(
+    const std::vector<mrpt::math::TPoint3Df>& a, const std::vector<mrpt::math::TPoint3Df>& b)
+{
+    ASSERT_EQUAL_(a.size(), b.size());
+    Pairs p;
+    for (std::size_t i = 0; i < a.size(); ++i)
+    {
+        if (!usable(a[i]) || !usable(b[i]))
+        {
+            continue;
+        }
+        p.a.emplace_back(a[i].x, a[i].y, a[i].z);
+        p.b.emplace_back(b[i].x, b[i].y, b[i].z);
+        p.inv_na.push_back(1.0 / p.a.back().norm());
+        p.inv_nb.push_back(1.0 / p.b.back().norm());
+    }
+    return p;
+}
+
+/** E(R, t) of Eq. 4 with Dpp of Eq. 7; gradients as documented in the header.
+ * With c = R b, u = (a - t) x c, v = (c + t) x a:
+ *   d1 = |u| / |c|,  d2 = |v| / |a|,  Dpp = d1 d2,
+ *   dd1/dt = (u x c) / (|u||c|),           dd2/dt = (a x v) / (|v||a|),
+ *   dd1/dw = -c x ((a - t) x u) / (|u||c|), dd2/dw = c x (a x v) / (|v||a|),
+ * where w perturbs the rotation on the left (dc = w x c). */
+double energyGrad(const Pairs& p, const Mat3& R, const Vec3& t, Vec3* gt, Vec3* gw)
+{
+    double e = 0;
+    if (gt)
+    {
+        gt->setZero();
+    }
+    if (gw)
+    {
+        gw->setZero();
+    }
+    for (std::size_t i = 0; i < p.a.size(); ++i)
+    {
+        const Vec3& a = p.a[i];
+        const Vec3 c = R * p.b[i];
+        const Vec3 q = a - t;
+        const Vec3 u = q.cross(c);
+        const Vec3 v = (c + t).cross(a);
+        const double nu = u.norm(), nv = v.norm();
+        const double d1 = nu * p.inv_nb[i], d2 = nv * p.inv_na[i];
+        e += d1 * d2;
+        if (!gt && !gw)
+        {
+            continue;
+        }
+        const double k1 = p.inv_nb[i] / std::max(nu, TINY);
+        const double k2 = p.inv_na[i] / std::max(nv, TINY);
+        const Vec3 av = a.cross(v);
+        if (gt)
+        {
+            *gt += d2 * k1 * u.cross(c) + d1 * k2 * av;
+        }
+        if (gw)
+        {
+            *gw += -d2 * k1 * c.cross(q.cross(u)) + d1 * k2 * c.cross(av);
+        }
+    }
+    return e;
+}
+
+Mat3 expSO3(const Vec3& w)
+{
+    const double th = w.norm();
+    if (th < 1e-12)
+    {
+        Mat3 r = Mat3::Identity();
+        r(0, 1) = -w.z();
+        r(0, 2) = w.y();
+        r(1, 0) = w.z();
+        r(1, 2) = -w.x();
+        r(2, 0) = -w.y();
+        r(2, 1) = w.x();
+        return r;
+    }
+    return Eigen::AngleAxisd(th, w / th).toRotationMatrix();
+}
+
+void fromPose(const mrpt::poses::CPose3D& T, Mat3& R, Vec3& t)
+{
+    const auto Rm = T.getRotationMatrix();
+    for (int r = 0; r < 3; ++r)
+    {
+        for (int c = 0; c < 3; ++c)
+        {
+            R(r, c) = Rm(r, c);
+        }
+    }
+    t = Vec3(T.x(), T.y(), T.z());
+}
+
+mrpt::poses::CPose3D toPose(const Mat3& R, const Vec3& t)
+{
+    mrpt::math::CMatrixDouble44 H = mrpt::math::CMatrixDouble44::Identity();
+    // Re-orthonormalise: many small left-multiplied updates accumulate
+    // rounding.
+    const Eigen::Quaterniond q(R);
+    const Mat3 Rn = q.normalized().toRotationMatrix();
+    for (int r = 0; r < 3; ++r)
+    {
+        for (int c = 0; c < 3; ++c)
+        {
+            H(r, c) = Rn(r, c);
+        }
+        H(r, 3) = t[r];
+    }
+    return mrpt::poses::CPose3D::FromHomogeneousMatrix(H);
+}
+
+/** One conjugate-gradient run (Polak-Ribiere+, restarted when the direction
+ * stops descending) over one block: the translation or the left rotation
+ * vector. The line search is adaptive: it starts from the step length that
+ * worked last time (`step`, kept across runs), doubles while the energy keeps
+ * dropping and halves until it drops. Returns the new energy. */
+double cgBlock(
+    const Pairs& p,
+    Mat3& R,
+    Vec3& t,
+    bool rotation,
+    double e,
+    int max_iters,
+    double tolerance,
+    double& step,
+    int& evals)
+{
+    auto gradient = [&](Vec3& g)
+    {
+        ++evals;
+        return rotation ? energyGrad(p, R, t, nullptr, &g) : energyGrad(p, R, t, &g, nullptr);
+    };
+    auto energyAt = [&](const Vec3& x)
+    {
+        ++evals;
+        return rotation ? energyGrad(p, expSO3(x) * R, t, nullptr, nullptr)
+                        : energyGrad(p, R, t + x, nullptr, nullptr);
+    };
+    auto apply = [&](const Vec3& x)
+    {
+        if (rotation)
+        {
+            R = expSO3(x) * R;
+        }
+        else
+        {
+            t += x;
+        }
+    };
+    // Steps below this change nothing measurable (metres or radians).
+    constexpr double MIN_STEP = 1e-12;
+
+    Vec3 g;
+    gradient(g);
+    Vec3 d = -g;
+    for (int it = 0; it < max_iters; ++it)
+    {
+        const double gn = g.norm();
+        if (gn <= 0 || !std::isfinite(gn))
+        {
+            break;
+        }
+        if (d.dot(g) >= 0)
+        {
+            d = -g;  // restart on a non-descent direction
+        }
+        const Vec3 dir = d.normalized();
+        double alpha = std::max(step, 1e3 * MIN_STEP);
+        double e_new = energyAt(alpha * dir);
+        if (e_new < e)
+        {
+            for (int k = 0; k < 40; ++k)
+            {
+                const double e2 = energyAt(2 * alpha * dir);
+                if (!(e2 < e_new))
+                {
+                    break;
+                }
+                alpha *= 2;
+                e_new = e2;
+            }
+        }
+        else
+        {
+            while (!(e_new < e) && alpha > MIN_STEP)
+            {
+                alpha *= 0.5;
+                e_new = energyAt(alpha * dir);
+            }
+            if (!(e_new < e))
+            {
+                break;  // no descent along d: a minimum for this block
+            }
+        }
+        apply(alpha * dir);
+        step = alpha;
+        const double de = e - e_new;
+        e = e_new;
+        Vec3 g_new;
+        gradient(g_new);
+        const double beta = std::max(0.0, g_new.dot(g_new - g) / std::max(g.squaredNorm(), TINY));
+        d = -g_new + beta * d;
+        g = g_new;
+        if (de <= tolerance * std::max(e, TINY))
+        {
+            break;
+        }
+    }
+    return e;
+}
+}  // namespace
+
+double DppPoseEstimator::dpp(
+    const mrpt::math::TPoint3D& a, const mrpt::math::TPoint3D& b_hat, const mrpt::math::TPoint3D& t)
+{
+    const Vec3 va = toVec(a), vb = toVec(b_hat), vt = toVec(t);
+    const Vec3 c = vb - vt;  // R b: the current point seen from its own centre
+    const double na = va.norm(), nc = c.norm();
+    if (na < MIN_RAY_NORM || nc < MIN_RAY_NORM)
+    {
+        return 0;  // no ray through a point at its camera centre
+    }
+    return (va - vt).cross(c).norm() / nc * vb.cross(va).norm() / na;
+}
+
+double DppPoseEstimator::energy(
+    const std::vector<mrpt::math::TPoint3Df>& a,
+    const std::vector<mrpt::math::TPoint3Df>& b,
+    const mrpt::poses::CPose3D& T_prev_cur,
+    std::array<double, 3>* grad_t,
+    std::array<double, 3>* grad_w)
+{
+    const Pairs p = makePairs(a, b);
+    Mat3 R;
+    Vec3 t, gt, gw;
+    fromPose(T_prev_cur, R, t);
+    const double e = energyGrad(p, R, t, grad_t ? &gt : nullptr, grad_w ? &gw : nullptr);
+    for (int k = 0; k < 3; ++k)
+    {
+        if (grad_t)
+        {
+            (*grad_t)[k] = gt[k];
+        }
+        if (grad_w)
+        {
+            (*grad_w)[k] = gw[k];
+        }
+    }
+    return e;
+}
+
+mrpt::poses::CPose3D DppPoseEstimator::euclideanFit(
+    const std::vector<mrpt::math::TPoint3Df>& a, const std::vector<mrpt::math::TPoint3Df>& b)
+{
+    const Pairs p = makePairs(a, b);
+    ASSERTMSG_(p.a.size() >= 3, "euclideanFit needs at least 3 valid pairs");
+    Vec3 ca = Vec3::Zero(), cb = Vec3::Zero();
+    for (std::size_t i = 0; i < p.a.size(); ++i)
+    {
+        ca += p.a[i];
+        cb += p.b[i];
+    }
+    ca /= double(p.a.size());
+    cb /= double(p.a.size());
+    Mat3 H = Mat3::Zero();
+    for (std::size_t i = 0; i < p.a.size(); ++i)
+    {
+        H += (p.b[i] - cb) * (p.a[i] - ca).transpose();
+    }
+    const Eigen::JacobiSVD<Mat3> svd(H, Eigen::ComputeFullU | Eigen::ComputeFullV);
+    Mat3 D = Mat3::Identity();
+    // A reflection would fit mirrored data better; force a proper rotation.
+    D(2, 2) = (svd.matrixV() * svd.matrixU().transpose()).determinant() < 0 ? -1.0 : 1.0;
+    const Mat3 R = svd.matrixV() * D * svd.matrixU().transpose();
+    return toPose(R, ca - R * cb);
+}
+
+DppPoseEstimator::Result DppPoseEstimator::estimate(
+    const std::vector<mrpt::math::TPoint3Df>& a,
+    const std::vector<mrpt::math::TPoint3Df>& b,
+    const mrpt::poses::CPose3D& initial_guess) const
+{
+    const Pairs p = makePairs(a, b);
+    ASSERTMSG_(p.a.size() >= 3, "DppPoseEstimator::estimate needs at least 3 valid pairs");
+    Result res;
+    Mat3 R;
+    Vec3 t;
+    fromPose(initial_guess, R, t);
+    double e = energyGrad(p, R, t, nullptr, nullptr);
+    res.evaluations = 1;
+    if (m_params.euclidean_init)
+    {
+        // Keep whichever start is better: a good guess from the caller beats
+        // a Euclidean fit spoiled by depth noise.
+        Mat3 R0;
+        Vec3 t0;
+        fromPose(euclideanFit(a, b), R0, t0);
+        const double e0 = energyGrad(p, R0, t0, nullptr, nullptr);
+        ++res.evaluations;
+        if (e0 < e)
+        {
+            R = R0;
+            t = t0;
+            e = e0;
+        }
+    }
+    res.initial_energy = e;
+
+    double step_t = 1e-2, step_w = 1e-3;  // first trial steps [m], [rad]
+    for (int k = 0; k < m_params.max_alternations; ++k)
+    {
+        ++res.alternations;
+        const double e_start = e;
+        const double e_t = cgBlock(
+            p, R, t, false, e, m_params.max_cg_iterations, m_params.tolerance, step_t,
+            res.evaluations);
+        const double e_w = cgBlock(
+            p, R, t, true, e_t, m_params.max_cg_iterations, m_params.tolerance, step_w,
+            res.evaluations);
+        e = e_w;
+        // Converged when neither block moved the energy.
+        if (e_start - e <= m_params.tolerance * std::max(e_start, TINY))
+        {
+            break;
+        }
+    }
+    res.energy = e;
+    res.T_prev_cur = toPose(R, t);
+    return res;
+}
+
+}  // namespace emslam::egomotion

@@ -1,0 +1,258 @@
+// SPDX-License-Identifier: BSD-3-Clause
+#include <emslam/egomotion/EgomotionEstimator.h>
+#include <emslam/egomotion/FeatureMatcher.h>
+#include <emslam/egomotion/LwoRefinement.h>
+
+#include <mrpt/config/CConfigFileBase.h>
+#include <mrpt/core/exceptions.h>
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <stdexcept>
+#include <string>
+
+namespace emslam::egomotion
+{
+namespace
+{
+using Clock = std::chrono::steady_clock;
+
+double msSince(Clock::time_point t0)
+{
+    return std::chrono::duration<double, std::milli>(Clock::now() - t0).count();
+}
+
+void require(bool ok, const std::string& key, const std::string& what)
+{
+    if (!ok)
+    {
+        throw std::invalid_argument("[Egomotion] " + key + ": " + what);
+    }
+}
+
+bool finite(const mrpt::math::TPoint3Df& p)
+{
+    return std::isfinite(p.x) && std::isfinite(p.y) && std::isfinite(p.z);
+}
+}  // namespace
+
+/** A frame after stages 1-2a: its features (finite 3D points only) and their
+ * descriptors, computed once per frame. */
+struct EgomotionEstimator::Described
+{
+    FeatureList features;
+    Descriptors descriptors;
+    double ms_features{0}, ms_descriptors{0};
+};
+
+void EgomotionEstimator::TParameters::loadFromConfigFile(
+    const mrpt::config::CConfigFileBase& c, const std::string& s)
+{
+    MRPT_LOAD_CONFIG_VAR(window_size, int, c, s);
+    MRPT_LOAD_CONFIG_VAR(min_gradient, double, c, s);
+    MRPT_LOAD_CONFIG_VAR(similarity_min, double, c, s);
+    MRPT_LOAD_CONFIG_VAR(lwo_sigma_min, double, c, s);
+    MRPT_LOAD_CONFIG_VAR(min_final_matches, int, c, s);
+    MRPT_LOAD_CONFIG_VAR(lp_num_rings, int, c, s);
+    MRPT_LOAD_CONFIG_VAR(lp_num_angles, int, c, s);
+    MRPT_LOAD_CONFIG_VAR(lp_radius, double, c, s);
+    MRPT_LOAD_CONFIG_VAR(euclidean_init, bool, c, s);
+    MRPT_LOAD_CONFIG_VAR(max_lwo_matches, int, c, s);
+    validate();
+}
+
+void EgomotionEstimator::TParameters::saveToConfigFile(
+    mrpt::config::CConfigFileBase& c, const std::string& s) const
+{
+    MRPT_SAVE_CONFIG_VAR_COMMENT(window_size, "|W|, GLM non-maximum window [px]");
+    MRPT_SAVE_CONFIG_VAR_COMMENT(min_gradient, "gradient magnitude floor for features");
+    MRPT_SAVE_CONFIG_VAR_COMMENT(similarity_min, "S_min, in (0, 1]");
+    MRPT_SAVE_CONFIG_VAR_COMMENT(lwo_sigma_min, "sigma_min of LWO");
+    MRPT_SAVE_CONFIG_VAR_COMMENT(min_final_matches, "fewer matches after LWO: the step failed");
+    MRPT_SAVE_CONFIG_VAR_COMMENT(lp_num_rings, "log-polar descriptor rings");
+    MRPT_SAVE_CONFIG_VAR_COMMENT(lp_num_angles, "log-polar descriptor angles");
+    MRPT_SAVE_CONFIG_VAR_COMMENT(lp_radius, "log-polar window radius [px]");
+    MRPT_SAVE_CONFIG_VAR_COMMENT(euclidean_init, "closed-form start of the Dpp minimisation");
+    MRPT_SAVE_CONFIG_VAR_COMMENT(max_lwo_matches, "most similar matches kept for LWO");
+}
+
+void EgomotionEstimator::TParameters::validate() const
+{
+    require(
+        window_size >= 3, "window_size", "must be >= 3 (got " + std::to_string(window_size) + ")");
+    require(std::isfinite(min_gradient) && min_gradient >= 0, "min_gradient", "must be >= 0");
+    require(
+        similarity_min > 0 && similarity_min <= 1, "similarity_min",
+        "must be in (0, 1] (got " + std::to_string(similarity_min) + ")");
+    require(
+        std::isfinite(lwo_sigma_min) && lwo_sigma_min > 0, "lwo_sigma_min",
+        "must be > 0 (got " + std::to_string(lwo_sigma_min) + ")");
+    require(min_final_matches >= 3, "min_final_matches", "must be >= 3 (a pose needs 3 points)");
+    require(lp_num_rings >= 2, "lp_num_rings", "must be >= 2");
+    require(lp_num_angles >= 4, "lp_num_angles", "must be >= 4");
+    require(std::isfinite(lp_radius) && lp_radius > 1, "lp_radius", "must be > 1 px");
+    require(
+        max_lwo_matches >= min_final_matches, "max_lwo_matches", "must be >= min_final_matches");
+}
+
+EgomotionEstimator::EgomotionEstimator(const TParameters& p) : m_params(p)
+{
+    m_params.validate();
+}
+
+EgomotionEstimator::Described EgomotionEstimator::describe(
+    const emslam::stereo::StereoFrame& f) const
+{
+    Described d;
+    auto t0 = Clock::now();
+    if (!f.intensity.empty() && f.intensity.type() == CV_8UC1 && !f.points.empty())
+    {
+        GlmFeatureExtractor::TParameters gp;
+        gp.window_size = m_params.window_size;
+        gp.min_gradient = static_cast<float>(m_params.min_gradient);
+        d.features = GlmFeatureExtractor(gp).extract(f);
+        // A NaN/inf point would poison LWO's sums and the pose energy.
+        d.features.erase(
+            std::remove_if(
+                d.features.begin(), d.features.end(),
+                [](const Feature& ft) { return !finite(ft.point); }),
+            d.features.end());
+    }
+    d.ms_features = msSince(t0);
+    t0 = Clock::now();
+    if (!d.features.empty())
+    {
+        LogPolarDescriptorExtractor::TParameters lp;
+        lp.num_rings = m_params.lp_num_rings;
+        lp.num_angles = m_params.lp_num_angles;
+        lp.radius = static_cast<float>(m_params.lp_radius);
+        d.descriptors = LogPolarDescriptorExtractor(lp).compute(f.intensity, d.features);
+    }
+    d.ms_descriptors = msSince(t0);
+    return d;
+}
+
+EgomotionResult EgomotionEstimator::estimateDescribed(
+    const Described& prev, const Described& cur) const
+{
+    const auto t_start = Clock::now();
+    EgomotionResult r;
+    r.features_prev = prev.features.size();
+    r.features_cur = cur.features.size();
+    r.ms_features = cur.ms_features;
+    r.ms_descriptors = cur.ms_descriptors;
+    auto fail = [&](const std::string& why)
+    {
+        r.ok = false;
+        r.T_prev_cur = mrpt::poses::CPose3D();
+        r.failure_reason = why + " (features " + std::to_string(r.features_prev) + "/" +
+                           std::to_string(r.features_cur) + ", matches " +
+                           std::to_string(r.initial_matches) + " -> " +
+                           std::to_string(r.final_matches) + " after LWO)";
+        r.ms_total = r.ms_features + r.ms_descriptors + msSince(t_start);
+        return r;
+    };
+    const auto min_final = static_cast<std::size_t>(m_params.min_final_matches);
+    if (prev.features.size() < min_final || cur.features.size() < min_final ||
+        prev.descriptors.dim != cur.descriptors.dim)
+    {
+        return fail("too few features");
+    }
+
+    auto t0 = Clock::now();
+    MatchList matches =
+        matchMutual(prev.descriptors, cur.descriptors, static_cast<float>(m_params.similarity_min));
+    const auto max_m = static_cast<std::size_t>(m_params.max_lwo_matches);
+    if (matches.size() > max_m)
+    {
+        // LWO is O(M^2): keep the most similar matches.
+        std::nth_element(
+            matches.begin(), matches.begin() + static_cast<std::ptrdiff_t>(max_m), matches.end(),
+            [](const Match& x, const Match& y) { return x.similarity > y.similarity; });
+        matches.resize(max_m);
+    }
+    r.initial_matches = matches.size();
+    r.ms_matching = msSince(t0);
+    if (matches.size() < min_final)
+    {
+        return fail("too few matches");
+    }
+
+    t0 = Clock::now();
+    std::vector<mrpt::math::TPoint3Df> a, b;
+    a.reserve(matches.size());
+    b.reserve(matches.size());
+    for (const auto& m : matches)
+    {
+        a.push_back(prev.features.at(static_cast<std::size_t>(m.prev)).point);
+        b.push_back(cur.features.at(static_cast<std::size_t>(m.cur)).point);
+    }
+    const LwoResult lwo = refineLwo(a, b, m_params.lwo_sigma_min);
+    r.lwo_iterations = lwo.iterations;
+    r.final_matches = lwo.kept.size();
+    r.ms_lwo = msSince(t0);
+    if (r.final_matches < min_final)
+    {
+        return fail("too few matches after LWO");
+    }
+
+    t0 = Clock::now();
+    std::vector<mrpt::math::TPoint3Df> ka, kb;
+    ka.reserve(lwo.kept.size());
+    kb.reserve(lwo.kept.size());
+    for (int i : lwo.kept)
+    {
+        ka.push_back(a[static_cast<std::size_t>(i)]);
+        kb.push_back(b[static_cast<std::size_t>(i)]);
+    }
+    DppPoseEstimator::TParameters pp;
+    pp.euclidean_init = m_params.euclidean_init;
+    const auto pose = DppPoseEstimator(pp).estimate(ka, kb);
+    r.ms_pose = msSince(t0);
+    r.T_prev_cur = pose.T_prev_cur;
+    r.energy = pose.energy;
+    r.ok = true;
+    r.ms_total = r.ms_features + r.ms_descriptors + msSince(t_start);
+    return r;
+}
+
+EgomotionResult EgomotionEstimator::estimate(
+    const emslam::stereo::StereoFrame& prev, const emslam::stereo::StereoFrame& cur) const
+{
+    const Described dp = describe(prev);
+    const Described dc = describe(cur);
+    EgomotionResult r = estimateDescribed(dp, dc);
+    // Stateless use describes both frames: charge both to this step.
+    r.ms_features += dp.ms_features;
+    r.ms_descriptors += dp.ms_descriptors;
+    r.ms_total += dp.ms_features + dp.ms_descriptors;
+    return r;
+}
+
+EgomotionResult EgomotionEstimator::process(const emslam::stereo::StereoFrame& cur)
+{
+    auto d = std::make_shared<Described>(describe(cur));
+    EgomotionResult r;
+    if (!m_prev)
+    {
+        r.features_cur = d->features.size();
+        r.ms_features = d->ms_features;
+        r.ms_descriptors = d->ms_descriptors;
+        r.ms_total = r.ms_features + r.ms_descriptors;
+        r.failure_reason = "first frame";
+    }
+    else
+    {
+        r = estimateDescribed(*m_prev, *d);
+    }
+    m_prev = std::move(d);
+    return r;
+}
+
+void EgomotionEstimator::reset()
+{
+    m_prev.reset();
+}
+
+}  // namespace emslam::egomotion

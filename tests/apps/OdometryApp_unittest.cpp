@@ -1,0 +1,136 @@
+// SPDX-License-Identifier: BSD-3-Clause
+#include "TestData.h"
+#include "TestHelpers.h"
+
+#include <emslam/apps/OdometryApp.h>
+#include <emslam/stereo/KittiSequence.h>
+#include <emslam/stereo/TumTrajectory.h>
+
+#include <mrpt/img/CImage.h>
+#include <mrpt/io/CFileGZOutputStream.h>
+#include <mrpt/serialization/CArchive.h>
+#include <mrpt/system/filesystem.h>
+
+#include <gtest/gtest.h>
+
+#include <opencv2/core.hpp>
+#include <string>
+#include <vector>
+
+namespace
+{
+void initApp(emslam::apps::OdometryApp& app, std::vector<std::string> args)
+{
+    args.insert(args.begin(), "emslam-odometry");
+    std::vector<const char*> argv;
+    for (const auto& a : args)
+    {
+        argv.push_back(a.c_str());
+    }
+    app.initialize(static_cast<int>(argv.size()), argv.data());
+}
+
+/** The first `n` frames of the KITTI 06 excerpt as a rawlog (embedded images). */
+std::string writeKittiRawlog(const std::string& seq_dir, std::size_t n, const std::string& dir)
+{
+    const emslam::stereo::KittiSequence seq(seq_dir);
+    const std::string file = dir + "/kitti06.rawlog";
+    mrpt::io::CFileGZOutputStream out(file);
+    auto arch = mrpt::serialization::archiveFrom(out);
+    for (std::size_t i = 0; i < n; ++i)
+    {
+        arch << *seq.frame(i).obs;
+    }
+    return file;
+}
+}  // namespace
+
+TEST(OdometryApp, missingArgumentsThrow)
+{
+    emslam::apps::OdometryApp app;
+    EXPECT_ANY_THROW(initApp(app, {"-o", "x.tum"}));
+    emslam::apps::OdometryApp app2;
+    EXPECT_ANY_THROW(initApp(app2, {"--rawlog", "x.rawlog"}));
+}
+
+TEST(OdometryApp, helpDoesNotRun)
+{
+    emslam::apps::OdometryApp app;
+    initApp(app, {"--help"});
+    EXPECT_TRUE(app.helpRequested());
+    EXPECT_NO_THROW(app.run());
+}
+
+TEST(OdometryApp, missingRawlogThrowsNamingIt)
+{
+    emslam::apps::OdometryApp app;
+    initApp(app, {"--rawlog", "/nonexistent/in.rawlog", "-o", "/tmp/never.tum"});
+    emslam::test::expectThrowContaining([&] { app.run(); }, {"/nonexistent/in.rawlog"});
+}
+
+TEST(OdometryApp, invalidEgomotionOverrideThrows)
+{
+    emslam::apps::OdometryApp app;
+    initApp(
+        app, {"--rawlog", "/nonexistent/in.rawlog", "-o", "/tmp/never.tum", "--set",
+              "Egomotion.lwo_sigma_min=0"});
+    emslam::test::expectThrowContaining([&] { app.run(); }, {"lwo_sigma_min"});
+}
+
+// End to end on the first KITTI 06 frames with the shipped config.
+TEST(OdometryApp, kittiRawlogGivesTrajectory)
+{
+    EMSLAM_REQUIRE_TEST_DATA(seq_dir, "kitti-odometry/sequences/06");
+    EMSLAM_REQUIRE_TEST_DATA(poses, "kitti-odometry/poses/06.txt");
+    const std::string dir = emslam::test::makeTempDir("odometry_app");
+    const std::size_t n = 8;
+    const std::string rawlog = writeKittiRawlog(seq_dir, n, dir);
+    const std::string out = dir + "/traj.tum";
+
+    emslam::apps::OdometryApp app;
+    initApp(
+        app, {"--rawlog", rawlog, "-o", out, "--config",
+              emslam::test::sourceDir() + "/config/odometry/kitti.ini", "--max-frames", "6"});
+    app.run();
+    EXPECT_EQ(app.frames_processed, 6u);
+    EXPECT_EQ(app.failures, 0u);
+    EXPECT_GT(app.mean_final_matches, 50);
+
+    const auto traj = emslam::stereo::TumTrajectory::fromFile(out);
+    ASSERT_EQ(traj.size(), 6u);
+    const auto gt = emslam::stereo::KittiSequence::readPosesFile(poses);
+    // About 6 m driven in 5 steps: the end point within 10 cm.
+    const double err = (traj.poses.back().pose - gt[5]).norm();
+    EXPECT_LT(err, 0.10) << "end-point error " << err << " m";
+    EXPECT_GT(traj.poses[1].t, traj.poses[0].t);
+}
+
+// A step that fails (here: a frame with textureless images) keeps the pose.
+TEST(OdometryApp, failedStepKeepsPreviousPose)
+{
+    EMSLAM_REQUIRE_TEST_DATA(seq_dir, "kitti-odometry/sequences/06");
+    const std::string dir = emslam::test::makeTempDir("odometry_app_fail");
+    const emslam::stereo::KittiSequence seq(seq_dir);
+    const std::string rawlog = dir + "/flat.rawlog";
+    {
+        mrpt::io::CFileGZOutputStream out(rawlog);
+        auto arch = mrpt::serialization::archiveFrom(out);
+        arch << *seq.frame(0).obs;
+        auto flat = seq.frame(1).obs;
+        const cv::Mat grey(
+            static_cast<int>(seq.imageHeight()), static_cast<int>(seq.imageWidth()), CV_8UC1,
+            cv::Scalar(100));
+        flat->imageLeft = mrpt::img::CImage(grey, mrpt::img::DEEP_COPY);
+        flat->imageRight = mrpt::img::CImage(grey, mrpt::img::DEEP_COPY);
+        arch << *flat;
+    }
+    emslam::apps::OdometryApp app;
+    initApp(
+        app, {"--rawlog", rawlog, "-o", dir + "/t.tum", "--config",
+              emslam::test::sourceDir() + "/config/odometry/kitti.ini", "--quiet"});
+    app.run();
+    EXPECT_EQ(app.frames_processed, 2u);
+    EXPECT_EQ(app.failures, 1u);
+    ASSERT_EQ(app.trajectory.size(), 2u);
+    EXPECT_TRUE(app.trajectory.poses[1].pose == mrpt::poses::CPose3D());
+}
