@@ -1,0 +1,368 @@
+// SPDX-License-Identifier: BSD-3-Clause
+// CEntropyVoxelMap: construction, options, INI map definition, insertion.
+#include <emslam/maps/CEntropyVoxelMap.h>
+
+#include <mrpt/config/CConfigFileBase.h>
+#include <mrpt/core/exceptions.h>
+#include <mrpt/maps/CSimplePointsMap.h>
+#include <mrpt/maps/CWeightedPointsMap.h>
+#include <mrpt/math/CMatrixFixed.h>
+#include <mrpt/obs/CObservation3DRangeScan.h>
+#include <mrpt/obs/CObservationPointCloud.h>
+
+#include <cmath>
+#include <limits>
+#include <sstream>
+
+using emslam::CEntropyVoxelMap;
+using emslam::maps::EnergyType;
+using emslam::maps::WeightedPointCloud;
+
+// INI names: "entropyVoxelMap" (alias), "CEntropyVoxelMap", full RTTI name.
+MAP_DEFINITION_REGISTER(
+    "emslam::CEntropyVoxelMap,CEntropyVoxelMap,entropyVoxelMap", emslam::CEntropyVoxelMap)
+
+// ---------------------------------------------------------------- options --
+
+void CEntropyVoxelMap::TCreationOptions::loadFromConfigFile(
+    const mrpt::config::CConfigFileBase& c, const std::string& s)
+{
+    MRPT_LOAD_CONFIG_VAR(cell_size, double, c, s);
+    energy = emslam::maps::energyTypeFromString(
+        c.read_string(s, "energy", emslam::maps::toString(energy)), "energy");
+    // Without a `dof` key the energy decides (3DOF energies imply dof = 3).
+    dof = c.keyExists(s, "dof") ? c.read_int(s, "dof", dof) : emslam::maps::energyDof(energy);
+    validate();
+}
+
+void CEntropyVoxelMap::TCreationOptions::saveToConfigFile(
+    mrpt::config::CConfigFileBase& c, const std::string& s) const
+{
+    MRPT_SAVE_CONFIG_VAR_COMMENT(cell_size, "Cell size l_d [m] (paper: 0.15 indoor, 0.35 outdoor)");
+    c.write(
+        s, "energy", emslam::maps::toString(energy), mrpt::config::MRPT_SAVE_NAME_PADDING(),
+        mrpt::config::MRPT_SAVE_VALUE_PADDING(),
+        "unstructured|low_structured|structured (6DOF), planar_low_structured|"
+        "planar_structured (3DOF)");
+    MRPT_SAVE_CONFIG_VAR_COMMENT(dof, "Degrees of freedom: 3 or 6 (must match the energy)");
+}
+
+void CEntropyVoxelMap::TCreationOptions::validate() const
+{
+    if (!(cell_size > 0) || !std::isfinite(cell_size))
+    {
+        THROW_EXCEPTION_FMT(
+            "CEntropyVoxelMap: invalid 'cell_size' = %g (must be a finite value > 0 [m])",
+            cell_size);
+    }
+    if (dof != 3 && dof != 6)
+    {
+        THROW_EXCEPTION_FMT("CEntropyVoxelMap: invalid 'dof' = %d (must be 3 or 6)", dof);
+    }
+    const int edof = emslam::maps::energyDof(energy);
+    if (edof != dof)
+    {
+        THROW_EXCEPTION_FMT(
+            "CEntropyVoxelMap: 'energy' = '%s' (Exp. %d) is a %dDOF energy but 'dof' = %d",
+            emslam::maps::toString(energy).c_str(), emslam::maps::energyExpression(energy), edof,
+            dof);
+    }
+}
+
+void CEntropyVoxelMap::TInsertionOptions::loadFromConfigFile(
+    const mrpt::config::CConfigFileBase& c, const std::string& s)
+{
+    MRPT_LOAD_CONFIG_VAR(max_range, double, c, s);
+    MRPT_LOAD_CONFIG_VAR(min_range, double, c, s);
+    MRPT_LOAD_CONFIG_VAR(decimation, int, c, s);
+    validate();
+}
+
+void CEntropyVoxelMap::TInsertionOptions::saveToConfigFile(
+    mrpt::config::CConfigFileBase& c, const std::string& s) const
+{
+    MRPT_SAVE_CONFIG_VAR_COMMENT(max_range, "Farther points are dropped [m]; 0 = no limit");
+    MRPT_SAVE_CONFIG_VAR_COMMENT(min_range, "Nearer points are dropped [m]");
+    MRPT_SAVE_CONFIG_VAR_COMMENT(decimation, "Use one point in N (>= 1)");
+}
+
+void CEntropyVoxelMap::TInsertionOptions::validate() const
+{
+    if (!(max_range >= 0))
+    {
+        THROW_EXCEPTION_FMT(
+            "CEntropyVoxelMap: invalid 'max_range' = %g (must be >= 0; 0 = no limit)", max_range);
+    }
+    if (!(min_range >= 0) || (max_range > 0 && min_range >= max_range))
+    {
+        THROW_EXCEPTION_FMT(
+            "CEntropyVoxelMap: invalid 'min_range' = %g (must be >= 0 and < max_range)", min_range);
+    }
+    if (decimation < 1)
+    {
+        THROW_EXCEPTION_FMT(
+            "CEntropyVoxelMap: invalid 'decimation' = %d (must be >= 1)", decimation);
+    }
+}
+
+void CEntropyVoxelMap::TDrawOptions::loadFromConfigFile(
+    const mrpt::config::CConfigFileBase& c, const std::string& s)
+{
+    MRPT_LOAD_CONFIG_VAR(max_cubes, int, c, s);
+    MRPT_LOAD_CONFIG_VAR(min_cube_size, double, c, s);
+    validate();
+}
+
+void CEntropyVoxelMap::TDrawOptions::saveToConfigFile(
+    mrpt::config::CConfigFileBase& c, const std::string& s) const
+{
+    MRPT_SAVE_CONFIG_VAR_COMMENT(max_cubes, "Draw at most this many (densest) cells");
+    MRPT_SAVE_CONFIG_VAR_COMMENT(min_cube_size, "Edge of the sparsest cube / l_d, in (0,1]");
+}
+
+void CEntropyVoxelMap::TDrawOptions::validate() const
+{
+    if (max_cubes < 0)
+    {
+        THROW_EXCEPTION_FMT("CEntropyVoxelMap: invalid 'max_cubes' = %d (must be >= 0)", max_cubes);
+    }
+    if (!(min_cube_size > 0 && min_cube_size <= 1))
+    {
+        THROW_EXCEPTION_FMT(
+            "CEntropyVoxelMap: invalid 'min_cube_size' = %g (must be in (0,1])", min_cube_size);
+    }
+}
+
+// ----------------------------------------------------- INI map definition --
+
+CEntropyVoxelMap::TMapDefinition::TMapDefinition() = default;
+
+void CEntropyVoxelMap::TMapDefinition::loadFromConfigFile_map_specific(
+    const mrpt::config::CConfigFileBase& src, const std::string& prefix)
+{
+    creationOpts.loadFromConfigFile(src, prefix + "_creationOpts");
+    insertionOpts.loadFromConfigFile(src, prefix + "_insertOpts");
+    drawOpts.loadFromConfigFile(src, prefix + "_drawOpts");
+}
+
+void CEntropyVoxelMap::TMapDefinition::dumpToTextStream_map_specific(std::ostream& out) const
+{
+    out << "---- [_creationOpts] ----\n";
+    creationOpts.dumpToTextStream(out);
+    out << "---- [_insertOpts] ----\n";
+    insertionOpts.dumpToTextStream(out);
+    out << "---- [_drawOpts] ----\n";
+    drawOpts.dumpToTextStream(out);
+}
+
+mrpt::maps::CMetricMap* CEntropyVoxelMap::internal_CreateFromMapDefinition(
+    const mrpt::maps::TMetricMapInitializer& def_base)
+{
+    const auto& def = dynamic_cast<const CEntropyVoxelMap::TMapDefinition&>(def_base);
+    auto* m = new CEntropyVoxelMap(def.creationOpts, def.insertionOpts);
+    m->drawOptions = def.drawOpts;
+    return m;
+}
+
+// ----------------------------------------------------------- construction --
+
+CEntropyVoxelMap::CEntropyVoxelMap() : CEntropyVoxelMap(TCreationOptions{}, TInsertionOptions{}) {}
+
+CEntropyVoxelMap::CEntropyVoxelMap(const TCreationOptions& creation)
+    : CEntropyVoxelMap(creation, TInsertionOptions{})
+{
+}
+
+CEntropyVoxelMap::CEntropyVoxelMap(
+    const TCreationOptions& creation, const TInsertionOptions& insertion)
+    : insertionOptions(insertion)
+{
+    insertionOptions.validate();
+    setCreationOptions(creation);
+}
+
+void CEntropyVoxelMap::setCreationOptions(const TCreationOptions& o)
+{
+    o.validate();
+    m_creation = o;
+    m_tracked = emslam::maps::energyTerms(o.energy);
+    recomputeFromScratch();
+}
+
+mrpt::poses::CPose3D CEntropyVoxelMap::opticalFromMrptSensor()
+{
+    // Columns: MRPT sensor axes (+X forward, +Y left, +Z up) in optical
+    // coordinates (x right, y down, z forward).
+    mrpt::math::CMatrixDouble44 T = mrpt::math::CMatrixDouble44::Zero();
+    T(2, 0) = 1.0;   // sensor X = optical +z
+    T(0, 1) = -1.0;  // sensor Y = optical -x
+    T(1, 2) = -1.0;  // sensor Z = optical -y
+    T(3, 3) = 1.0;
+    return mrpt::poses::CPose3D(T);
+}
+
+void CEntropyVoxelMap::internal_clear()
+{
+    m_obs.clear();
+    m_undo_count = 0;
+    resetTracked();
+}
+
+const mrpt::poses::CPose3D& CEntropyVoxelMap::observationPose(std::size_t i) const
+{
+    ASSERTMSG_(i < m_obs.size(), "CEntropyVoxelMap::observationPose(): index out of range");
+    return m_obs[i].pose;
+}
+
+const WeightedPointCloud& CEntropyVoxelMap::observationCloud(std::size_t i) const
+{
+    ASSERTMSG_(i < m_obs.size(), "CEntropyVoxelMap::observationCloud(): index out of range");
+    return m_obs[i].cloud;
+}
+
+std::string CEntropyVoxelMap::asString() const
+{
+    std::ostringstream ss;
+    ss << "CEntropyVoxelMap: " << m_obs.size() << " observations, W=" << m_total_weight
+       << ", l_d=" << m_creation.cell_size
+       << " m, energy=" << emslam::maps::toString(m_creation.energy) << " (Exp. "
+       << emslam::maps::energyExpression(m_creation.energy) << ") = " << energy();
+    return ss.str();
+}
+
+// -------------------------------------------------------------- insertion --
+
+std::size_t CEntropyVoxelMap::insertWeightedCloud(
+    const WeightedPointCloud& cloud,
+    const mrpt::poses::CPose3D& T_world_obs,
+    bool already_simplified)
+{
+    ASSERTMSG_(
+        cloud.weights.size() == cloud.points.size(),
+        "CEntropyVoxelMap::insertWeightedCloud(): one weight per point is required");
+    m_undo_count = 0;
+    Observation o;
+    o.cloud = already_simplified ? cloud : emslam::maps::simplifyCloud(cloud, m_creation.cell_size);
+    if (already_simplified)
+    {
+        emslam::maps::sortByCell(o.cloud, m_creation.cell_size);  // simplifyCloud() sorts already
+    }
+    o.pose = T_world_obs;
+    computeCells(o.cloud, o.pose, o.cells);
+    addToTracked(o, +1.0);
+    m_total_weight += o.cloud.totalWeight();
+    m_obs.push_back(std::move(o));
+    return m_obs.size() - 1;
+}
+
+bool CEntropyVoxelMap::observationToCloud(
+    const mrpt::obs::CObservation& obs, WeightedPointCloud& out) const
+{
+    out = WeightedPointCloud();
+    const float* xs = nullptr;
+    const float* ys = nullptr;
+    const float* zs = nullptr;
+    const mrpt::maps::CPointsMap* weighted = nullptr;  // per-point weights, if any
+    std::size_t n = 0;
+    mrpt::poses::CPose3D sensor_pose;
+    mrpt::maps::CSimplePointsMap unprojected;  // only for range images without points
+
+    if (const auto* scan = dynamic_cast<const mrpt::obs::CObservation3DRangeScan*>(&obs))
+    {
+        sensor_pose = scan->sensorPose;
+        if (scan->hasPoints3D)
+        {
+            xs = scan->points3D_x.data();
+            ys = scan->points3D_y.data();
+            zs = scan->points3D_z.data();
+            n = scan->points3D_x.size();
+            ASSERT_EQUAL_(scan->points3D_y.size(), n);
+            ASSERT_EQUAL_(scan->points3D_z.size(), n);
+        }
+        else if (scan->hasRangeImage)
+        {
+            // unprojectInto() is non-const (lazy loading): work on a copy;
+            // this path (a range image without 3D points) is not a hot one.
+            mrpt::obs::CObservation3DRangeScan copy = *scan;
+            mrpt::obs::T3DPointsProjectionParams pp;
+            pp.takeIntoAccountSensorPoseOnRobot = false;
+            copy.unprojectInto(unprojected, pp);
+            xs = unprojected.getPointsBufferRef_x().data();
+            ys = unprojected.getPointsBufferRef_y().data();
+            zs = unprojected.getPointsBufferRef_z().data();
+            n = unprojected.size();
+        }
+        else
+        {
+            return false;
+        }
+    }
+    else if (const auto* pc = dynamic_cast<const mrpt::obs::CObservationPointCloud*>(&obs))
+    {
+        if (!pc->pointcloud)
+        {
+            return false;
+        }
+        sensor_pose = pc->sensorPose;
+        xs = pc->pointcloud->getPointsBufferRef_x().data();
+        ys = pc->pointcloud->getPointsBufferRef_y().data();
+        zs = pc->pointcloud->getPointsBufferRef_z().data();
+        n = pc->pointcloud->size();
+        if (const auto* wm =
+                dynamic_cast<const mrpt::maps::CWeightedPointsMap*>(pc->pointcloud.get()))
+        {
+            weighted = wm;
+        }
+    }
+    else
+    {
+        return false;
+    }
+
+    const double max_r2 = insertionOptions.max_range > 0
+                              ? insertionOptions.max_range * insertionOptions.max_range
+                              : std::numeric_limits<double>::infinity();
+    const double min_r2 = insertionOptions.min_range * insertionOptions.min_range;
+    const auto step = static_cast<std::size_t>(insertionOptions.decimation);
+    out.points.reserve(n / step + 1);
+    out.weights.reserve(n / step + 1);
+    for (std::size_t i = 0; i < n; i += step)
+    {
+        const double x = xs[i], y = ys[i], z = zs[i];
+        const double r2 = x * x + y * y + z * z;
+        if (!std::isfinite(r2) || r2 == 0.0 || r2 > max_r2 || r2 < min_r2)
+        {
+            continue;  // (0,0,0) marks an invalid point in MRPT range scans
+        }
+        double gx = 0, gy = 0, gz = 0;
+        sensor_pose.composePoint(x, y, z, gx, gy, gz);
+        const float w = weighted ? static_cast<float>(weighted->getPointWeight(i)) : 1.0f;
+        if (w > 0)
+        {
+            out.push_back(
+                mrpt::math::TPoint3Df(
+                    static_cast<float>(gx), static_cast<float>(gy), static_cast<float>(gz)),
+                w);
+        }
+    }
+    return true;
+}
+
+bool CEntropyVoxelMap::internal_insertObservation(
+    const mrpt::obs::CObservation& obs, const std::optional<const mrpt::poses::CPose3D>& robotPose)
+{
+    WeightedPointCloud cloud;
+    if (!observationToCloud(obs, cloud))
+    {
+        return false;
+    }
+    insertWeightedCloud(cloud, robotPose ? *robotPose : mrpt::poses::CPose3D());
+    return true;
+}
+
+bool CEntropyVoxelMap::internal_canComputeObservationLikelihood(
+    const mrpt::obs::CObservation& obs) const
+{
+    return dynamic_cast<const mrpt::obs::CObservation3DRangeScan*>(&obs) != nullptr ||
+           dynamic_cast<const mrpt::obs::CObservationPointCloud*>(&obs) != nullptr;
+}

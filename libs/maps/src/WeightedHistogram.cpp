@@ -1,0 +1,314 @@
+// SPDX-License-Identifier: BSD-3-Clause
+#include <emslam/maps/WeightedHistogram.h>
+
+#include <mrpt/core/exceptions.h>
+
+#include <algorithm>
+
+namespace emslam::maps
+{
+namespace
+{
+/** Smallest power of two ≥ n (and ≥ 16). */
+std::size_t nextPow2(std::size_t n)
+{
+    std::size_t c = 16;
+    while (c < n)
+    {
+        c <<= 1;
+    }
+    return c;
+}
+
+/** Sets a weight that is only rounding residue of a removal to exactly 0. */
+double cleanResidue(double new_w, double old_w, double delta)
+{
+    const double scale = std::max(std::abs(old_w), std::abs(delta));
+    return std::abs(new_w) <= 1e-12 * scale ? 0.0 : new_w;
+}
+}  // namespace
+
+const double* WeightedHistogram::wlogwTable()
+{
+    static const auto table = []()
+    {
+        std::vector<double> t(WLOGW_TABLE_SIZE, 0.0);
+        for (std::size_t i = 1; i < WLOGW_TABLE_SIZE; i++)
+        {
+            const auto w = static_cast<double>(i);
+            t[i] = w * std::log(w);
+        }
+        return t;
+    }();
+    return table.data();
+}
+
+const double* const WeightedHistogram::s_wlogw_table = WeightedHistogram::wlogwTable();
+
+WeightedHistogram::WeightedHistogram(std::size_t expected_cells)
+{
+    rehash(nextPow2(2 * std::max<std::size_t>(expected_cells, 8)));
+}
+
+void WeightedHistogram::clear()
+{
+    ASSERTMSG_(!m_in_batch, "WeightedHistogram::clear() inside a batch");
+    std::fill(m_slots.begin(), m_slots.end(), Slot{});
+    m_used = 0;
+    m_occupied = 0;
+    m_total = 0;
+    m_sum_wlogw = 0;
+}
+
+void WeightedHistogram::reserve(std::size_t cells)
+{
+    ASSERTMSG_(!m_in_batch, "WeightedHistogram::reserve() inside a batch");
+    if (2 * cells > m_slots.size())
+    {
+        rehash(nextPow2(2 * cells));
+    }
+}
+
+std::size_t WeightedHistogram::memoryBytes() const
+{
+    return m_slots.capacity() * sizeof(Slot) + m_touched.size() * sizeof(Touched);
+}
+
+void WeightedHistogram::rehash(std::size_t new_capacity)
+{
+    // Keep only cells with weight (growth is also the garbage collection of
+    // zero-weight entries left by removals), plus, inside a batch, the cells
+    // the batch touched: their stamps and Touched records must stay valid.
+    const auto keep = [this](std::size_t i)
+    {
+        const Slot& s = m_slots[i];
+        return s.key != EMPTY_KEY && (s.w > 0 || (m_in_batch && s.stamp == m_epoch));
+    };
+    std::size_t live = 0;
+    for (std::size_t i = 0; i < m_slots.size(); i++)
+    {
+        live += keep(i) ? 1 : 0;
+    }
+    new_capacity = std::max(new_capacity, nextPow2(2 * live + 2));
+
+    std::vector<Slot> old_slots;
+    std::vector<std::size_t> remap;  // old slot -> new slot (batch only)
+    for (std::size_t i = 0; i < m_slots.size(); i++)
+    {
+        if (!keep(i))
+        {
+            m_slots[i].key = EMPTY_KEY;
+        }
+    }
+    old_slots.swap(m_slots);
+    m_slots.assign(new_capacity, Slot{});
+    m_mask = new_capacity - 1;
+    m_shift = 64;
+    for (std::size_t c = new_capacity; c > 1; c >>= 1)
+    {
+        m_shift--;
+    }
+    m_used = 0;
+    if (m_in_batch)
+    {
+        remap.assign(old_slots.size(), 0);
+    }
+    for (std::size_t j = 0; j < old_slots.size(); j++)
+    {
+        const Slot& s = old_slots[j];
+        if (s.key == EMPTY_KEY)
+        {
+            continue;
+        }
+        std::size_t i = slotIndexFor(s.key);
+        while (m_slots[i].key != EMPTY_KEY)
+        {
+            i = (i + 1) & m_mask;
+        }
+        m_slots[i] = s;
+        m_used++;
+        if (m_in_batch)
+        {
+            remap[j] = i;  // stamps travel with the slots
+        }
+        else
+        {
+            m_slots[i].stamp = 0;  // the epoch restarts below
+        }
+    }
+    if (m_in_batch)
+    {
+        for (std::size_t k = 0; k < m_touched_count; k++)
+        {
+            Touched& t = m_touched[k];
+            t.slot = remap[t.slot];
+        }
+    }
+    else
+    {
+        m_epoch = 0;
+    }
+}
+
+std::size_t WeightedHistogram::findOrInsert(std::uint64_t key)
+{
+    std::size_t i = slotIndexFor(key);
+    for (;;)
+    {
+        const std::uint64_t k = m_slots[i].key;
+        if (k == key)
+        {
+            return i;
+        }
+        if (k == EMPTY_KEY)
+        {
+            m_slots[i].key = key;
+            m_slots[i].w = 0;
+            m_used++;
+            return i;
+        }
+        i = (i + 1) & m_mask;
+    }
+}
+
+void WeightedHistogram::accountChange(double old_w, double new_w)
+{
+    m_sum_wlogw += wLogW(new_w) - wLogW(old_w);
+    m_occupied = m_occupied + (new_w > 0 ? 1 : 0) - (old_w > 0 ? 1 : 0);
+}
+
+void WeightedHistogram::add(std::uint64_t key, double w)
+{
+    ASSERTMSG_(!m_in_batch, "WeightedHistogram::add() inside a batch: use addDeferred()");
+    if (2 * (m_used + 1) > m_slots.size())
+    {
+        rehash(2 * m_slots.size());
+    }
+    Slot& s = m_slots[findOrInsert(key)];
+    const double old_w = s.w;
+    s.w = cleanResidue(old_w + w, old_w, w);
+    m_total += w;
+    accountChange(old_w, s.w);
+}
+
+void WeightedHistogram::beginBatch(std::size_t max_new_cells)
+{
+    ASSERTMSG_(!m_in_batch, "WeightedHistogram::beginBatch() twice");
+    if (2 * (m_used + max_new_cells) > m_slots.size())
+    {
+        rehash(nextPow2(2 * (m_used + max_new_cells)));
+    }
+    if (m_touched.size() < max_new_cells)
+    {
+        m_touched.resize(max_new_cells);
+    }
+    m_epoch++;
+    if (m_epoch == 0)
+    {  // wrapped: reset every stamp once every 2^32 batches
+        for (auto& sl : m_slots)
+        {
+            sl.stamp = 0;
+        }
+        m_epoch = 1;
+    }
+    m_touched_count = 0;
+    m_in_batch = true;
+}
+
+void WeightedHistogram::addDeferred(std::uint64_t key, double w)
+{
+    if (2 * (m_used + 1) > m_slots.size())
+    {
+        rehash(2 * m_slots.size());  // keeps the batch's stamps and Touched slots valid
+    }
+    if (m_touched_count == m_touched.size())
+    {
+        m_touched.resize(2 * m_touched.size() + 64);
+    }
+    const std::size_t i = findOrInsert(key);
+    Slot& s = m_slots[i];
+    // Branch-free first-touch record: always written, kept only on first touch
+    // (whether a cell was touched before is unpredictable).
+    m_touched[m_touched_count] = {i, s.w};
+    m_touched_count += (s.stamp != m_epoch) ? 1 : 0;
+    s.stamp = m_epoch;
+    s.w += w;  // rounding residue is cleaned once per cell in endBatch()
+    m_total += w;
+}
+
+void WeightedHistogram::addDeferredMany(const Update* updates, std::size_t n)
+{
+    constexpr std::size_t AHEAD = 12;
+    for (std::size_t i = 0; i < n; i++)
+    {
+        if (i + AHEAD < n)
+        {
+            __builtin_prefetch(&m_slots[slotIndexFor(updates[i + AHEAD].key)], 1);
+        }
+        addDeferred(updates[i].key, updates[i].w);
+    }
+}
+
+void WeightedHistogram::addMany(const Update* updates, std::size_t n)
+{
+    ASSERTMSG_(!m_in_batch, "WeightedHistogram::addMany() inside a batch");
+    constexpr std::size_t AHEAD = 12;
+    for (std::size_t i = 0; i < n; i++)
+    {
+        if (i + AHEAD < n)
+        {
+            __builtin_prefetch(&m_slots[slotIndexFor(updates[i + AHEAD].key)], 1);
+        }
+        add(updates[i].key, updates[i].w);
+    }
+}
+
+void WeightedHistogram::endBatch()
+{
+    ASSERTMSG_(m_in_batch, "WeightedHistogram::endBatch() without beginBatch()");
+    for (std::size_t k = 0; k < m_touched_count; k++)
+    {
+        const Touched& t = m_touched[k];
+        double& w = m_slots[t.slot].w;
+        w = cleanResidue(w, t.old_w, w - t.old_w);
+        const double new_w = w;
+        if (new_w != t.old_w)
+        {
+            accountChange(t.old_w, new_w);
+        }
+    }
+    m_in_batch = false;
+}
+
+double WeightedHistogram::weight(std::uint64_t key) const
+{
+    std::size_t i = slotIndexFor(key);
+    for (;;)
+    {
+        const std::uint64_t k = m_slots[i].key;
+        if (k == key)
+        {
+            return m_slots[i].w;
+        }
+        if (k == EMPTY_KEY)
+        {
+            return 0.0;
+        }
+        i = (i + 1) & m_mask;
+    }
+}
+
+double WeightedHistogram::entropyFromScratch() const
+{
+    double total = 0;
+    double sum = 0;
+    forEachCell(
+        [&](std::uint64_t, double w)
+        {
+            total += w;
+            sum += w * std::log(w);
+        });
+    return entropyFrom(total, sum);
+}
+
+}  // namespace emslam::maps
