@@ -1,0 +1,75 @@
+// SPDX-License-Identifier: BSD-3-Clause
+#pragma once
+
+#include <mrpt/config/CConfigFileMemory.h>
+
+#include <cstddef>
+#include <cstdint>
+#include <optional>
+#include <string>
+
+namespace emslam::apps
+{
+/** The synthetic-data generator behind `emslam-sim`: renders a world INI file
+ * (see emslam::sim::StereoSimulator and config/sim/) into a gz-compressed,
+ * observations-only rawlog of `CObservationStereoImages` (calibration set,
+ * label from [Simulation] sensor_label, default "STEREO"), plus the exact
+ * ground truth of the left camera in the first left camera's frame as a TUM
+ * trajectory.
+ *
+ * \code
+ * emslam-sim WORLD.ini -o OUT.rawlog [--gt-out GT.tum] [--frames N] [--seed S]
+ *                                    [--png DIR] [--gz-level L] [--quiet]
+ * \endcode
+ *
+ * - Same INI and seed, same bytes (rawlog and ground truth).
+ * - Outputs go to `<name>.partial` and are renamed when everything succeeded;
+ *   on any error the partial files are removed and run() throws.
+ * - `--png DIR` also writes `left_NNNNNN.png` / `right_NNNNNN.png`.
+ * \ingroup emslam_apps_grp \sa doc/apps/emslam-sim.md */
+class SimApp
+{
+public:
+    SimApp() = default;
+
+    /** Parses the command line and reads the world file into `params`.
+     * Throws std::invalid_argument on bad arguments; `--help` / `--version`
+     * set quit_requested. */
+    void initialize(int argc, const char** argv);
+    /** \overload */
+    void initialize(int argc, char** argv);
+
+    /** Renders and writes the outputs. Throws on any error, leaving no output. */
+    void run();
+
+    /** \name Settings (filled by initialize(); may be edited before run())
+     * @{ */
+    /** The world INI content (with `--seed` applied as [World] seed). */
+    mrpt::config::CConfigFileMemory params;
+    /** World file name (for messages). */
+    std::string world_file;
+    /** Output rawlog. */
+    std::string output_file;
+    /** Ground-truth output (TUM); empty: not written. */
+    std::string gt_out_file;
+    /** Folder for PNG copies of the images; empty: none. */
+    std::string png_dir;
+    /** Render at most this many frames; unset: the whole trajectory. */
+    std::optional<std::size_t> max_frames;
+    /** gzip level of the rawlog, 0..9. (Default: 1) */
+    int gz_level{1};
+    /** No progress and summary output. */
+    bool quiet{false};
+    /** @} */
+
+    /** \name Results
+     * @{ */
+    bool quit_requested{false};      //!< `--help` / `--version` was handled
+    std::size_t frames_written{0};   //!< observations written
+    std::size_t poses_written{0};    //!< ground-truth lines written
+    std::uintmax_t output_bytes{0};  //!< size of output_file [bytes]
+    double elapsed_seconds{0.0};     //!< wall-clock time of run() [s]
+    /** @} */
+};
+
+}  // namespace emslam::apps

@@ -1,0 +1,279 @@
+// SPDX-License-Identifier: BSD-3-Clause
+#include <emslam/apps/CommandLine.h>
+#include <emslam/apps/SimApp.h>
+#include <emslam/sim/StereoSimulator.h>
+#include <emslam/stereo/TumTrajectory.h>
+
+#include <mrpt/3rdparty/tclap/CmdLine.h>
+#include <mrpt/core/exceptions.h>
+#include <mrpt/io/CFileGZOutputStream.h>
+#include <mrpt/serialization/CArchive.h>
+#include <mrpt/system/os.h>
+
+#include <unistd.h>
+
+#include <algorithm>
+#include <chrono>
+#include <cstdio>
+#include <filesystem>
+#include <fstream>
+#include <iostream>
+#include <opencv2/imgcodecs.hpp>
+#include <sstream>
+#include <stdexcept>
+#include <vector>
+
+namespace fs = std::filesystem;
+
+namespace emslam::apps
+{
+namespace
+{
+constexpr const char* PROGRAM = "emslam-sim";
+
+[[noreturn]] void usageError(const std::string& msg)
+{
+    throw std::invalid_argument(
+        "bad command line: " + msg + "; try " + std::string(PROGRAM) + " --help");
+}
+
+void removeQuietly(const std::string& file)
+{
+    if (!file.empty())
+    {
+        std::error_code ec;
+        fs::remove(file, ec);
+    }
+}
+
+void checkOutputFolder(const std::string& file, const char* what)
+{
+    const fs::path parent = fs::path(file).parent_path();
+    std::error_code ec;
+    if (!parent.empty() && !fs::is_directory(parent, ec))
+    {
+        THROW_EXCEPTION_FMT(
+            "Folder '%s' of the %s '%s' does not exist", parent.string().c_str(), what,
+            file.c_str());
+    }
+}
+
+/** Progress on stderr: an updated line on a terminal, else a line per ~10%. */
+void progressLine(std::size_t done, std::size_t total, int& last_decile, bool tty)
+{
+    const auto pct = static_cast<int>((100 * done) / std::max<std::size_t>(total, 1));
+    if (tty)
+    {
+        std::fprintf(stderr, "\r%s: frame %zu/%zu (%3d%%)", PROGRAM, done, total, pct);
+        std::fflush(stderr);
+    }
+    else if (pct / 10 > last_decile || done == total)
+    {
+        last_decile = pct / 10;
+        std::fprintf(stderr, "%s: frame %zu/%zu (%d%%)\n", PROGRAM, done, total, pct);
+    }
+}
+}  // namespace
+
+void SimApp::initialize(int argc, char** argv)
+{
+    initialize(argc, const_cast<const char**>(argv));
+}
+
+void SimApp::initialize(int argc, const char** argv)
+{
+    TCLAP::CmdLine cmd(
+        "Renders a synthetic stereo world (config/sim/*.ini) into a gz-compressed rawlog of "
+        "CObservationStereoImages and its exact ground truth (left camera in the first left "
+        "camera's frame) into a TUM file. Example: '" +
+            std::string(PROGRAM) +
+            " config/sim/hall_double_loop.ini -o hall.rawlog --gt-out hall.tum'.",
+        ' ', std::string("emslam-sim (") + mrpt::system::MRPT_getVersion() + ")");
+    TCLAP::UnlabeledValueArg<std::string> arg_world(
+        "world", "World INI file.", true, "", "WORLD.ini", cmd);
+    TCLAP::ValueArg<std::string> arg_out(
+        "o", "output", "Output rawlog (gz-compressed, observations only).", true, "", "OUT.rawlog",
+        cmd);
+    TCLAP::ValueArg<std::string> arg_gt(
+        "", "gt-out", "Write the ground truth here (TUM format).", false, "", "GT.tum", cmd);
+    TCLAP::ValueArg<long long> arg_frames(
+        "", "frames", "Render only the first N frames (default: the whole trajectory).", false, 0,
+        "N", cmd);
+    TCLAP::ValueArg<long long> arg_seed(
+        "", "seed", "World seed (overrides [World] seed).", false, 1, "S", cmd);
+    TCLAP::ValueArg<std::string> arg_png(
+        "", "png", "Also write the images as PNG files into this folder (created).", false, "",
+        "DIR", cmd);
+    TCLAP::ValueArg<int> arg_gz(
+        "", "gz-level", "gzip level of the rawlog, 0..9 (default 1).", false, 1, "0..9", cmd);
+    TCLAP::SwitchArg arg_quiet("q", "quiet", "No progress or summary output.", cmd, false);
+
+    quit_requested = false;
+    std::vector<const char*> args(argv, argv + std::max(argc, 0));
+    if (args.empty())
+    {
+        args.push_back(PROGRAM);
+    }
+    args[0] = PROGRAM;
+    if (!parseCommandLine(cmd, static_cast<int>(args.size()), args.data()))
+    {
+        quit_requested = true;
+        return;
+    }
+    world_file = arg_world.getValue();
+    output_file = arg_out.getValue();
+    gt_out_file = arg_gt.getValue();
+    png_dir = arg_png.getValue();
+    gz_level = arg_gz.getValue();
+    quiet = arg_quiet.getValue();
+    if (gz_level < 0 || gz_level > 9)
+    {
+        usageError("--gz-level must be in 0..9");
+    }
+    max_frames.reset();
+    if (arg_frames.isSet())
+    {
+        if (arg_frames.getValue() < 1)
+        {
+            usageError("--frames must be >= 1");
+        }
+        max_frames = static_cast<std::size_t>(arg_frames.getValue());
+    }
+    if (!gt_out_file.empty() &&
+        fs::path(gt_out_file).lexically_normal() == fs::path(output_file).lexically_normal())
+    {
+        usageError("--gt-out and --output name the same file");
+    }
+    std::error_code ec;
+    if (!fs::is_regular_file(world_file, ec))
+    {
+        throw std::invalid_argument("world file '" + world_file + "' does not exist");
+    }
+    std::ifstream in(world_file);
+    std::stringstream ss;
+    ss << in.rdbuf();
+    params.setContent(ss.str());
+    if (arg_seed.isSet())
+    {
+        params.write("World", "seed", static_cast<int>(arg_seed.getValue()));
+    }
+}
+
+void SimApp::run()
+{
+    if (quit_requested)
+    {
+        return;
+    }
+    ASSERTMSG_(!output_file.empty(), "SimApp: no output file");
+    const auto t_start = std::chrono::steady_clock::now();
+    frames_written = 0;
+    poses_written = 0;
+    output_bytes = 0;
+
+    emslam::sim::StereoSimulator sim;
+    try
+    {
+        // Re-parse the text (a CConfigFileMemory written to reads back defaults otherwise).
+        mrpt::config::CConfigFileMemory cfg(params.getContent());
+        sim.load(cfg);
+    }
+    catch (const std::exception& e)
+    {
+        throw std::invalid_argument("'" + world_file + "': " + e.what());
+    }
+    const std::size_t n = std::min(sim.frameCount(), max_frames.value_or(sim.frameCount()));
+
+    checkOutputFolder(output_file, "output file");
+    if (!gt_out_file.empty())
+    {
+        checkOutputFolder(gt_out_file, "ground-truth output file");
+    }
+    if (!png_dir.empty())
+    {
+        fs::create_directories(png_dir);
+    }
+    const std::string partial = output_file + ".partial";
+    const std::string gt_partial = gt_out_file.empty() ? std::string() : gt_out_file + ".partial";
+    if (!quiet)
+    {
+        const auto& cam = sim.renderer().params();
+        std::cerr << PROGRAM << ": rendering " << n << " of " << sim.frameCount() << " frames of '"
+                  << world_file << "' (" << sim.world().type() << ", "
+                  << sim.world().elements().size() << " elements, " << cam.width << "x"
+                  << cam.height << ", seed " << sim.seed() << ") into '" << output_file << "'\n";
+    }
+    emslam::stereo::TumTrajectory gt;
+    try
+    {
+        mrpt::io::CFileGZOutputStream f;
+        std::string err;
+        if (!f.open(partial, gz_level, err))
+        {
+            THROW_EXCEPTION_FMT("Cannot create '%s': %s", partial.c_str(), err.c_str());
+        }
+        auto arch = mrpt::serialization::archiveFrom(f);
+        const bool tty = ::isatty(::fileno(stderr)) != 0;
+        int decile = 0;
+        for (std::size_t i = 0; i < n; ++i)
+        {
+            const auto fr = sim.renderFrame(i);
+            arch << *fr.obs;
+            gt.add(fr.t, fr.T_first_left);
+            ++frames_written;
+            if (!png_dir.empty())
+            {
+                char name[64];
+                std::snprintf(name, sizeof(name), "/left_%06zu.png", i);
+                cv::imwrite(png_dir + name, fr.obs->imageLeft.asCvMatRef());
+                std::snprintf(name, sizeof(name), "/right_%06zu.png", i);
+                cv::imwrite(png_dir + name, fr.obs->imageRight.asCvMatRef());
+            }
+            if (!quiet)
+            {
+                progressLine(i + 1, n, decile, tty);
+            }
+        }
+        if (!quiet && tty)
+        {
+            std::fprintf(stderr, "\n");
+        }
+        f.close();
+        if (!gt_partial.empty())
+        {
+            gt.saveToFile(gt_partial);
+        }
+        fs::rename(partial, output_file);
+        if (!gt_partial.empty())
+        {
+            fs::rename(gt_partial, gt_out_file);
+            poses_written = gt.size();
+        }
+    }
+    catch (...)
+    {
+        removeQuietly(partial);
+        removeQuietly(gt_partial);
+        frames_written = 0;
+        poses_written = 0;
+        throw;
+    }
+    output_bytes = fs::file_size(output_file);
+    elapsed_seconds =
+        std::chrono::duration<double>(std::chrono::steady_clock::now() - t_start).count();
+    if (!quiet)
+    {
+        std::cout << PROGRAM << ": wrote " << frames_written << " frames to '" << output_file
+                  << "'";
+        if (!gt_out_file.empty())
+        {
+            std::cout << ", " << poses_written << " ground-truth poses to '" << gt_out_file << "'";
+        }
+        std::cout << mrpt::format(
+            " in %.2f s (%.1f ms/frame)\n", elapsed_seconds,
+            1e3 * elapsed_seconds / static_cast<double>(std::max<std::size_t>(frames_written, 1)));
+        std::cout.flush();
+    }
+}
+
+}  // namespace emslam::apps

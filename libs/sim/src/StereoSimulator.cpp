@@ -1,0 +1,170 @@
+// SPDX-License-Identifier: BSD-3-Clause
+#include <emslam/sim/StereoSimulator.h>
+
+#include <mrpt/config/CConfigFile.h>
+#include <mrpt/core/Clock.h>
+#include <mrpt/img/CImage.h>
+#include <mrpt/poses/CPose3DQuat.h>
+#include <mrpt/system/filesystem.h>
+
+#include <cmath>
+#include <stdexcept>
+
+namespace emslam::sim
+{
+namespace
+{
+constexpr const char* SECTION = "Simulation";
+
+[[noreturn]] void bad(const std::string& key, const std::string& msg)
+{
+    throw std::invalid_argument(std::string("[") + SECTION + "] " + key + ": " + msg);
+}
+}  // namespace
+
+void StereoSimulator::TParameters::loadFromConfigFile(
+    const mrpt::config::CConfigFileBase& c, const std::string& s)
+{
+    MRPT_LOAD_CONFIG_VAR(fps, double, c, s);
+    MRPT_LOAD_CONFIG_VAR(start_time, double, c, s);
+    MRPT_LOAD_CONFIG_VAR(sensor_label, string, c, s);
+    MRPT_LOAD_CONFIG_VAR(exposure_amplitude, double, c, s);
+    MRPT_LOAD_CONFIG_VAR(exposure_period, double, c, s);
+    MRPT_LOAD_CONFIG_VAR(max_step, double, c, s);
+    MRPT_LOAD_CONFIG_VAR(max_step_deg, double, c, s);
+    if (!(fps > 0))
+    {
+        bad("fps", "must be > 0");
+    }
+    if (!(exposure_amplitude >= 0 && exposure_amplitude < 0.9))
+    {
+        bad("exposure_amplitude", "must be in [0, 0.9)");
+    }
+    if (!(exposure_period > 0))
+    {
+        bad("exposure_period", "must be > 0");
+    }
+    if (!(max_step > 0) || !(max_step_deg > 0))
+    {
+        bad(max_step > 0 ? "max_step_deg" : "max_step", "must be > 0");
+    }
+    if (sensor_label.empty())
+    {
+        bad("sensor_label", "must not be empty");
+    }
+}
+
+void StereoSimulator::TParameters::saveToConfigFile(
+    mrpt::config::CConfigFileBase& c, const std::string& s) const
+{
+    MRPT_SAVE_CONFIG_VAR(fps, c, s);
+    MRPT_SAVE_CONFIG_VAR(start_time, c, s);
+    MRPT_SAVE_CONFIG_VAR(sensor_label, c, s);
+    MRPT_SAVE_CONFIG_VAR(exposure_amplitude, c, s);
+    MRPT_SAVE_CONFIG_VAR(exposure_period, c, s);
+    MRPT_SAVE_CONFIG_VAR(max_step, c, s);
+    MRPT_SAVE_CONFIG_VAR(max_step_deg, c, s);
+}
+
+void StereoSimulator::loadFile(const std::string& ini_file)
+{
+    if (!mrpt::system::fileExists(ini_file))
+    {
+        throw std::invalid_argument("world file '" + ini_file + "' does not exist");
+    }
+    try
+    {
+        mrpt::config::CConfigFile cfg(ini_file);
+        load(cfg);
+    }
+    catch (const std::exception& e)
+    {
+        throw std::invalid_argument("'" + ini_file + "': " + e.what());
+    }
+}
+
+void StereoSimulator::load(const mrpt::config::CConfigFileBase& cfg)
+{
+    TParameters p;
+    p.loadFromConfigFile(cfg, SECTION);
+    StereoRenderer::TParameters cam;
+    cam.loadFromConfigFile(cfg, "Camera");
+    Trajectory::TParameters tp;
+    tp.loadFromConfigFile(cfg, "Trajectory");
+    Trajectory traj;
+    traj.setup(tp);
+    World world;
+    world.load(cfg, traj.waypointsXZ());
+
+    const double step = tp.speed / p.fps;
+    if (step > p.max_step)
+    {
+        bad("fps", "the camera moves " + std::to_string(step) +
+                       " m between frames ([Trajectory] speed / " +
+                       "fps), more than max_step = " + std::to_string(p.max_step) + " m");
+    }
+    const bool turns_on_spot = tp.type == "robot3dof" && tp.drive == "differential";
+    if (turns_on_spot && tp.angular_speed_deg / p.fps > p.max_step_deg)
+    {
+        bad("fps", "the camera turns " + std::to_string(tp.angular_speed_deg / p.fps) +
+                       " deg between frames, more than max_step_deg");
+    }
+    m_p = p;
+    m_renderer.setParameters(cam);
+    m_traj = traj;
+    m_world = std::move(world);
+    m_seed = cfg.read_int("World", "seed", 1);
+    m_frames = static_cast<std::size_t>(std::floor(m_traj.duration() * p.fps + 1e-9)) + 1;
+    m_T_scene_first = scenePose(0);
+}
+
+double StereoSimulator::frameTime(std::size_t i) const
+{
+    return m_p.start_time + static_cast<double>(i) / m_p.fps;
+}
+
+mrpt::poses::CPose3D StereoSimulator::scenePose(std::size_t i) const
+{
+    return m_traj.cameraPose(static_cast<double>(i) / m_p.fps, &m_world);
+}
+
+mrpt::poses::CPose3D StereoSimulator::groundTruth(std::size_t i) const
+{
+    if (i == 0)
+    {
+        return {};
+    }
+    return scenePose(i) - m_T_scene_first;
+}
+
+StereoSimulator::Frame StereoSimulator::renderFrame(std::size_t i, bool want_depth) const
+{
+    if (i >= m_frames)
+    {
+        throw std::out_of_range(
+            "StereoSimulator::renderFrame: frame " + std::to_string(i) + " of " +
+            std::to_string(m_frames));
+    }
+    const double t_rel = static_cast<double>(i) / m_p.fps;
+    const double gain =
+        1.0 + m_p.exposure_amplitude * std::sin(2 * M_PI * t_rel / m_p.exposure_period);
+    const auto noise_seed = static_cast<std::uint64_t>(m_seed) * 1000003ULL + i;
+    auto out = m_renderer.render(m_world, scenePose(i), t_rel, gain, noise_seed, want_depth);
+
+    Frame f;
+    f.t = frameTime(i);
+    f.T_first_left = groundTruth(i);
+    f.depth = out.depth;
+    f.obs = mrpt::obs::CObservationStereoImages::Create();
+    f.obs->timestamp = mrpt::Clock::fromDouble(f.t);
+    f.obs->sensorLabel = m_p.sensor_label;
+    f.obs->imageLeft = mrpt::img::CImage(out.left, mrpt::img::DEEP_COPY);
+    f.obs->imageRight = mrpt::img::CImage(out.right, mrpt::img::DEEP_COPY);
+    f.obs->hasImageRight = true;
+    f.obs->hasImageDisparity = false;
+    f.obs->setStereoCameraParams(m_renderer.stereoCamera());
+    f.obs->cameraPose = mrpt::poses::CPose3DQuat();
+    return f;
+}
+
+}  // namespace emslam::sim

@@ -1,0 +1,323 @@
+// SPDX-License-Identifier: BSD-3-Clause
+#include <emslam/sim/Trajectory.h>
+
+#include <mrpt/math/CMatrixFixed.h>
+#include <mrpt/math/CVectorFixed.h>
+#include <mrpt/math/wrap2pi.h>
+
+#include <algorithm>
+#include <cmath>
+#include <sstream>
+#include <stdexcept>
+
+namespace emslam::sim
+{
+namespace
+{
+constexpr const char* SECTION = "Trajectory";
+
+[[noreturn]] void bad(const std::string& key, const std::string& msg)
+{
+    throw std::invalid_argument(std::string("[") + SECTION + "] " + key + ": " + msg);
+}
+
+std::vector<std::array<double, 3>> parseWaypoints(const std::string& txt)
+{
+    std::vector<std::array<double, 3>> pts;
+    std::stringstream all(txt);
+    std::string item;
+    int dims = -1;
+    while (std::getline(all, item, ';'))
+    {
+        std::istringstream in(item);
+        std::vector<double> v;
+        double x = 0;
+        while (in >> x)
+        {
+            v.push_back(x);
+        }
+        in.clear();
+        std::string rest;
+        if ((in >> rest) || (v.size() != 2 && v.size() != 3))
+        {
+            if (v.empty() && rest.empty())
+            {
+                continue;  // empty item (trailing ';')
+            }
+            bad("waypoints", "each way-point is 'x z' or 'x y z', got '" + item + "'");
+        }
+        if (dims >= 0 && static_cast<int>(v.size()) != dims)
+        {
+            bad("waypoints", "mixes 2D and 3D way-points");
+        }
+        dims = static_cast<int>(v.size());
+        pts.push_back(
+            v.size() == 2 ? std::array<double, 3>{v[0], 0.0, v[1]}
+                          : std::array<double, 3>{v[0], v[1], v[2]});
+    }
+    return pts;
+}
+}  // namespace
+
+void Trajectory::TParameters::loadFromConfigFile(
+    const mrpt::config::CConfigFileBase& c, const std::string& s)
+{
+    MRPT_LOAD_CONFIG_VAR(type, string, c, s);
+    MRPT_LOAD_CONFIG_VAR(waypoints, string, c, s);
+    MRPT_LOAD_CONFIG_VAR(closed, bool, c, s);
+    MRPT_LOAD_CONFIG_VAR(loops, int, c, s);
+    MRPT_LOAD_CONFIG_VAR(speed, double, c, s);
+    MRPT_LOAD_CONFIG_VAR(angular_speed_deg, double, c, s);
+    MRPT_LOAD_CONFIG_VAR(drive, string, c, s);
+    MRPT_LOAD_CONFIG_VAR(turn_blend, double, c, s);
+    MRPT_LOAD_CONFIG_VAR(camera_height, double, c, s);
+    MRPT_LOAD_CONFIG_VAR(follow_ground, bool, c, s);
+    MRPT_LOAD_CONFIG_VAR(bob_amplitude, double, c, s);
+    MRPT_LOAD_CONFIG_VAR(step_frequency, double, c, s);
+    MRPT_LOAD_CONFIG_VAR(sway_roll_deg, double, c, s);
+    MRPT_LOAD_CONFIG_VAR(sway_pitch_deg, double, c, s);
+}
+
+void Trajectory::TParameters::saveToConfigFile(
+    mrpt::config::CConfigFileBase& c, const std::string& s) const
+{
+    MRPT_SAVE_CONFIG_VAR(type, c, s);
+    MRPT_SAVE_CONFIG_VAR(waypoints, c, s);
+    MRPT_SAVE_CONFIG_VAR(closed, c, s);
+    MRPT_SAVE_CONFIG_VAR(loops, c, s);
+    MRPT_SAVE_CONFIG_VAR(speed, c, s);
+    MRPT_SAVE_CONFIG_VAR(angular_speed_deg, c, s);
+    MRPT_SAVE_CONFIG_VAR(drive, c, s);
+    MRPT_SAVE_CONFIG_VAR(turn_blend, c, s);
+    MRPT_SAVE_CONFIG_VAR(camera_height, c, s);
+    MRPT_SAVE_CONFIG_VAR(follow_ground, c, s);
+    MRPT_SAVE_CONFIG_VAR(bob_amplitude, c, s);
+    MRPT_SAVE_CONFIG_VAR(step_frequency, c, s);
+    MRPT_SAVE_CONFIG_VAR(sway_roll_deg, c, s);
+    MRPT_SAVE_CONFIG_VAR(sway_pitch_deg, c, s);
+}
+
+void Trajectory::setup(const TParameters& p)
+{
+    if (p.type != "robot3dof" && p.type != "walker6dof")
+    {
+        bad("type", "unknown trajectory type '" + p.type + "' (expected robot3dof or walker6dof)");
+    }
+    if (p.drive != "differential" && p.drive != "holonomic")
+    {
+        bad("drive", "expected differential or holonomic, got '" + p.drive + "'");
+    }
+    if (!(p.speed > 0))
+    {
+        bad("speed", "must be > 0");
+    }
+    if (!(p.angular_speed_deg > 0))
+    {
+        bad("angular_speed_deg", "must be > 0");
+    }
+    if (!(p.turn_blend >= 0))
+    {
+        bad("turn_blend", "must be >= 0");
+    }
+    if (p.loops < 1)
+    {
+        bad("loops", "must be >= 1");
+    }
+    if (p.step_frequency < 0)
+    {
+        bad("step_frequency", "must be >= 0");
+    }
+    auto pts = parseWaypoints(p.waypoints);
+    if (pts.empty())
+    {
+        bad("waypoints", "the way-point list is empty");
+    }
+    if (pts.size() < 2)
+    {
+        bad("waypoints", "needs at least two way-points");
+    }
+    if (p.type == "robot3dof")
+    {
+        for (auto& q : pts)
+        {
+            if (q[1] != 0.0)
+            {
+                bad("waypoints", "robot3dof is planar: give 'x z' way-points");
+            }
+        }
+    }
+    if (p.loops > 1 && !p.closed)
+    {
+        bad("loops", "loops > 1 needs closed = true");
+    }
+    m_p = p;
+    m_pts.clear();
+    for (int l = 0; l < p.loops; ++l)
+    {
+        for (std::size_t i = 0; i < pts.size(); ++i)
+        {
+            if (l > 0 && i == 0)
+            {
+                continue;  // the loop's start equals the previous loop's end
+            }
+            m_pts.push_back(pts[i]);
+        }
+        if (p.closed)
+        {
+            m_pts.push_back(pts[0]);
+        }
+    }
+    // Drop repeated points.
+    m_pts.erase(
+        std::unique(
+            m_pts.begin(), m_pts.end(),
+            [](const auto& a, const auto& b)
+            { return std::hypot(a[0] - b[0], a[2] - b[2]) < 1e-9 && a[1] == b[1]; }),
+        m_pts.end());
+    if (m_pts.size() < 2)
+    {
+        bad("waypoints", "needs at least two distinct way-points");
+    }
+
+    const bool differential = p.type == "robot3dof" && p.drive == "differential";
+    const double omega = p.angular_speed_deg * M_PI / 180.0;
+    m_segments.clear();
+    m_corner_s.clear();
+    m_corner_dyaw.clear();
+    double t = 0;
+    double s = 0;
+    double yaw_prev = 0;
+    for (std::size_t i = 0; i + 1 < m_pts.size(); ++i)
+    {
+        const auto& a = m_pts[i];
+        const auto& b = m_pts[i + 1];
+        const double len = std::hypot(b[0] - a[0], b[2] - a[2]);
+        if (len < 1e-9)
+        {
+            bad("waypoints", "two consecutive way-points differ only in height");
+        }
+        const double yaw = std::atan2(b[0] - a[0], b[2] - a[2]);
+        if (i > 0)
+        {
+            const double dyaw = mrpt::math::wrapToPi(yaw - yaw_prev);
+            m_corner_s.push_back(s);
+            m_corner_dyaw.push_back(dyaw);
+            if (differential && std::abs(dyaw) > 1e-9)
+            {
+                const double dt = std::abs(dyaw) / omega;
+                m_segments.push_back({t, t + dt, a, a, yaw_prev, yaw_prev + dyaw, s});
+                t += dt;
+            }
+        }
+        const double y0 = i == 0 ? yaw : m_segments.back().yaw1;
+        const double y1 = y0 + mrpt::math::wrapToPi(yaw - y0);
+        m_segments.push_back({t, t + len / p.speed, a, b, y1, y1, s});
+        t += len / p.speed;
+        s += len;
+        yaw_prev = y1;
+    }
+}
+
+std::vector<std::array<double, 2>> Trajectory::waypointsXZ() const
+{
+    std::vector<std::array<double, 2>> v;
+    for (const auto& q : m_pts)
+    {
+        v.push_back({q[0], q[2]});
+    }
+    return v;
+}
+
+double Trajectory::duration() const
+{
+    return m_segments.empty() ? 0.0 : m_segments.back().t1;
+}
+
+mrpt::poses::CPose3D Trajectory::cameraPose(double t, const World* world) const
+{
+    if (m_segments.empty())
+    {
+        throw std::logic_error("Trajectory::cameraPose: call setup() first");
+    }
+    t = std::clamp(t, 0.0, duration());
+    std::size_t k = 0;
+    while (k + 1 < m_segments.size() && t > m_segments[k].t1)
+    {
+        ++k;
+    }
+    const Segment& g = m_segments[k];
+    const double a = g.t1 > g.t0 ? (t - g.t0) / (g.t1 - g.t0) : 0.0;
+    std::array<double, 3> p{};
+    for (std::size_t i = 0; i < 3; ++i)
+    {
+        p[i] = g.p0[i] + a * (g.p1[i] - g.p0[i]);
+    }
+    double yaw = g.yaw0 + a * (g.yaw1 - g.yaw0);
+    const bool differential = m_p.type == "robot3dof" && m_p.drive == "differential";
+    if (!differential && m_p.turn_blend > 0)
+    {
+        // Heading blends linearly across each corner over turn_blend metres of path.
+        const double s = g.s0 + a * std::hypot(g.p1[0] - g.p0[0], g.p1[2] - g.p0[2]);
+        yaw = m_segments.front().yaw0;
+        for (std::size_t c = 0; c < m_corner_s.size(); ++c)
+        {
+            const double f =
+                std::clamp((s - (m_corner_s[c] - m_p.turn_blend / 2)) / m_p.turn_blend, 0.0, 1.0);
+            yaw += f * m_corner_dyaw[c];
+        }
+    }
+    double height = p[1] + m_p.camera_height;
+    if (m_p.follow_ground && world != nullptr)
+    {
+        double g_sum = 0;
+        const double r = 0.5;
+        const double off[5][2] = {{0, 0}, {r, 0}, {-r, 0}, {0, r}, {0, -r}};
+        for (const auto& o : off)
+        {
+            g_sum += world->groundHeight(p[0] + o[0], p[2] + o[1]);
+        }
+        height += g_sum / 5;
+    }
+    double pitch = 0;
+    double roll = 0;
+    if (m_p.type == "walker6dof")
+    {
+        const double ph = 2 * M_PI * m_p.step_frequency * t;
+        height += m_p.bob_amplitude * std::cos(ph);
+        roll = m_p.sway_roll_deg * M_PI / 180.0 * std::sin(ph / 2);
+        pitch = m_p.sway_pitch_deg * M_PI / 180.0 * std::sin(ph + 0.7);
+    }
+    // Camera axes in the scene: x right, y down, z forward (yaw about scene +Y).
+    const double cy = std::cos(yaw);
+    const double sy = std::sin(yaw);
+    mrpt::math::CMatrixDouble33 R_yaw;
+    R_yaw(0, 0) = -cy;
+    R_yaw(1, 0) = 0;
+    R_yaw(2, 0) = sy;
+    R_yaw(0, 1) = 0;
+    R_yaw(1, 1) = -1;
+    R_yaw(2, 1) = 0;
+    R_yaw(0, 2) = sy;
+    R_yaw(1, 2) = 0;
+    R_yaw(2, 2) = cy;
+    mrpt::math::CMatrixDouble33 Rx;
+    Rx.setIdentity();
+    Rx(1, 1) = std::cos(pitch);
+    Rx(1, 2) = -std::sin(pitch);
+    Rx(2, 1) = std::sin(pitch);
+    Rx(2, 2) = std::cos(pitch);
+    mrpt::math::CMatrixDouble33 Rz;
+    Rz.setIdentity();
+    Rz(0, 0) = std::cos(roll);
+    Rz(0, 1) = -std::sin(roll);
+    Rz(1, 0) = std::sin(roll);
+    Rz(1, 1) = std::cos(roll);
+    const mrpt::math::CMatrixDouble33 R = R_yaw * Rx * Rz;
+    mrpt::math::CVectorFixedDouble<3> xyz;
+    xyz[0] = p[0];
+    xyz[1] = height;
+    xyz[2] = p[2];
+    return mrpt::poses::CPose3D::FromRotationAndTranslation(R, xyz);
+}
+
+}  // namespace emslam::sim

@@ -1,0 +1,182 @@
+// SPDX-License-Identifier: BSD-3-Clause
+#include "TestData.h"
+#include "TestHelpers.h"
+
+#include <emslam/apps/AppMain.h>
+#include <emslam/apps/SimApp.h>
+#include <emslam/stereo/TumTrajectory.h>
+
+#include <mrpt/io/CFileGZInputStream.h>
+#include <mrpt/obs/CObservationStereoImages.h>
+#include <mrpt/serialization/CArchive.h>
+
+#include <gtest/gtest.h>
+
+#include <filesystem>
+#include <fstream>
+#include <iterator>
+#include <string>
+#include <vector>
+
+using emslam::apps::SimApp;
+namespace fs = std::filesystem;
+
+namespace
+{
+std::string readFile(const std::string& path)
+{
+    std::ifstream f(path, std::ios::binary);
+    return {std::istreambuf_iterator<char>(f), std::istreambuf_iterator<char>()};
+}
+
+std::vector<std::string> withProgram(std::vector<std::string> args)
+{
+    args.insert(args.begin(), "emslam-sim");
+    return args;
+}
+
+void initApp(SimApp& app, const std::vector<std::string>& args)
+{
+    const auto a = withProgram(args);
+    std::vector<const char*> argv;
+    for (const auto& s : a)
+    {
+        argv.push_back(s.c_str());
+    }
+    app.initialize(static_cast<int>(argv.size()), argv.data());
+}
+
+std::vector<mrpt::obs::CObservationStereoImages::Ptr> readRawlog(const std::string& file)
+{
+    std::vector<mrpt::obs::CObservationStereoImages::Ptr> v;
+    mrpt::io::CFileGZInputStream f(file);
+    auto arch = mrpt::serialization::archiveFrom(f);
+    while (true)
+    {
+        try
+        {
+            auto o = arch.ReadObject();
+            v.push_back(std::dynamic_pointer_cast<mrpt::obs::CObservationStereoImages>(o));
+        }
+        catch (const mrpt::serialization::CExceptionEOF&)
+        {
+            break;
+        }
+    }
+    return v;
+}
+
+std::size_t countLines(const std::string& file)
+{
+    std::ifstream f(file);
+    std::size_t n = 0;
+    for (std::string l; std::getline(f, l);)
+    {
+        ++n;
+    }
+    return n;
+}
+
+const std::string HALL = "/config/sim/hall_double_loop.ini";
+}  // namespace
+
+TEST(SimApp, writesRawlogAndGroundTruthThatReadBack)
+{
+    const std::string out = emslam::test::makeTempDir("sim_app");
+    SimApp app;
+    initApp(
+        app, {emslam::test::sourceDir() + HALL, "-o", out + "/h.rawlog", "--gt-out", out + "/h.tum",
+              "--frames", "6", "--png", out + "/png", "--quiet"});
+    app.run();
+    EXPECT_EQ(app.frames_written, 6U);
+    EXPECT_EQ(app.poses_written, 6U);
+    EXPECT_EQ(countLines(out + "/h.tum"), 6U);
+    EXPECT_TRUE(fs::exists(out + "/png/left_000005.png"));
+    EXPECT_TRUE(fs::exists(out + "/png/right_000000.png"));
+    EXPECT_FALSE(fs::exists(out + "/h.rawlog.partial"));
+
+    const auto obs = readRawlog(out + "/h.rawlog");
+    ASSERT_EQ(obs.size(), 6U);
+    const auto gt = emslam::stereo::TumTrajectory::fromFile(out + "/h.tum");
+    ASSERT_EQ(gt.size(), obs.size());
+    for (std::size_t i = 0; i < obs.size(); ++i)
+    {
+        ASSERT_TRUE(obs[i]);
+        EXPECT_TRUE(obs[i]->hasImageRight);
+        EXPECT_EQ(obs[i]->sensorLabel, "STEREO");
+        EXPECT_EQ(obs[i]->imageLeft.getWidth(), 320U);
+        EXPECT_NEAR(obs[i]->rightCameraPose.x(), 0.10, 1e-12);
+        EXPECT_NEAR(mrpt::Clock::toDouble(obs[i]->timestamp), gt.poses[i].t, 1e-5);
+    }
+    EXPECT_EQ(gt.poses[0].pose.norm(), 0.0);
+    EXPECT_GT(gt.poses[5].pose.norm(), 0.3);
+}
+
+TEST(SimApp, sameSeedSameBytesOtherSeedOtherBytes)
+{
+    const std::string out = emslam::test::makeTempDir("sim_app_det");
+    const std::string world = emslam::test::sourceDir() + HALL;
+    for (const char* name : {"a", "b", "c"})
+    {
+        SimApp app;
+        initApp(
+            app, {world, "-o", out + "/" + name + ".rawlog", "--gt-out", out + "/" + name + ".tum",
+                  "--frames", "4", "--seed", std::string(name) == "c" ? "5" : "4", "-q"});
+        app.run();
+    }
+    EXPECT_EQ(readFile(out + "/a.rawlog"), readFile(out + "/b.rawlog"));
+    EXPECT_EQ(readFile(out + "/a.tum"), readFile(out + "/b.tum"));
+    EXPECT_NE(readFile(out + "/a.rawlog"), readFile(out + "/c.rawlog"));
+}
+
+TEST(SimApp, badIniFailsNamingTheKeyAndLeavesNoOutput)
+{
+    const std::string out = emslam::test::makeTempDir("sim_app_bad");
+    const std::string good = readFile(emslam::test::sourceDir() + HALL);
+    struct Case
+    {
+        std::string from, to, key;
+    };
+    const std::vector<Case> cases{
+        {"type = building", "type = spaceship", "[World] type"},
+        {"baseline = 0.10", "baseline = -0.10", "[Camera] baseline"},
+        {"waypoints = 5 4; 23 4; 23 12; 5 12", "waypoints =", "[Trajectory] waypoints"},
+    };
+    for (const auto& c : cases)
+    {
+        std::string text = good;
+        const auto pos = text.find(c.from);
+        ASSERT_NE(pos, std::string::npos) << c.from;
+        text.replace(pos, c.from.size(), c.to);
+        const std::string ini = out + "/bad.ini";
+        emslam::test::writeFile(ini, text);
+        SimApp app;
+        initApp(app, {ini, "-o", out + "/bad.rawlog", "-q"});
+        emslam::test::expectThrowContaining([&] { app.run(); }, {c.key, "bad.ini"});
+        EXPECT_FALSE(fs::exists(out + "/bad.rawlog"));
+        EXPECT_FALSE(fs::exists(out + "/bad.rawlog.partial"));
+
+        // Through the real main body: exit code 1.
+        auto a = withProgram({ini, "-o", out + "/bad.rawlog", "-q"});
+        std::vector<char*> argv;
+        for (auto& s : a)
+        {
+            argv.push_back(s.data());
+        }
+        EXPECT_EQ(
+            emslam::apps::appMain<SimApp>("emslam-sim", static_cast<int>(argv.size()), argv.data()),
+            1);
+    }
+    // An unknown element type.
+    emslam::test::writeFile(
+        out + "/el.ini", good + "\n[Element_x]\ntype = cone\nmin = 0 0 0\nmax = 1 1 1\n");
+    SimApp app;
+    initApp(app, {out + "/el.ini", "-o", out + "/el.rawlog", "-q"});
+    emslam::test::expectThrowContaining([&] { app.run(); }, {"[Element_x] type", "cone"});
+    // Bad command lines.
+    SimApp app2;
+    EXPECT_THROW(initApp(app2, {out + "/missing.ini", "-o", out + "/x.rawlog"}), std::exception);
+    EXPECT_THROW(
+        initApp(app2, {out + "/el.ini", "-o", out + "/x.rawlog", "--frames", "0"}),
+        std::invalid_argument);
+}
