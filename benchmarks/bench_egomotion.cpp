@@ -3,22 +3,18 @@
 // KITTI 06 frames (0 and 1), single-threaded, at the paper's 320x240 and at
 // KITTI's full 1226x370. Run: bench_egomotion [--benchmark_filter=...]
 // Needs the KITTI excerpt (EMSLAM_TEST_DATA, default ../shared/data).
+#include "BenchCommon.h"
+
 #include <emslam/egomotion/DppPoseEstimator.h>
 #include <emslam/egomotion/EgomotionEstimator.h>
 #include <emslam/egomotion/FeatureMatcher.h>
 #include <emslam/egomotion/LwoRefinement.h>
-#include <emslam/stereo/CalibrationReaders.h>
 #include <emslam/stereo/StereoFrontEnd.h>
 
 #include <benchmark/benchmark.h>
 
-#include <cstdio>
-#include <cstdlib>
 #include <map>
 #include <memory>
-#include <opencv2/core/utility.hpp>
-#include <opencv2/imgcodecs.hpp>
-#include <opencv2/imgproc.hpp>
 #include <string>
 
 namespace
@@ -26,53 +22,20 @@ namespace
 using emslam::egomotion::EgomotionEstimator;
 using emslam::stereo::StereoFrame;
 
-std::string dataDir()
-{
-    const char* env = std::getenv("EMSLAM_TEST_DATA");
-    return (env != nullptr && *env != '\0') ? env : EMSLAM_TEST_DATA_DEFAULT;
-}
-
 /** KITTI 06 frame `idx` through the stereo front-end, optionally as a
  * central 4:3 crop resized to width x height (as bench_stereo_frontend does).
  * Null if the data is absent. */
 std::shared_ptr<StereoFrame> kittiFrame(int idx, int width, int height)
 {
-    const std::string seq = dataDir() + "/kitti-odometry/sequences/06/";
-    char name[16];
-    std::snprintf(name, sizeof(name), "%06d.png", idx);
-    cv::Mat l = cv::imread(seq + "image_0/" + name, cv::IMREAD_GRAYSCALE);
-    cv::Mat r = cv::imread(seq + "image_1/" + name, cv::IMREAD_GRAYSCALE);
-    if (l.empty() || r.empty())
+    const auto obs = emslam::bench::kittiObservation(idx, width, height);
+    if (!obs)
     {
         return nullptr;
     }
-    auto cam = emslam::stereo::loadKittiCalibration(seq + "calib.txt", l.cols, l.rows);
     emslam::stereo::StereoMatcher::TParameters p;
-    p.num_disparities = 128;
+    p.num_disparities = width > 0 ? 64 : 128;
     p.min_range = 1.0;
     p.max_range = 20.0;  // as config/odometry/kitti.ini
-    if (width > 0)
-    {
-        const int cw = l.rows * width / height;
-        const cv::Rect roi((l.cols - cw) / 2, 0, cw, l.rows);
-        const double s = static_cast<double>(width) / cw;
-        cv::resize(l(roi), l, cv::Size(width, height), 0, 0, cv::INTER_AREA);
-        cv::resize(r(roi), r, cv::Size(width, height), 0, 0, cv::INTER_AREA);
-        for (auto* c : {&cam.leftCamera, &cam.rightCamera})
-        {
-            c->ncols = width;
-            c->nrows = height;
-            c->setIntrinsicParamsFromValues(
-                c->fx() * s, c->fy() * s, (c->cx() - roi.x + 0.5) * s - 0.5,
-                (c->cy() + 0.5) * s - 0.5);
-        }
-        p.num_disparities = 64;
-    }
-    auto obs = mrpt::obs::CObservationStereoImages::Create();
-    obs->imageLeft = mrpt::img::CImage(l, mrpt::img::DEEP_COPY);
-    obs->imageRight = mrpt::img::CImage(r, mrpt::img::DEEP_COPY);
-    obs->hasImageRight = true;
-    obs->setStereoCameraParams(cam);
     return std::make_shared<StereoFrame>(emslam::stereo::StereoFrontEnd(p).process(*obs));
 }
 
@@ -213,15 +176,4 @@ BENCHMARK(BM_KittiFull_Lwo)->Unit(benchmark::kMillisecond);
 BENCHMARK(BM_KittiFull_Pose)->Unit(benchmark::kMillisecond);
 BENCHMARK(BM_KittiFull_Estimate)->Unit(benchmark::kMillisecond);
 
-int main(int argc, char** argv)
-{
-    cv::setNumThreads(1);  // the target is per frame on one core
-    benchmark::Initialize(&argc, argv);
-    if (benchmark::ReportUnrecognizedArguments(argc, argv))
-    {
-        return 1;
-    }
-    benchmark::RunSpecifiedBenchmarks();
-    benchmark::Shutdown();
-    return 0;
-}
+EMSLAM_BENCHMARK_MAIN();

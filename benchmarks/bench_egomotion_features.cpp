@@ -4,20 +4,16 @@
 // KITTI 06 frames 0 and 1 at 320x240 (the paper's size) and at full size.
 // Run: bench_egomotion_features [--benchmark_filter=...]
 // Needs the KITTI excerpt (EMSLAM_TEST_DATA, default ../shared/data).
+#include "BenchCommon.h"
+
 #include <emslam/egomotion/FeatureMatcher.h>
 #include <emslam/egomotion/GlmFeatureExtractor.h>
 #include <emslam/egomotion/LogPolarDescriptor.h>
-#include <emslam/stereo/CalibrationReaders.h>
 #include <emslam/stereo/StereoFrontEnd.h>
 
 #include <benchmark/benchmark.h>
 
-#include <cstdio>
-#include <cstdlib>
 #include <map>
-#include <opencv2/core/utility.hpp>
-#include <opencv2/imgcodecs.hpp>
-#include <opencv2/imgproc.hpp>
 #include <string>
 #include <utility>
 
@@ -29,52 +25,19 @@ using emslam::egomotion::GlmFeatureExtractor;
 using emslam::egomotion::LogPolarDescriptorExtractor;
 using emslam::stereo::StereoFrame;
 
-std::string dataDir()
-{
-    const char* env = std::getenv("EMSLAM_TEST_DATA");
-    return (env != nullptr && *env != '\0') ? env : EMSLAM_TEST_DATA_DEFAULT;
-}
-
 /** KITTI 06 frame `index` through the stereo front-end, optionally cropped to
  * 4:3 and resized (width > 0). Empty frame if the data is absent. */
 StereoFrame kittiFrame(int index, int width, int height)
 {
-    const std::string seq = dataDir() + "/kitti-odometry/sequences/06/";
-    char name[16];
-    std::snprintf(name, sizeof(name), "%06d.png", index);
-    cv::Mat l = cv::imread(seq + "image_0/" + name, cv::IMREAD_GRAYSCALE);
-    cv::Mat r = cv::imread(seq + "image_1/" + name, cv::IMREAD_GRAYSCALE);
-    if (l.empty() || r.empty())
+    const auto obs = emslam::bench::kittiObservation(index, width, height);
+    if (!obs)
     {
         return {};
     }
-    auto cam = emslam::stereo::loadKittiCalibration(seq + "calib.txt", l.cols, l.rows);
-    if (width > 0)
-    {
-        // Central 4:3 crop, then resize: same optics, fewer pixels.
-        const int cw = l.rows * width / height;
-        const cv::Rect roi((l.cols - cw) / 2, 0, cw, l.rows);
-        const double s = static_cast<double>(width) / cw;
-        cv::resize(l(roi), l, cv::Size(width, height), 0, 0, cv::INTER_AREA);
-        cv::resize(r(roi), r, cv::Size(width, height), 0, 0, cv::INTER_AREA);
-        for (auto* c : {&cam.leftCamera, &cam.rightCamera})
-        {
-            c->ncols = width;
-            c->nrows = height;
-            c->setIntrinsicParamsFromValues(
-                c->fx() * s, c->fy() * s, (c->cx() - roi.x + 0.5) * s - 0.5,
-                (c->cy() + 0.5) * s - 0.5);
-        }
-    }
-    mrpt::obs::CObservationStereoImages obs;
-    obs.imageLeft = mrpt::img::CImage(l, mrpt::img::DEEP_COPY);
-    obs.imageRight = mrpt::img::CImage(r, mrpt::img::DEEP_COPY);
-    obs.hasImageRight = true;
-    obs.setStereoCameraParams(cam);
     emslam::stereo::StereoMatcher::TParameters p;
     p.num_disparities = width > 0 ? 64 : 128;
     p.max_range = 80.0;
-    return emslam::stereo::StereoFrontEnd(p).process(obs);
+    return emslam::stereo::StereoFrontEnd(p).process(*obs);
 }
 
 /** Frames 0 and 1 with their features and descriptors, built once per size. */
@@ -196,15 +159,4 @@ BENCHMARK(BM_KittiFull_Glm)->Unit(benchmark::kMillisecond);
 BENCHMARK(BM_KittiFull_LogPolar)->Unit(benchmark::kMillisecond);
 BENCHMARK(BM_KittiFull_MatchMutual)->Unit(benchmark::kMillisecond);
 
-int main(int argc, char** argv)
-{
-    cv::setNumThreads(1);  // the target is per frame on one core
-    benchmark::Initialize(&argc, argv);
-    if (benchmark::ReportUnrecognizedArguments(argc, argv))
-    {
-        return 1;
-    }
-    benchmark::RunSpecifiedBenchmarks();
-    benchmark::Shutdown();
-    return 0;
-}
+EMSLAM_BENCHMARK_MAIN();

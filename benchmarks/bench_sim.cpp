@@ -3,6 +3,8 @@
 // one stereo pair (left + right, noise, 8-bit conversion, the observation) per
 // iteration, on the shipped worlds at their 320x240 default. Run:
 // bench_sim [--benchmark_filter=...]. The counter "fps" is stereo frames per second.
+#include "BenchCommon.h"
+
 #include <emslam/sim/StereoSimulator.h>
 
 #include <mrpt/config/CConfigFileMemory.h>
@@ -10,7 +12,6 @@
 #include <benchmark/benchmark.h>
 
 #include <fstream>
-#include <opencv2/core/utility.hpp>
 #include <sstream>
 #include <string>
 
@@ -87,15 +88,4 @@ BENCHMARK(BM_MovingObject)->Unit(benchmark::kMillisecond);
 BENCHMARK(BM_OutdoorGround)->Unit(benchmark::kMillisecond);
 BENCHMARK(BM_RiverBed)->Unit(benchmark::kMillisecond);
 
-int main(int argc, char** argv)
-{
-    cv::setNumThreads(1);  // the target is per frame on one core
-    benchmark::Initialize(&argc, argv);
-    if (benchmark::ReportUnrecognizedArguments(argc, argv))
-    {
-        return 1;
-    }
-    benchmark::RunSpecifiedBenchmarks();
-    benchmark::Shutdown();
-    return 0;
-}
+EMSLAM_BENCHMARK_MAIN();

@@ -1,6 +1,10 @@
 // SPDX-License-Identifier: BSD-3-Clause
 #include <emslam/apps/CommandLine.h>
 
+#include <mrpt/system/filesystem.h>
+
+#include <fstream>
+#include <iterator>
 #include <memory>
 #include <stdexcept>
 
@@ -48,6 +52,23 @@ void applyConfigOverrides(
         }
         cfg.write(s.substr(0, dot), s.substr(dot + 1, eq - dot - 1), s.substr(eq + 1));
     }
+}
+
+void loadConfig(
+    mrpt::config::CConfigFileMemory& cfg,
+    const std::string& config_file,
+    const std::vector<std::string>& sets)
+{
+    if (!config_file.empty())
+    {
+        if (!mrpt::system::fileExists(config_file))
+        {
+            throw std::runtime_error("config file '" + config_file + "' does not exist");
+        }
+        std::ifstream f(config_file);
+        cfg.setContent(std::string(std::istreambuf_iterator<char>(f), {}));
+    }
+    applyConfigOverrides(cfg, sets);
 }
 
 }  // namespace emslam::apps

@@ -1,6 +1,8 @@
 // SPDX-License-Identifier: BSD-3-Clause
 #include <emslam/apps/CommandLine.h>
 #include <emslam/apps/ImportApp.h>
+#include <emslam/apps/ProgressLine.h>
+#include <emslam/apps/RawlogOutput.h>
 #include <emslam/stereo/EurocSequence.h>
 #include <emslam/stereo/KittiSequence.h>
 #include <emslam/stereo/TumRgbdSequence.h>
@@ -8,12 +10,8 @@
 
 #include <mrpt/3rdparty/tclap/CmdLine.h>
 #include <mrpt/core/exceptions.h>
-#include <mrpt/io/CFileGZOutputStream.h>
 #include <mrpt/obs/CObservation.h>
-#include <mrpt/serialization/CArchive.h>
 #include <mrpt/system/os.h>
-
-#include <unistd.h>
 
 #include <algorithm>
 #include <chrono>
@@ -119,69 +117,6 @@ std::string humanBytes(std::uintmax_t n)
     return buf;
 }
 
-/** Progress on stderr: an updated line on a terminal, else a line per ~10%. */
-class Progress
-{
-public:
-    Progress(std::size_t total, bool enabled)
-        : m_total(total), m_enabled(enabled), m_tty(::isatty(::fileno(stderr)) != 0)
-    {
-    }
-
-    void update(std::size_t done)
-    {
-        if (!m_enabled || m_total == 0)
-        {
-            return;
-        }
-        const auto pct = static_cast<int>((100 * done) / m_total);
-        if (m_tty)
-        {
-            std::fprintf(stderr, "\r%s: frame %zu/%zu (%3d%%)", PROGRAM, done, m_total, pct);
-            std::fflush(stderr);
-        }
-        else if (pct / 10 > m_last_decile || done == m_total)
-        {
-            m_last_decile = pct / 10;
-            std::fprintf(stderr, "%s: frame %zu/%zu (%d%%)\n", PROGRAM, done, m_total, pct);
-        }
-    }
-
-    void finish()
-    {
-        if (m_enabled && m_tty)
-        {
-            std::fprintf(stderr, "\n");
-        }
-    }
-
-private:
-    std::size_t m_total;
-    bool m_enabled;
-    bool m_tty;
-    int m_last_decile{0};
-};
-
-void removeQuietly(const std::string& file)
-{
-    if (!file.empty())
-    {
-        std::error_code ec;
-        fs::remove(file, ec);
-    }
-}
-
-void checkOutputFolder(const std::string& file, const char* what)
-{
-    const fs::path parent = fs::path(file).parent_path();
-    std::error_code ec;
-    if (!parent.empty() && !fs::is_directory(parent, ec))
-    {
-        THROW_EXCEPTION_FMT(
-            "Folder '%s' of the %s '%s' does not exist", parent.string().c_str(), what,
-            file.c_str());
-    }
-}
 }  // namespace
 
 void ImportApp::initialize(int argc, char** argv)
@@ -442,13 +377,7 @@ void ImportApp::run()
         indices.push_back(i);
     }
 
-    checkOutputFolder(output_file, "output file");
-    if (!gt_out_file.empty())
-    {
-        checkOutputFolder(gt_out_file, "ground-truth output file");
-    }
-    const std::string partial = output_file + ".partial";
-    const std::string gt_partial = gt_out_file.empty() ? std::string() : gt_out_file + ".partial";
+    RawlogOutput::checkOutputFolders(output_file, gt_out_file);
 
     if (!quiet)
     {
@@ -460,19 +389,13 @@ void ImportApp::run()
     std::optional<mrpt::poses::CPose3D> T_world_ref;
     try
     {
+        RawlogOutput out(output_file, gz_level, gt_out_file);
         {
-            mrpt::io::CFileGZOutputStream f;
-            std::string err;
-            if (!f.open(partial, gz_level, err))
-            {
-                THROW_EXCEPTION_FMT("Cannot create '%s': %s", partial.c_str(), err.c_str());
-            }
-            auto arch = mrpt::serialization::archiveFrom(f);
-            Progress progress(indices.size(), !quiet);
+            ProgressLine progress(PROGRAM, indices.size(), !quiet);
             for (std::size_t k = 0; k < indices.size(); k++)
             {
                 const auto fr = src.get(indices[k]);
-                arch << *fr.obs;
+                out.archive() << *fr.obs;
                 ++frames_written;
                 if (fr.ground_truth)
                 {
@@ -494,23 +417,11 @@ void ImportApp::run()
                 progress.update(k + 1);
             }
             progress.finish();
-            f.close();
         }
-        if (!gt_partial.empty())
-        {
-            gt.saveToFile(gt_partial);
-        }
-        fs::rename(partial, output_file);
-        if (!gt_partial.empty())
-        {
-            fs::rename(gt_partial, gt_out_file);
-            poses_written = gt.size();
-        }
+        poses_written = out.commit(gt);
     }
     catch (...)
     {
-        removeQuietly(partial);
-        removeQuietly(gt_partial);
         frames_written = 0;
         poses_written = 0;
         throw;

@@ -1,19 +1,15 @@
 // SPDX-License-Identifier: BSD-3-Clause
 #include <emslam/apps/CommandLine.h>
 #include <emslam/apps/OdometryApp.h>
+#include <emslam/apps/RawlogInput.h>
 #include <emslam/egomotion/EgomotionEstimator.h>
 #include <emslam/stereo/StereoFrontEnd.h>
 
 #include <mrpt/img/CImage.h>
-#include <mrpt/io/CFileGZInputStream.h>
-#include <mrpt/obs/CRawlog.h>
 #include <mrpt/serialization/CArchive.h>
-#include <mrpt/system/filesystem.h>
 
 #include <chrono>
 #include <cstdio>
-#include <fstream>
-#include <iterator>
 #include <stdexcept>
 #include <vector>
 
@@ -23,14 +19,6 @@ namespace
 {
 constexpr const char* STEREO_SECTION = "Stereo";
 constexpr const char* EGOMOTION_SECTION = "Egomotion";
-
-void requireFile(const std::string& f, const std::string& what)
-{
-    if (!mrpt::system::fileExists(f))
-    {
-        throw std::runtime_error(what + " '" + f + "' does not exist");
-    }
-}
 }  // namespace
 
 void OdometryApp::initialize(int argc, const char** argv)
@@ -61,13 +49,7 @@ void OdometryApp::initialize(int argc, const char** argv)
     m_output = output.getValue();
     m_max_frames = max_frames.getValue();
     m_quiet = quiet.getValue();
-    if (!config.getValue().empty())
-    {
-        requireFile(config.getValue(), "config file");
-        std::ifstream f(config.getValue());
-        params.setContent(std::string(std::istreambuf_iterator<char>(f), {}));
-    }
-    applyConfigOverrides(params, sets.getValue());
+    loadConfig(params, config.getValue(), sets.getValue());
 }
 
 void OdometryApp::run()
@@ -89,14 +71,7 @@ void OdometryApp::run()
         sp.num_disparities, sp.min_range, sp.max_range, ep.window_size, ep.similarity_min,
         ep.lwo_sigma_min, ep.min_final_matches);
 
-    requireFile(m_rawlog, "rawlog");
-    mrpt::io::CFileGZInputStream in;
-    if (!in.open(m_rawlog))
-    {
-        throw std::runtime_error("cannot open rawlog '" + m_rawlog + "'");
-    }
-    mrpt::img::CImage::setImagesPathBase(mrpt::obs::CRawlog::detectImagesDirectory(m_rawlog));
-    auto arch = mrpt::serialization::archiveFrom(in);
+    RawlogInput in(m_rawlog);
 
     using clock = std::chrono::steady_clock;
     trajectory = {};
@@ -150,22 +125,10 @@ void OdometryApp::run()
         return true;
     };
 
-    mrpt::obs::CActionCollection::Ptr acts;
-    mrpt::obs::CSensoryFrame::Ptr sf;
-    mrpt::obs::CObservation::Ptr obs;
-    std::size_t idx = 0, ignored = 0;
-    while ((m_max_frames == 0 || frames_processed < m_max_frames) &&
-           mrpt::obs::CRawlog::getActionObservationPairOrObservation(arch, acts, sf, obs, idx))
+    std::vector<mrpt::obs::CObservation::Ptr> batch;
+    std::size_t ignored = 0;
+    while ((m_max_frames == 0 || frames_processed < m_max_frames) && in.next(batch))
     {
-        std::vector<mrpt::obs::CObservation::Ptr> batch;
-        if (obs)
-        {
-            batch.push_back(obs);
-        }
-        else if (sf)
-        {
-            batch.assign(sf->begin(), sf->end());
-        }
         for (const auto& o : batch)
         {
             if (m_max_frames != 0 && frames_processed >= m_max_frames)

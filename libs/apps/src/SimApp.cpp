@@ -1,16 +1,14 @@
 // SPDX-License-Identifier: BSD-3-Clause
 #include <emslam/apps/CommandLine.h>
+#include <emslam/apps/ProgressLine.h>
+#include <emslam/apps/RawlogOutput.h>
 #include <emslam/apps/SimApp.h>
 #include <emslam/sim/StereoSimulator.h>
 #include <emslam/stereo/TumTrajectory.h>
 
 #include <mrpt/3rdparty/tclap/CmdLine.h>
 #include <mrpt/core/exceptions.h>
-#include <mrpt/io/CFileGZOutputStream.h>
-#include <mrpt/serialization/CArchive.h>
 #include <mrpt/system/os.h>
-
-#include <unistd.h>
 
 #include <algorithm>
 #include <chrono>
@@ -37,42 +35,6 @@ constexpr const char* PROGRAM = "emslam-sim";
         "bad command line: " + msg + "; try " + std::string(PROGRAM) + " --help");
 }
 
-void removeQuietly(const std::string& file)
-{
-    if (!file.empty())
-    {
-        std::error_code ec;
-        fs::remove(file, ec);
-    }
-}
-
-void checkOutputFolder(const std::string& file, const char* what)
-{
-    const fs::path parent = fs::path(file).parent_path();
-    std::error_code ec;
-    if (!parent.empty() && !fs::is_directory(parent, ec))
-    {
-        THROW_EXCEPTION_FMT(
-            "Folder '%s' of the %s '%s' does not exist", parent.string().c_str(), what,
-            file.c_str());
-    }
-}
-
-/** Progress on stderr: an updated line on a terminal, else a line per ~10%. */
-void progressLine(std::size_t done, std::size_t total, int& last_decile, bool tty)
-{
-    const auto pct = static_cast<int>((100 * done) / std::max<std::size_t>(total, 1));
-    if (tty)
-    {
-        std::fprintf(stderr, "\r%s: frame %zu/%zu (%3d%%)", PROGRAM, done, total, pct);
-        std::fflush(stderr);
-    }
-    else if (pct / 10 > last_decile || done == total)
-    {
-        last_decile = pct / 10;
-        std::fprintf(stderr, "%s: frame %zu/%zu (%d%%)\n", PROGRAM, done, total, pct);
-    }
-}
 }  // namespace
 
 void SimApp::initialize(int argc, char** argv)
@@ -184,17 +146,11 @@ void SimApp::run()
     }
     const std::size_t n = std::min(sim.frameCount(), max_frames.value_or(sim.frameCount()));
 
-    checkOutputFolder(output_file, "output file");
-    if (!gt_out_file.empty())
-    {
-        checkOutputFolder(gt_out_file, "ground-truth output file");
-    }
+    RawlogOutput::checkOutputFolders(output_file, gt_out_file);
     if (!png_dir.empty())
     {
         fs::create_directories(png_dir);
     }
-    const std::string partial = output_file + ".partial";
-    const std::string gt_partial = gt_out_file.empty() ? std::string() : gt_out_file + ".partial";
     if (!quiet)
     {
         const auto& cam = sim.renderer().params();
@@ -206,19 +162,12 @@ void SimApp::run()
     emslam::stereo::TumTrajectory gt;
     try
     {
-        mrpt::io::CFileGZOutputStream f;
-        std::string err;
-        if (!f.open(partial, gz_level, err))
-        {
-            THROW_EXCEPTION_FMT("Cannot create '%s': %s", partial.c_str(), err.c_str());
-        }
-        auto arch = mrpt::serialization::archiveFrom(f);
-        const bool tty = ::isatty(::fileno(stderr)) != 0;
-        int decile = 0;
+        RawlogOutput out(output_file, gz_level, gt_out_file);
+        ProgressLine progress(PROGRAM, n, !quiet);
         for (std::size_t i = 0; i < n; ++i)
         {
             const auto fr = sim.renderFrame(i);
-            arch << *fr.obs;
+            out.archive() << *fr.obs;
             gt.add(fr.t, fr.T_first_left);
             ++frames_written;
             if (!png_dir.empty())
@@ -229,31 +178,13 @@ void SimApp::run()
                 std::snprintf(name, sizeof(name), "/right_%06zu.png", i);
                 cv::imwrite(png_dir + name, fr.obs->imageRight.asCvMatRef());
             }
-            if (!quiet)
-            {
-                progressLine(i + 1, n, decile, tty);
-            }
+            progress.update(i + 1);
         }
-        if (!quiet && tty)
-        {
-            std::fprintf(stderr, "\n");
-        }
-        f.close();
-        if (!gt_partial.empty())
-        {
-            gt.saveToFile(gt_partial);
-        }
-        fs::rename(partial, output_file);
-        if (!gt_partial.empty())
-        {
-            fs::rename(gt_partial, gt_out_file);
-            poses_written = gt.size();
-        }
+        progress.finish();
+        poses_written = out.commit(gt);
     }
     catch (...)
     {
-        removeQuietly(partial);
-        removeQuietly(gt_partial);
         frames_written = 0;
         poses_written = 0;
         throw;

@@ -1,14 +1,13 @@
 // SPDX-License-Identifier: BSD-3-Clause
 #include <emslam/apps/CommandLine.h>
+#include <emslam/apps/RawlogInput.h>
 #include <emslam/apps/StereoApp.h>
 #include <emslam/stereo/CalibrationReaders.h>
 #include <emslam/stereo/RangeScanConversion.h>
 #include <emslam/stereo/StereoFrontEnd.h>
 
 #include <mrpt/img/CImage.h>
-#include <mrpt/io/CFileGZInputStream.h>
 #include <mrpt/io/CFileGZOutputStream.h>
-#include <mrpt/obs/CRawlog.h>
 #include <mrpt/serialization/CArchive.h>
 #include <mrpt/system/filesystem.h>
 
@@ -17,7 +16,6 @@
 #include <cstdio>
 #include <fstream>
 #include <iostream>
-#include <iterator>
 #include <opencv2/imgcodecs.hpp>
 #include <opencv2/imgproc.hpp>
 #include <stdexcept>
@@ -168,13 +166,7 @@ void StereoApp::initialize(int argc, const char** argv)
     {
         throw std::invalid_argument("--left, --right and --calib go together (see --help)");
     }
-    if (!config.getValue().empty())
-    {
-        requireFile(config.getValue(), "config file");
-        std::ifstream f(config.getValue());
-        params.setContent(std::string(std::istreambuf_iterator<char>(f), {}));
-    }
-    applyConfigOverrides(params, sets.getValue());
+    loadConfig(params, config.getValue(), sets.getValue());
 }
 
 void StereoApp::run()
@@ -289,32 +281,11 @@ void StereoApp::run()
         }
         else
         {
-            requireFile(m_rawlog, "rawlog");
-            mrpt::io::CFileGZInputStream in;
-            if (!in.open(m_rawlog))
+            RawlogInput in(m_rawlog);
+            std::vector<mrpt::obs::CObservation::Ptr> batch;
+            std::size_t ignored = 0;
+            while ((m_max_frames == 0 || frames_processed < m_max_frames) && in.next(batch))
             {
-                throw std::runtime_error("cannot open rawlog '" + m_rawlog + "'");
-            }
-            mrpt::img::CImage::setImagesPathBase(
-                mrpt::obs::CRawlog::detectImagesDirectory(m_rawlog));
-            auto arch = mrpt::serialization::archiveFrom(in);
-            mrpt::obs::CActionCollection::Ptr acts;
-            mrpt::obs::CSensoryFrame::Ptr sf;
-            mrpt::obs::CObservation::Ptr obs;
-            std::size_t idx = 0, ignored = 0;
-            while (
-                (m_max_frames == 0 || frames_processed < m_max_frames) &&
-                mrpt::obs::CRawlog::getActionObservationPairOrObservation(arch, acts, sf, obs, idx))
-            {
-                std::vector<mrpt::obs::CObservation::Ptr> batch;
-                if (obs)
-                {
-                    batch.push_back(obs);
-                }
-                else if (sf)
-                {
-                    batch.assign(sf->begin(), sf->end());
-                }
                 for (const auto& o : batch)
                 {
                     emslam::stereo::StereoFrame f;

@@ -22,4 +22,13 @@ bool parseCommandLine(TCLAP::CmdLine& cmd, int argc, const char** argv);
 void applyConfigOverrides(
     mrpt::config::CConfigFileMemory& cfg, const std::vector<std::string>& sets);
 
+/** Fills `cfg` from the INI file `config_file` (when not empty), then applies
+ * the `--set` overrides `sets` (see applyConfigOverrides()). Throws
+ * std::runtime_error if the file does not exist.
+ * \ingroup emslam_apps_grp */
+void loadConfig(
+    mrpt::config::CConfigFileMemory& cfg,
+    const std::string& config_file,
+    const std::vector<std::string>& sets);
+
 }  // namespace emslam::apps

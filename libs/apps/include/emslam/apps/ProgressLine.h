@@ -1,0 +1,34 @@
+// SPDX-License-Identifier: BSD-3-Clause
+#pragma once
+
+#include <cstddef>
+#include <string>
+
+namespace emslam::apps
+{
+/** Progress of a frame loop on stderr: one line updated in place on a
+ * terminal, otherwise one line per ~10 % (and one at the end), each as
+ * `PROGRAM: frame DONE/TOTAL (PCT%)`.
+ * \ingroup emslam_apps_grp \sa RawlogOutput */
+class ProgressLine
+{
+public:
+    /** `program` prefixes every line; nothing is printed when `enabled` is
+     * false or `total` is 0. */
+    ProgressLine(std::string program, std::size_t total, bool enabled);
+
+    /** Reports that `done` of the `total` frames are finished. */
+    void update(std::size_t done);
+
+    /** Ends the in-place line on a terminal (call once, after the loop). */
+    void finish();
+
+private:
+    std::string m_program;
+    std::size_t m_total;
+    bool m_enabled;
+    bool m_tty;
+    int m_last_decile{0};
+};
+
+}  // namespace emslam::apps
