@@ -176,6 +176,8 @@ speckle_range = 3
 lr_max_diff = -1
 texture_threshold = 20
 pre_filter_cap = 40
+p1_per_pixel = 4
+p2_per_pixel = 20
 min_range = 0.5
 max_range = 20
 )"));
@@ -192,6 +194,8 @@ max_range = 20
     EXPECT_EQ(p.lr_max_diff, -1);
     EXPECT_EQ(p.texture_threshold, 20);
     EXPECT_EQ(p.pre_filter_cap, 40);
+    EXPECT_EQ(p.p1_per_pixel, 4);
+    EXPECT_EQ(p.p2_per_pixel, 20);
     EXPECT_EQ(p.min_range, 0.5);
     EXPECT_EQ(p.max_range, 20.0);
 }
@@ -204,6 +208,8 @@ TEST(StereoMatcherParameters, saveAndReloadRoundTrips)
     p.num_disparities = 80;
     p.block_size = 7;
     p.max_range = 30.5;
+    p.p1_per_pixel = 2;
+    p.p2_per_pixel = 9;
     mrpt::config::CConfigFileMemory c;
     p.saveToConfigFile(c, "Stereo");
     const mrpt::config::CConfigFileMemory reparsed(c.getContent());
@@ -215,6 +221,8 @@ TEST(StereoMatcherParameters, saveAndReloadRoundTrips)
     EXPECT_EQ(q.block_size, p.block_size);
     EXPECT_EQ(q.max_range, p.max_range);
     EXPECT_EQ(q.min_range, p.min_range);
+    EXPECT_EQ(q.p1_per_pixel, p.p1_per_pixel);
+    EXPECT_EQ(q.p2_per_pixel, p.p2_per_pixel);
 }
 
 TEST(StereoMatcherParameters, invalidValuesThrow)

@@ -55,6 +55,8 @@ void StereoMatcher::TParameters::loadFromConfigFile(
     MRPT_LOAD_CONFIG_VAR(lr_max_diff, int, c, s);
     MRPT_LOAD_CONFIG_VAR(texture_threshold, int, c, s);
     MRPT_LOAD_CONFIG_VAR(pre_filter_cap, int, c, s);
+    MRPT_LOAD_CONFIG_VAR(p1_per_pixel, int, c, s);
+    MRPT_LOAD_CONFIG_VAR(p2_per_pixel, int, c, s);
     MRPT_LOAD_CONFIG_VAR(min_range, double, c, s);
     MRPT_LOAD_CONFIG_VAR(max_range, double, c, s);
     validate();
@@ -74,6 +76,8 @@ void StereoMatcher::TParameters::saveToConfigFile(
     MRPT_SAVE_CONFIG_VAR_COMMENT(lr_max_diff, "Left-right check tolerance [px]; <0: off");
     MRPT_SAVE_CONFIG_VAR_COMMENT(texture_threshold, "BM only: minimum texture");
     MRPT_SAVE_CONFIG_VAR_COMMENT(pre_filter_cap, "Prefilter clip value");
+    MRPT_SAVE_CONFIG_VAR_COMMENT(p1_per_pixel, "SGBM: P1 = p1_per_pixel * block_size^2");
+    MRPT_SAVE_CONFIG_VAR_COMMENT(p2_per_pixel, "SGBM: P2 = p2_per_pixel * block_size^2");
     MRPT_SAVE_CONFIG_VAR_COMMENT(min_range, "Minimum depth kept [m]");
     MRPT_SAVE_CONFIG_VAR_COMMENT(max_range, "Maximum depth kept [m]");
 }
@@ -96,6 +100,8 @@ void StereoMatcher::TParameters::validate() const
     ASSERTMSG_(speckle_range >= 0, "[Stereo] speckle_range must be >= 0");
     ASSERTMSG_(
         pre_filter_cap >= 1 && pre_filter_cap <= 63, "[Stereo] pre_filter_cap must be in [1, 63]");
+    ASSERTMSG_(p1_per_pixel >= 0, "[Stereo] p1_per_pixel must be >= 0");
+    ASSERTMSG_(p2_per_pixel > p1_per_pixel, "[Stereo] p2_per_pixel must be > p1_per_pixel");
     ASSERTMSG_(min_range >= 0, "[Stereo] min_range must be >= 0");
     ASSERTMSG_(max_range > min_range, "[Stereo] max_range must be > min_range");
 }
@@ -133,11 +139,10 @@ void StereoMatcher::setParameters(const TParameters& p)
         m_impl->matcher = bm;
         return;
     }
-    // The usual smoothness penalties for a single-channel image.
     const int area = p.block_size * p.block_size;
     auto sgbm = cv::StereoSGBM::create(
-        p.min_disparity, nd, p.block_size, 8 * area, 32 * area, lr, p.pre_filter_cap,
-        p.uniqueness_ratio, p.speckle_window_size, p.speckle_range,
+        p.min_disparity, nd, p.block_size, p.p1_per_pixel * area, p.p2_per_pixel * area, lr,
+        p.pre_filter_cap, p.uniqueness_ratio, p.speckle_window_size, p.speckle_range,
         p.algorithm == "sgbm_3way" ? cv::StereoSGBM::MODE_SGBM_3WAY : cv::StereoSGBM::MODE_SGBM);
     m_impl->matcher = sgbm;
 }

@@ -34,6 +34,8 @@ namespace emslam::stereo
  * lr_max_diff        = 1      ; [px] left-right consistency tolerance (<0: off)
  * texture_threshold  = 10     ; BM only: minimum local texture
  * pre_filter_cap     = 31     ; clip of the prefiltered image
+ * p1_per_pixel       = 8      ; SGBM smoothness: P1 = p1_per_pixel * block_size^2
+ * p2_per_pixel       = 32     ; SGBM smoothness: P2 = p2_per_pixel * block_size^2 (> p1)
  * min_range          = 0.3    ; [m] closer points are dropped
  * max_range          = 12.0   ; [m] farther points are dropped (paper: 12 m)
  * \endcode
@@ -73,6 +75,12 @@ public:
         int texture_threshold{10};
         /** Prefilter clip value. (Default: 31) */
         int pre_filter_cap{31};
+        /** SGBM penalty for a 1 px disparity change between neighbours, per
+         * pixel of the block (P1 = p1_per_pixel * block_size^2). (Default: 8) */
+        int p1_per_pixel{8};
+        /** SGBM penalty for larger disparity jumps, per pixel of the block
+         * (P2 = p2_per_pixel * block_size^2, must exceed p1). (Default: 32) */
+        int p2_per_pixel{32};
         /** Minimum depth kept [m]. (Default: 0.3) */
         double min_range{0.3};
         /** Maximum depth kept [m]; the paper uses 12 m. (Default: 12.0) */
