@@ -227,9 +227,9 @@ TEST(StereoMatcherParameters, saveAndReloadRoundTrips)
 
 TEST(StereoMatcherParameters, invalidValuesThrow)
 {
-    const char* bad[] = {"algorithm = census",    "image_scale = 0", "image_scale = 1.5",
-                         "num_disparities = 0",   "block_size = 4",  "max_range = 0.1",
-                         "uniqueness_ratio = 101"};
+    const char* bad[] = {"algorithm = census",     "image_scale = 0",  "image_scale = 1.5",
+                         "num_disparities = 0",    "block_size = 4",   "max_range = 0.1",
+                         "uniqueness_ratio = 101", "p2_per_pixel = 8", "p1_per_pixel = -1"};
     for (const char* line : bad)
     {
         mrpt::config::CConfigFileMemory c(std::string("[Stereo]\n") + line + "\n");
