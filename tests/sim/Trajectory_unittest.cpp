@@ -67,8 +67,12 @@ TEST(Trajectory, closedLoopsReturnToTheStart)
         make("type = robot3dof\nwaypoints = 0 0; 4 0; 4 4; 0 4\nclosed = true\nloops = 2\n");
     const auto d = t.cameraPose(t.duration()) - t.cameraPose(0);
     EXPECT_NEAR(d.norm(), 0.0, 1e-9);
-    // 7 on-the-spot turns of 90 deg at 30 deg/s: 3 corners per loop plus the junction.
-    EXPECT_NEAR(t.duration(), 32 / 0.6 + 7 * 3.0, 1e-6);
+    // Same heading too: the last pose is the first one.
+    const auto R = d.getRotationMatrix();
+    EXPECT_NEAR(R(0, 0) + R(1, 1) + R(2, 2), 3.0, 1e-9);
+    // 8 on-the-spot turns of 90 deg at 30 deg/s: 3 corners per loop, the
+    // junction between loops, and the final turn back to the start heading.
+    EXPECT_NEAR(t.duration(), 32 / 0.6 + 8 * 3.0, 1e-6);
 }
 
 TEST(Trajectory, walkerBobsAndClimbs)

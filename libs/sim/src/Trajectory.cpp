@@ -216,6 +216,19 @@ void Trajectory::setup(const TParameters& p)
         s += len;
         yaw_prev = y1;
     }
+    if (p.closed && differential)
+    {
+        // A closed loop ends where it started, also in heading: the robot
+        // turns on the spot back to its initial heading, so that the first and
+        // last poses coincide exactly (what loop-closure tests measure).
+        const double dyaw = mrpt::math::wrapToPi(m_segments.front().yaw0 - yaw_prev);
+        if (std::abs(dyaw) > 1e-9)
+        {
+            const auto& e = m_pts.back();
+            m_segments.push_back(
+                {t, t + std::abs(dyaw) / omega, e, e, yaw_prev, yaw_prev + dyaw, s});
+        }
+    }
 }
 
 std::vector<std::array<double, 2>> Trajectory::waypointsXZ() const
