@@ -65,9 +65,15 @@ public:
         double best = m_max;
         int best_e = -1;
         int best_axis = 0;
+        int field = -1;
         for (int idx : cand)
         {
             const Prepared& e = m_els[static_cast<std::size_t>(idx)];
+            if (e.kind == Element::Kind::HeightField)
+            {
+                field = idx;  // marched last, up to the nearest other hit
+                continue;
+            }
             if (e.kind == Element::Kind::Plane)
             {
                 const auto a = static_cast<std::size_t>(e.axis);
@@ -135,15 +141,15 @@ public:
                 best_e = idx;
                 best_axis = ax;
             }
-            else
+        }
+        if (field >= 0)
+        {
+            const double t = castHeightField(m_els[static_cast<std::size_t>(field)], d, best);
+            if (t > 0 && t < best)
             {
-                const double t = castHeightField(e, d, best);
-                if (t > 0 && t < best)
-                {
-                    best = t;
-                    best_e = idx;
-                    best_axis = 1;
-                }
+                best = t;
+                best_e = field;
+                best_axis = 1;
             }
         }
         if (best_e < 0)
@@ -185,50 +191,101 @@ private:
             return -1;
         }
         const HeightField& hf = m_world.heightField();
-        const double dxz = std::hypot(d[0], d[2]);
+        const double dxz = std::sqrt(d[0] * d[0] + d[2] * d[2]);
         const double denom = hf.max_slope * dxz + std::abs(d[1]);
         const double dn = std::sqrt(d[0] * d[0] + d[1] * d[1] + d[2] * d[2]);
+        // HeightField::at() with multiplications instead of divisions (hot loop).
+        const double inv_cell = 1.0 / hf.cell;
+        const double fx_max = hf.heights.cols - 1.001;
+        const double fz_max = hf.heights.rows - 1.001;
         auto f = [&](double t)
-        { return m_o[1] + t * d[1] - hf.at(m_o[0] + t * d[0], m_o[2] + t * d[2]); };
+        {
+            const double fx = std::clamp((m_o[0] + t * d[0] - hf.x0) * inv_cell, 0.0, fx_max);
+            const double fz = std::clamp((m_o[2] + t * d[2] - hf.z0) * inv_cell, 0.0, fz_max);
+            const int ix = static_cast<int>(fx);
+            const int iz = static_cast<int>(fz);
+            const double ax = fx - ix;
+            const double az = fz - iz;
+            const float* r0 = hf.heights.ptr<float>(iz) + ix;
+            const float* r1 = hf.heights.ptr<float>(iz + 1) + ix;
+            const double h =
+                (r0[0] * (1 - ax) + r0[1] * ax) * (1 - az) + (r1[0] * (1 - ax) + r1[1] * ax) * az;
+            return m_o[1] + t * d[1] - h;
+        };
         double t = ta;
         double ft = f(t);
         if (ft <= 0)
         {
             return -1;  // starts under the ground
         }
-        const double bsize = hf.cell * HeightField::BLOCK;
-        const int nbx = hf.block_max.cols;
-        const int nbz = hf.block_max.rows;
-        for (int it = 0; it < 1000 && t < tb; ++it)
+        // Exit t of the ray from grid cell (ix, iz) of edge size.
+        auto cellExit = [&](double size, int ix, int iz)
         {
-            // Empty-space skipping: if the ray stays above the block's highest
-            // sample until it leaves the block, jump to the block's exit.
-            const double x = m_o[0] + t * d[0];
-            const double z = m_o[2] + t * d[2];
-            const int bx = std::clamp(static_cast<int>((x - hf.x0) / bsize), 0, nbx - 1);
-            const int bz = std::clamp(static_cast<int>((z - hf.z0) / bsize), 0, nbz - 1);
             double t_exit = tb;
             if (d[0] != 0.0)
             {
-                const double xe = hf.x0 + (d[0] > 0 ? bx + 1 : bx) * bsize;
+                const double xe = hf.x0 + (d[0] > 0 ? ix + 1 : ix) * size;
                 t_exit = std::min(t_exit, (xe - m_o[0]) / d[0]);
             }
             if (d[2] != 0.0)
             {
-                const double ze = hf.z0 + (d[2] > 0 ? bz + 1 : bz) * bsize;
+                const double ze = hf.z0 + (d[2] > 0 ? iz + 1 : iz) * size;
                 t_exit = std::min(t_exit, (ze - m_o[2]) / d[2]);
             }
-            const double y_low = m_o[1] + std::max(t, t_exit) * d[1];
-            const double y_min = std::min(m_o[1] + t * d[1], y_low);
-            if (y_min > hf.block_max.at<float>(bz, bx) && t_exit > t)
+            return t_exit;
+        };
+        const double bsize = hf.cell * HeightField::BLOCK;
+        const double inv_bsize = 1.0 / bsize;
+        const double csize = bsize * HeightField::COARSE;
+        const int nbx = hf.block_max.cols;
+        const int nbz = hf.block_max.rows;
+        const int ncx = hf.coarse_max.cols;
+        const int ncz = hf.coarse_max.rows;
+        for (int it = 0; it < 1000 && t < tb; ++it)
+        {
+            // Empty-space skipping (coarse cells, then blocks): if the ray stays
+            // above a cell's highest sample until it leaves the cell, jump to the
+            // cell's exit; if it sinks below it inside, jump to where it does.
+            const double x = m_o[0] + t * d[0];
+            const double z = m_o[2] + t * d[2];
+            const double y = m_o[1] + t * d[1];
+            const int bx = std::clamp(static_cast<int>((x - hf.x0) * inv_bsize), 0, nbx - 1);
+            const int bz = std::clamp(static_cast<int>((z - hf.z0) * inv_bsize), 0, nbz - 1);
+            double cmax = hf.block_max.at<float>(bz, bx);
+            if (y > cmax)
             {
-                t = t_exit + 1e-6;
-                if (t >= tb)
+                double t_exit = tb;
+                const int cx = std::min(bx / HeightField::COARSE, ncx - 1);
+                const int cz = std::min(bz / HeightField::COARSE, ncz - 1);
+                const double c_max = hf.coarse_max.at<float>(cz, cx);
+                bool coarse = false;
+                if (y > c_max)
                 {
-                    break;
+                    t_exit = cellExit(csize, cx, cz);
+                    coarse = d[1] >= 0 || m_o[1] + t_exit * d[1] > c_max;
+                    cmax = c_max;
                 }
-                ft = f(t);
-                continue;
+                if (!coarse)
+                {
+                    t_exit = cellExit(bsize, bx, bz);
+                    cmax = hf.block_max.at<float>(bz, bx);
+                }
+                if (t_exit > t)
+                {
+                    if (d[1] >= 0 || m_o[1] + t_exit * d[1] > cmax)
+                    {
+                        t = t_exit + 1e-6;
+                        if (t >= tb)
+                        {
+                            break;
+                        }
+                        ft = f(t);
+                        continue;
+                    }
+                    // No crossing before the ray sinks below the cell's maximum.
+                    t = (cmax - m_o[1]) / d[1];
+                    ft = f(t);
+                }
             }
             const double step = std::max(0.8 * ft / denom, (0.05 + 0.012 * t) / dn);
             const double tn = std::min(t + step, tb);

@@ -304,6 +304,20 @@ void World::setHeightField(const HeightField& h, int texture, double texel_size)
             m_height.block_max.at<float>(bz, bx) = static_cast<float>(mx);
         }
     }
+    const int C = HeightField::COARSE;
+    const int ncx = (nbx + C - 1) / C;
+    const int ncz = (nbz + C - 1) / C;
+    m_height.coarse_max.create(ncz, ncx, CV_32F);
+    for (int cz = 0; cz < ncz; ++cz)
+    {
+        for (int cx = 0; cx < ncx; ++cx)
+        {
+            const cv::Rect r(cx * C, cz * C, std::min(C, nbx - cx * C), std::min(C, nbz - cz * C));
+            double mx = 0;
+            cv::minMaxLoc(m_height.block_max(r), nullptr, &mx);
+            m_height.coarse_max.at<float>(cz, cx) = static_cast<float>(mx);
+        }
+    }
     Element e;
     e.kind = Element::Kind::HeightField;
     e.lo = {h.x0, h.min_height, h.z0};

@@ -65,6 +65,11 @@ struct HeightField
     /** CV_32FC1 maximum height over each BLOCK x BLOCK block of cells (filled by
      * World::setHeightField(); lets the renderer skip empty space). */
     cv::Mat block_max;
+    /** Coarse level edge [blocks] of coarse_max. */
+    static constexpr int COARSE = 4;
+    /** CV_32FC1 maximum of block_max over each COARSE x COARSE group of blocks
+     * (long rays over the field skip it in fewer, larger jumps). */
+    cv::Mat coarse_max;
     /** Height at scene (x, z), bilinear, clamped at the borders. */
     double at(double x, double z) const
     {
