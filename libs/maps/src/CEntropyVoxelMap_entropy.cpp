@@ -57,12 +57,6 @@ inline bool deferInMoves(std::size_t t)
 constexpr std::int32_t TERM_AXES[NUM_ENTROPY_TERMS][3] = {
     {1, 1, 1}, {1, 1, 0}, {1, 0, 1}, {0, 1, 1}, {1, 0, 0}, {0, 1, 0}, {0, 0, 1}};
 
-/** Projects a 3D histogram key to the key of term `t`. */
-inline std::uint64_t projectKey(std::size_t t, std::uint64_t key3d)
-{
-    return termKey(t, emslam::maps::unpackCellKey(key3d));
-}
-
 /** Indices of the terms set in a mask. */
 struct TermList
 {
@@ -163,43 +157,60 @@ void CEntropyVoxelMap::applyCellDelta(
 {
     const TermList terms(m_tracked);
     const std::size_t n = cloud.size();
+    // Pack each point's from/to 3D cell once; a term's key is then the 3D
+    // key with the dropped axes' fields replaced by the packed 0 (same bits
+    // as packCellKey() with those axes set to 0).
+    m_keys3d.resize(2 * n);
+    std::uint64_t* const kf = m_keys3d.data();
+    std::uint64_t* const kt = kf + n;
+    for (std::size_t j = 0; j < n; j++)
+    {
+        kf[j] = packCellKey(from[j].x, from[j].y, from[j].z);
+        kt[j] = packCellKey(to[j].x, to[j].y, to[j].z);
+    }
+    const std::uint64_t zero_key = packCellKey(0, 0, 0);
     // One pass per term: collect the (cell, ±w) updates of the points whose
     // projected cell changes, then hand them to the histogram in bulk.
     for (std::size_t k = 0; k < terms.n; k++)
     {
         const std::size_t t = terms.idx[k];
-        const std::int32_t ax = TERM_AXES[t][0], ay = TERM_AXES[t][1], az = TERM_AXES[t][2];
+        constexpr std::uint64_t FIELD = (std::uint64_t{1} << 21) - 1;
+        const std::uint64_t keep =  // all-ones fields for the kept axes
+            (TERM_AXES[t][0] ? FIELD << 42 : 0) | (TERM_AXES[t][1] ? FIELD << 21 : 0) |
+            (TERM_AXES[t][2] ? FIELD : 0);
+        const std::uint64_t fill = zero_key & ~keep;
         // Branch-free collection: both updates are always written and kept
         // only if the projected cell changes (a data-dependent branch here
         // mispredicts about half of the time).
-        m_updates.resize(2 * n);
+        if (m_updates.size() < 2 * n)
+        {  // grow only: shrinking and regrowing value-initialised it every time
+            m_updates.resize(2 * n);
+        }
         WeightedHistogram::Update* u = m_updates.data();
+        const float* const wts = cloud.weights.data();
         std::size_t count = 0;
         for (std::size_t j = 0; j < n; j++)
         {
-            const CellIndex& a = from[j];
-            const CellIndex& b = to[j];
-            const std::uint64_t ka = packCellKey(a.x * ax, a.y * ay, a.z * az);
-            const std::uint64_t kb = packCellKey(b.x * ax, b.y * ay, b.z * az);
-            const double w = cloud.weights[j];
+            const std::uint64_t ka = (kf[j] & keep) | fill;
+            const std::uint64_t kb = (kt[j] & keep) | fill;
+            const double w = wts[j];
             u[count].key = ka;
             u[count].w = -w;
             u[count + 1].key = kb;
             u[count + 1].w = w;
             count += (ka != kb) ? 2 : 0;
         }
-        m_updates.resize(count);
         if (!deferInMoves(t))
         {
             // 3D cells are mostly touched once and hold small integer
             // weights: immediate updates (table look-ups) beat deferral.
-            m_hist[t].addMany(m_updates.data(), m_updates.size());
+            m_hist[t].addMany(u, count);
         }
         else
         {
             // Marginal cells collect many updates with large weights:
             // deferral evaluates w log w once per touched cell.
-            m_hist[t].addDeferredMany(m_updates.data(), m_updates.size());
+            m_hist[t].addDeferredMany(u, count);
         }
     }
 }
@@ -364,6 +375,8 @@ double CEntropyVoxelMap::recomputeFromScratch()
     const bool has3d = (m_tracked & emslam::maps::termBit(EntropyTerm::H3D)) != 0;
     // 3D first (from the points), then the marginals from the occupied 3D
     // cells, which are fewer than the points when observations overlap.
+    // Histograms are empty here: accumulate weights, then one w log w per
+    // cell (recomputeSums()) instead of one per point.
     if (has3d)
     {
         WeightedHistogram& h3 = m_hist[static_cast<std::size_t>(EntropyTerm::H3D)];
@@ -375,8 +388,17 @@ double CEntropyVoxelMap::recomputeFromScratch()
                 const CellIndex& c = o.cells[j];
                 m_updates[j] = {packCellKey(c.x, c.y, c.z), o.cloud.weights[j]};
             }
-            h3.addMany(m_updates.data(), m_updates.size());
+            h3.accumulateMany(m_updates.data(), m_updates.size());
         }
+    }
+    // Occupied 3D cells, compacted by the same sweep that sums w log w: the
+    // marginals then read n_cells3d entries (L2) instead of sweeping the table.
+    std::size_t n_cells3d = 0;
+    if (has3d)
+    {
+        WeightedHistogram& h3 = m_hist[static_cast<std::size_t>(EntropyTerm::H3D)];
+        m_updates.resize(2 * h3.usedSlots());  // [0, n): 3D cells, [n, 2n): projected
+        n_cells3d = h3.recomputeSums(m_updates.data());
     }
     for (std::size_t k = 0; k < terms.n; k++)
     {
@@ -388,11 +410,19 @@ double CEntropyVoxelMap::recomputeFromScratch()
         WeightedHistogram& h = m_hist[t];
         if (has3d)
         {
-            const WeightedHistogram& h3 = m_hist[static_cast<std::size_t>(EntropyTerm::H3D)];
-            h.beginBatch(0);
-            h3.forEachCell([&](std::uint64_t key, double w)
-                           { h.addDeferred(projectKey(t, key), w); });
-            h.endBatch();
+            // Field stores into a pre-sized buffer: push_back of an Update
+            // built on the stack stalled on store forwarding.
+            const std::int32_t ax = TERM_AXES[t][0], ay = TERM_AXES[t][1], az = TERM_AXES[t][2];
+            const WeightedHistogram::Update* cells3d = m_updates.data();
+            WeightedHistogram::Update* u = m_updates.data() + n_cells3d;
+            for (std::size_t j = 0; j < n_cells3d; j++)
+            {
+                const CellIndex c = emslam::maps::unpackCellKey(cells3d[j].key);
+                u[j].key = packCellKey(c.x * ax, c.y * ay, c.z * az);
+                u[j].w = cells3d[j].w;
+            }
+            h.accumulateMany(u, n_cells3d);
+            h.recomputeSums();
         }
         else
         {

@@ -164,6 +164,7 @@ std::size_t WeightedHistogram::findOrInsert(std::uint64_t key)
         {
             m_slots[i].key = key;
             m_slots[i].w = 0;
+            m_slots[i].wlogw = 0;
             m_used++;
             return i;
         }
@@ -171,10 +172,13 @@ std::size_t WeightedHistogram::findOrInsert(std::uint64_t key)
     }
 }
 
-void WeightedHistogram::accountChange(double old_w, double new_w)
+inline void WeightedHistogram::accountChange(Slot& s, double old_w)
 {
-    m_sum_wlogw += wLogW(new_w) - wLogW(old_w);
-    m_occupied = m_occupied + (new_w > 0 ? 1 : 0) - (old_w > 0 ? 1 : 0);
+    // s.wlogw == wLogW(old_w) (bit-identical), so S matches recomputing both.
+    const double new_wlogw = wLogW(s.w);
+    m_sum_wlogw += new_wlogw - s.wlogw;
+    s.wlogw = new_wlogw;
+    m_occupied = m_occupied + (s.w > 0 ? 1 : 0) - (old_w > 0 ? 1 : 0);
 }
 
 void WeightedHistogram::add(std::uint64_t key, double w)
@@ -188,7 +192,7 @@ void WeightedHistogram::add(std::uint64_t key, double w)
     const double old_w = s.w;
     s.w = cleanResidue(old_w + w, old_w, w);
     m_total += w;
-    accountChange(old_w, s.w);
+    accountChange(s, old_w);
 }
 
 void WeightedHistogram::beginBatch(std::size_t max_new_cells)
@@ -239,12 +243,58 @@ void WeightedHistogram::addDeferred(std::uint64_t key, double w)
 void WeightedHistogram::addDeferredMany(const Update* updates, std::size_t n)
 {
     constexpr std::size_t AHEAD = 12;
-    for (std::size_t i = 0; i < n; i++)
+    if (m_touched.size() < m_touched_count + n)
+    {
+        m_touched.resize(m_touched_count + n);
+    }
+    // Until the table must grow, table and counters live in locals. Through
+    // the members (which slot stores may alias) the touched count and W
+    // formed loop-carried store-forwarding chains. Same operations, same order.
+    const std::size_t capacity = m_slots.size();
+    Slot* const slots = m_slots.data();
+    Touched* const touched = m_touched.data();
+    const std::size_t mask = m_mask;
+    const unsigned shift = m_shift;
+    const std::uint32_t epoch = m_epoch;
+    std::size_t count = m_touched_count;
+    std::size_t used = m_used;
+    double total = m_total;
+    std::size_t i = 0;
+    for (; i < n && 2 * (used + 1) <= capacity; i++)
     {
         if (i + AHEAD < n)
         {
-            __builtin_prefetch(&m_slots[slotIndexFor(updates[i + AHEAD].key)], 1);
+            __builtin_prefetch(
+                &slots[static_cast<std::size_t>(
+                    (updates[i + AHEAD].key * 0x9E3779B97F4A7C15ULL) >> shift)],
+                1);
         }
+        const std::uint64_t key = updates[i].key;
+        std::size_t j = static_cast<std::size_t>((key * 0x9E3779B97F4A7C15ULL) >> shift);
+        while (slots[j].key != key)
+        {
+            if (slots[j].key == EMPTY_KEY)
+            {
+                slots[j].key = key;
+                slots[j].w = 0;
+                slots[j].wlogw = 0;
+                used++;
+                break;
+            }
+            j = (j + 1) & mask;
+        }
+        Slot& sl = slots[j];
+        touched[count] = {j, sl.w};
+        count += (sl.stamp != epoch) ? 1 : 0;
+        sl.stamp = epoch;
+        sl.w += updates[i].w;
+        total += updates[i].w;
+    }
+    m_touched_count = count;
+    m_used = used;
+    m_total = total;
+    for (; i < n; i++)
+    {  // the table may grow: the general per-update form
         addDeferred(updates[i].key, updates[i].w);
     }
 }
@@ -253,30 +303,126 @@ void WeightedHistogram::addMany(const Update* updates, std::size_t n)
 {
     ASSERTMSG_(!m_in_batch, "WeightedHistogram::addMany() inside a batch");
     constexpr std::size_t AHEAD = 12;
+    // Until the table must grow, sums in locals (see addDeferredMany()); the
+    // same operations in the same order as add(), so S and W are bit-identical.
+    const std::size_t capacity = m_slots.size();
+    Slot* const slots = m_slots.data();
+    const std::size_t mask = m_mask;
+    const unsigned shift = m_shift;
+    std::size_t used = m_used;
+    std::size_t occupied = m_occupied;
+    double total = m_total;
+    double sum = m_sum_wlogw;
+    std::size_t i = 0;
+    for (; i < n && 2 * (used + 1) <= capacity; i++)
+    {
+        if (i + AHEAD < n)
+        {
+            __builtin_prefetch(
+                &slots[static_cast<std::size_t>(
+                    (updates[i + AHEAD].key * 0x9E3779B97F4A7C15ULL) >> shift)],
+                1);
+        }
+        const std::uint64_t key = updates[i].key;
+        const double w = updates[i].w;
+        std::size_t j = static_cast<std::size_t>((key * 0x9E3779B97F4A7C15ULL) >> shift);
+        while (slots[j].key != key)
+        {
+            if (slots[j].key == EMPTY_KEY)
+            {
+                slots[j].key = key;
+                slots[j].w = 0;
+                slots[j].wlogw = 0;
+                used++;
+                break;
+            }
+            j = (j + 1) & mask;
+        }
+        Slot& sl = slots[j];
+        const double old_w = sl.w;
+        sl.w = cleanResidue(old_w + w, old_w, w);
+        total += w;
+        const double new_wlogw = wLogW(sl.w);
+        sum += new_wlogw - sl.wlogw;
+        sl.wlogw = new_wlogw;
+        occupied = occupied + (sl.w > 0 ? 1 : 0) - (old_w > 0 ? 1 : 0);
+    }
+    m_used = used;
+    m_occupied = occupied;
+    m_total = total;
+    m_sum_wlogw = sum;
+    for (; i < n; i++)
+    {  // the table may grow: the general per-update form
+        add(updates[i].key, updates[i].w);
+    }
+}
+
+void WeightedHistogram::accumulateMany(const Update* updates, std::size_t n)
+{
+    ASSERTMSG_(!m_in_batch, "WeightedHistogram::accumulateMany() inside a batch");
+    constexpr std::size_t AHEAD = 12;
     for (std::size_t i = 0; i < n; i++)
     {
         if (i + AHEAD < n)
         {
             __builtin_prefetch(&m_slots[slotIndexFor(updates[i + AHEAD].key)], 1);
         }
-        add(updates[i].key, updates[i].w);
+        if (2 * (m_used + 1) > m_slots.size())
+        {
+            rehash(2 * m_slots.size());
+        }
+        m_slots[findOrInsert(updates[i].key)].w += updates[i].w;
+        m_total += updates[i].w;
     }
+}
+
+std::size_t WeightedHistogram::recomputeSums(Update* cells_out)
+{
+    ASSERTMSG_(!m_in_batch, "WeightedHistogram::recomputeSums() inside a batch");
+    double sum = 0;
+    std::size_t occupied = 0;
+    for (auto& sl : m_slots)
+    {
+        if (sl.key != EMPTY_KEY)
+        {
+            sl.wlogw = wLogW(sl.w);
+            sum += sl.wlogw;
+            if (cells_out && sl.w > 0)
+            {
+                cells_out[occupied] = {sl.key, sl.w};
+            }
+            occupied += sl.w > 0 ? 1 : 0;
+        }
+    }
+    m_sum_wlogw = sum;
+    m_occupied = occupied;
+    return occupied;
 }
 
 void WeightedHistogram::endBatch()
 {
     ASSERTMSG_(m_in_batch, "WeightedHistogram::endBatch() without beginBatch()");
-    for (std::size_t k = 0; k < m_touched_count; k++)
+    // Sums in locals, as in accountChange() (slot stores may alias members).
+    Slot* const slots = m_slots.data();
+    const Touched* const touched = m_touched.data();
+    const std::size_t count = m_touched_count;
+    double sum = m_sum_wlogw;
+    std::size_t occupied = m_occupied;
+    for (std::size_t k = 0; k < count; k++)
     {
-        const Touched& t = m_touched[k];
-        double& w = m_slots[t.slot].w;
-        w = cleanResidue(w, t.old_w, w - t.old_w);
-        const double new_w = w;
-        if (new_w != t.old_w)
+        const Touched& t = touched[k];
+        Slot& s = slots[t.slot];
+        s.w = cleanResidue(s.w, t.old_w, s.w - t.old_w);
+        if (s.w != t.old_w)
         {
-            accountChange(t.old_w, new_w);
+            const double new_wlogw = wLogW(s.w);
+            sum += new_wlogw - s.wlogw;
+            s.wlogw = new_wlogw;
+            occupied = occupied + (s.w > 0 ? 1 : 0) - (t.old_w > 0 ? 1 : 0);
         }
     }
+    m_sum_wlogw = sum;
+    m_occupied = occupied;
     m_in_batch = false;
 }
 

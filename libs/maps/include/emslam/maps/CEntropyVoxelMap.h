@@ -302,7 +302,8 @@ private:
     std::vector<UndoEntry> m_undo;  //!< entries [0, m_undo_count) are live; buffers are reused
     std::size_t m_undo_count{0};
     std::vector<emslam::maps::WeightedHistogram::Update>
-        m_updates;  //!< scratch of applyCellDelta()
+        m_updates;                        //!< scratch of applyCellDelta()
+    std::vector<std::uint64_t> m_keys3d;  //!< scratch of applyCellDelta(): packed from/to cells
     double m_total_weight{0};
 
     MAP_DEFINITION_START(CEntropyVoxelMap)

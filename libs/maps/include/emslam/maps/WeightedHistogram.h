@@ -56,14 +56,14 @@ inline CellIndex unpackCellKey(std::uint64_t key)
  * to a cell only changes that cell's term, and entropy() is O(1).
  *
  * **Storage.** A flat open-addressing table (linear probing, power-of-two
- * capacity, load factor ≤ 1/2) of {key, weight, batch stamp} slots (24 B);
- * no heap allocation per cell. A cell whose weight drops to zero
+ * capacity, load factor ≤ 1/2) of {key, weight, cached w log w, batch
+ * stamp} slots (32 B); no heap allocation per cell. A cell whose weight drops to zero
  * stays in the table as a zero entry (it contributes nothing and is not
  * counted as occupied) until the next growth, which drops zero entries. This
  * avoids tombstones and keeps removals as cheap as insertions. Compared with
  * `std::unordered_map` (one node allocation per cell, pointer chasing, ~64 B
  * per cell) it avoids an allocation and a pointer chase per access; it uses
- * 24 B per slot, 48-96 B per occupied cell at load 1/2-1/4.
+ * 32 B per slot, 64-128 B per occupied cell at load 1/2-1/4.
  *
  * **Batches.** Moving an observation removes its weights from some cells and
  * adds them to others; many cells receive several updates, and many net to
@@ -71,9 +71,11 @@ inline CellIndex unpackCellKey(std::uint64_t key)
  * weights and record each touched slot once (the slot's stamp); endBatch()
  * then updates S once per touched cell. Both paths give the same S up to
  * rounding. The bulk forms (addMany(), addDeferredMany()) prefetch slots a
- * few updates ahead. Measured choices (bench_entropy_map): immediate updates
- * for the 3D histogram (cells mostly touched once), batches for marginals;
- * branch-free first-touch records; the stamp inside the slot.
+ * few updates ahead and keep their sums in locals while the table cannot
+ * grow. Each slot caches the w log w last added to S, so an update
+ * evaluates w log w once. Measured choices (bench_entropy_map): immediate
+ * updates for the 3D histogram (cells mostly touched once), batches for
+ * marginals; branch-free first-touch records; the stamp inside the slot.
  *
  * **w log w.** Weights are usually integer point counts (§2.2.2): wLogW()
  * takes integer weights below 2^14 from a table, and calls std::log otherwise.
@@ -118,6 +120,20 @@ public:
     void addMany(const Update* updates, std::size_t n);
     /** Ends a batch: updates S, W and the occupied-cell count. */
     void endBatch();
+
+    /** Bulk build (outside a batch): adds positive weights `w` to cells
+     * without updating S or the occupied count, prefetching ahead; call
+     * recomputeSums() afterwards (entropy() is stale until then). Building
+     * from scratch this way evaluates w log w once per cell instead of once
+     * per update. */
+    void accumulateMany(const Update* updates, std::size_t n);
+    /** Recomputes S, the cached w log w of every slot and the occupied count
+     * from the weights (one sweep over the table); W is kept. If `cells_out`
+     * is given (room for usedSlots() entries), the sweep also writes the
+     * cells with positive weight there. Returns the number of such cells. */
+    std::size_t recomputeSums(Update* cells_out = nullptr);
+    /** Slots holding a key (≥ occupiedCells(): includes zero-weight cells). */
+    std::size_t usedSlots() const { return m_used; }
 
     /** Weight of a cell (0 if absent). */
     double weight(std::uint64_t key) const;
@@ -183,6 +199,9 @@ private:
     {
         std::uint64_t key{EMPTY_KEY};
         double w{0};
+        /** wLogW() of the weight last accounted in S: an update then costs one
+         * w log w (the new one) instead of two; same value, so S is unchanged. */
+        double wlogw{0};
         std::uint32_t stamp{0};  //!< batch epoch of the last touch (in the slot: one cache miss)
     };
     struct Touched
@@ -201,7 +220,9 @@ private:
     /** Finds or creates the slot of `key`. */
     std::size_t findOrInsert(std::uint64_t key);
     void rehash(std::size_t new_capacity);
-    void accountChange(double old_w, double new_w);
+    /** Updates S and the occupied count for slot `s` going from `old_w` to
+     * its current weight; refreshes the slot's cached w log w. */
+    void accountChange(Slot& s, double old_w);
 
     std::vector<Slot> m_slots;
     std::vector<Touched> m_touched;  //!< first-touch records; [0, m_touched_count) live
