@@ -150,26 +150,28 @@ void WeightedHistogram::rehash(std::size_t new_capacity)
     }
 }
 
+inline std::size_t WeightedHistogram::probeOrInsert(
+    Slot* slots, std::size_t mask, unsigned shift, std::uint64_t key, std::size_t& used)
+{
+    std::size_t j = hashSlot(key, shift);
+    while (slots[j].key != key)
+    {
+        if (slots[j].key == EMPTY_KEY)
+        {
+            slots[j].key = key;
+            slots[j].w = 0;
+            slots[j].wlogw = 0;
+            used++;
+            break;
+        }
+        j = (j + 1) & mask;
+    }
+    return j;
+}
+
 std::size_t WeightedHistogram::findOrInsert(std::uint64_t key)
 {
-    std::size_t i = slotIndexFor(key);
-    for (;;)
-    {
-        const std::uint64_t k = m_slots[i].key;
-        if (k == key)
-        {
-            return i;
-        }
-        if (k == EMPTY_KEY)
-        {
-            m_slots[i].key = key;
-            m_slots[i].w = 0;
-            m_slots[i].wlogw = 0;
-            m_used++;
-            return i;
-        }
-        i = (i + 1) & m_mask;
-    }
+    return probeOrInsert(m_slots.data(), m_mask, m_shift, key, m_used);
 }
 
 inline void WeightedHistogram::accountChange(Slot& s, double old_w)
@@ -264,25 +266,10 @@ void WeightedHistogram::addDeferredMany(const Update* updates, std::size_t n)
     {
         if (i + AHEAD < n)
         {
-            __builtin_prefetch(
-                &slots[static_cast<std::size_t>(
-                    (updates[i + AHEAD].key * 0x9E3779B97F4A7C15ULL) >> shift)],
-                1);
+            __builtin_prefetch(&slots[hashSlot(updates[i + AHEAD].key, shift)], 1);
         }
         const std::uint64_t key = updates[i].key;
-        std::size_t j = static_cast<std::size_t>((key * 0x9E3779B97F4A7C15ULL) >> shift);
-        while (slots[j].key != key)
-        {
-            if (slots[j].key == EMPTY_KEY)
-            {
-                slots[j].key = key;
-                slots[j].w = 0;
-                slots[j].wlogw = 0;
-                used++;
-                break;
-            }
-            j = (j + 1) & mask;
-        }
+        const std::size_t j = probeOrInsert(slots, mask, shift, key, used);
         Slot& sl = slots[j];
         touched[count] = {j, sl.w};
         count += (sl.stamp != epoch) ? 1 : 0;
@@ -318,26 +305,11 @@ void WeightedHistogram::addMany(const Update* updates, std::size_t n)
     {
         if (i + AHEAD < n)
         {
-            __builtin_prefetch(
-                &slots[static_cast<std::size_t>(
-                    (updates[i + AHEAD].key * 0x9E3779B97F4A7C15ULL) >> shift)],
-                1);
+            __builtin_prefetch(&slots[hashSlot(updates[i + AHEAD].key, shift)], 1);
         }
         const std::uint64_t key = updates[i].key;
         const double w = updates[i].w;
-        std::size_t j = static_cast<std::size_t>((key * 0x9E3779B97F4A7C15ULL) >> shift);
-        while (slots[j].key != key)
-        {
-            if (slots[j].key == EMPTY_KEY)
-            {
-                slots[j].key = key;
-                slots[j].w = 0;
-                slots[j].wlogw = 0;
-                used++;
-                break;
-            }
-            j = (j + 1) & mask;
-        }
+        const std::size_t j = probeOrInsert(slots, mask, shift, key, used);
         Slot& sl = slots[j];
         const double old_w = sl.w;
         sl.w = cleanResidue(old_w + w, old_w, w);

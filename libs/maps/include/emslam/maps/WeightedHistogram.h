@@ -210,13 +210,19 @@ private:
         double old_w{0};
     };
 
-    std::size_t slotIndexFor(std::uint64_t key) const
+    static std::size_t hashSlot(std::uint64_t key, unsigned shift)
     {
         // Fibonacci hashing: the top bits of the product depend on every key
         // bit. (Placing 4x4x4 blocks of cells in nearby slots was tried for
         // cache locality: linear probing then clusters and it was 2x slower.)
-        return static_cast<std::size_t>((key * 0x9E3779B97F4A7C15ULL) >> m_shift);
+        return static_cast<std::size_t>((key * 0x9E3779B97F4A7C15ULL) >> shift);
     }
+    std::size_t slotIndexFor(std::uint64_t key) const { return hashSlot(key, m_shift); }
+    /** Linear probing from the key's home slot; creates the slot if absent
+     * (counted in `used`). Static so the bulk loops can keep their state in
+     * locals (registers) instead of members. */
+    static std::size_t probeOrInsert(
+        Slot* slots, std::size_t mask, unsigned shift, std::uint64_t key, std::size_t& used);
     /** Finds or creates the slot of `key`. */
     std::size_t findOrInsert(std::uint64_t key);
     void rehash(std::size_t new_capacity);
