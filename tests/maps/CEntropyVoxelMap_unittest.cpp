@@ -463,3 +463,88 @@ TEST(CEntropyVoxelMap, rangeImageWithoutPointsIsUnprojected)
     EXPECT_NEAR(c.points[0].x, 0.0, 0.01);
     EXPECT_NEAR(c.points[0].y, 0.0, 0.01);
 }
+
+namespace
+{
+/** Every tracked entropy equals a from-scratch computation. */
+void expectTrackedMatchScratch(const CEntropyVoxelMap& m)
+{
+    const auto scratch = m.computeEntropiesFromScratch();
+    for (std::size_t t = 0; t < emslam::maps::NUM_ENTROPY_TERMS; ++t)
+    {
+        if (const auto* h = m.trackedHistogram(static_cast<emslam::maps::EntropyTerm>(t)))
+        {
+            ASSERT_NEAR(h->entropy(), scratch[t], 1e-9) << "term " << t;
+        }
+    }
+}
+
+/** Random moves, batches and reverts of 8 clouds; `spread` decides whether
+ * the marginals fit the dense per-move grids (small) or fall back to hashing. */
+void checkRandomMoves(
+    emslam::maps::EnergyType energy, bool integral_weights, double spread, std::size_t points)
+{
+    CEntropyVoxelMap::TCreationOptions o;
+    o.cell_size = 0.15;
+    o.energy = energy;
+    o.dof = emslam::maps::energyDof(energy);
+    CEntropyVoxelMap m(o);
+    std::mt19937 rng(3);
+    std::uniform_real_distribution<double> u(-1, 1);
+    for (int i = 0; i < 8; ++i)
+    {
+        emslam::maps::WeightedPointCloud c;
+        for (std::size_t j = 0; j < points; ++j)
+        {
+            const float w = integral_weights ? static_cast<float>(1 + (j % 7))
+                                             : static_cast<float>(0.3 + 2 * std::abs(u(rng)));
+            c.push_back(
+                mrpt::math::TPoint3Df(
+                    static_cast<float>(spread * u(rng)), static_cast<float>(spread * u(rng)),
+                    static_cast<float>(spread * u(rng))),
+                w);
+        }
+        m.insertWeightedCloud(c, CPose3D(0.1 * i, 0, 0.3 * i, 0, 0, 0), true);
+    }
+    expectTrackedMatchScratch(m);
+    for (int k = 0; k < 200; ++k)
+    {
+        const std::size_t i = static_cast<std::size_t>(k % 8);
+        const CPose3D d(
+            0.2 * u(rng), 0.2 * u(rng), 0.2 * u(rng), 0.2 * u(rng), 0.2 * u(rng), 0.2 * u(rng));
+        const double before = m.energy();
+        if (k % 3 == 0)
+        {
+            const std::size_t j = (i + 3) % 8;
+            m.moveObservations(
+                {{i, m.observationPose(i) + d},
+                 {j, m.observationPose(j) + d},
+                 {i, m.observationPose(i) + d + d}});
+        }
+        else
+        {
+            m.moveObservation(i, m.observationPose(i) + d);
+        }
+        expectTrackedMatchScratch(m);
+        if (k % 2 == 0)
+        {
+            ASSERT_NEAR(m.revertLastMove(), before, 1e-9);
+            expectTrackedMatchScratch(m);
+        }
+    }
+    ASSERT_NEAR(m.energy(), m.recomputeFromScratch(), 1e-9);
+}
+}  // namespace
+
+TEST(CEntropyVoxelMap, incrementalMovesMatchForFractionalWeightsAndSparseClouds)
+{
+    for (int e = 0; e < 5; ++e)
+    {
+        for (bool integral : {true, false})
+        {
+            SCOPED_TRACE("energy " + std::to_string(e) + (integral ? " integral" : " fractional"));
+            checkRandomMoves(static_cast<emslam::maps::EnergyType>(e), integral, 2.0, 500);
+            checkRandomMoves(static_cast<emslam::maps::EnergyType>(e), integral, 60.0, 20);
+        }
+    }
+}

@@ -1,6 +1,7 @@
 // SPDX-License-Identifier: BSD-3-Clause
 #include <emslam/apps/registerAllClasses.h>
 #include <emslam/egomotion/registerAllClasses.h>
+#include <emslam/hwdrivers/registerAllClasses.h>
 #include <emslam/maps/registerAllClasses.h>
 #include <emslam/sim/registerAllClasses.h>
 #include <emslam/stereo/registerAllClasses.h>
@@ -16,6 +17,7 @@ void registerAllClasses()
     emslam::egomotion::registerAllClasses();
     emslam::maps::registerAllClasses();
     emslam::sim::registerAllClasses();
+    emslam::hwdrivers::registerAllClasses();
     mrpt::maps::registerAllClasses_mrpt_maps();
 }
 }  // namespace emslam::apps

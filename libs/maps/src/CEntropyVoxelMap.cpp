@@ -248,11 +248,19 @@ std::size_t CEntropyVoxelMap::insertWeightedCloud(
         emslam::maps::sortByCell(o.cloud, m_creation.cell_size);  // simplifyCloud() sorts already
     }
     o.pose = T_world_obs;
-    computeCells(o.cloud, o.pose, o.cells);
+    computeCells(o.cloud, o.pose, o.cells, &o.box);
     addToTracked(o, +1.0);
-    m_total_weight += o.cloud.totalWeight();
+    setWeightStats(o);
+    m_total_weight += o.weight_sum;
+    m_integral_weights = m_integral_weights && o.integral_weights;
     m_obs.push_back(std::move(o));
     return m_obs.size() - 1;
+}
+
+void CEntropyVoxelMap::setWeightStats(Observation& o)
+{
+    o.weight_sum = o.cloud.totalWeight();
+    o.integral_weights = o.cloud.hasIntegralWeights();
 }
 
 bool CEntropyVoxelMap::observationToCloud(

@@ -17,11 +17,18 @@ using emslam::maps::WeightedPointCloud;
 
 namespace
 {
-/** floor() for values well inside the int32 range, without a libm call. */
-inline std::int32_t fastFloor(double v)
+/** Added to cell coordinates before truncating them (see biasedFloor()). */
+constexpr double CELL_BIAS = 1 << 22;
+
+/** floor(v − CELL_BIAS) for v = (coordinate / l_d) + CELL_BIAS: truncation of
+ * a positive value, one conversion instead of a conversion, a compare and a
+ * fix-up. Exact floor for cells within ±2^22 (the packed keys wrap at ±2^20
+ * anyway), except that a coordinate within 2^-31 cells below a cell border
+ * (the rounding of the biased sum) goes to the upper cell; every cell of
+ * the map comes from here, so they are consistent. */
+inline std::int32_t biasedFloor(double v)
 {
-    const auto i = static_cast<std::int32_t>(v);
-    return i - static_cast<std::int32_t>(v < static_cast<double>(i));
+    return static_cast<std::int32_t>(v) - static_cast<std::int32_t>(CELL_BIAS);
 }
 
 /** Key of a cell in the histogram of term `t` (dropped axes set to 0). */
@@ -47,11 +54,122 @@ inline std::uint64_t termKey(std::size_t t, const CellIndex& c)
     return 0;
 }
 
-/** Whether moves update term `t` through a deferred batch (see applyCellDelta()).
- * Measured on the benchmark: all-immediate is 7-20% slower for the marginals. */
-inline bool deferInMoves(std::size_t t)
+/** Largest dense grid of applyMarginalDeltasDense() (8 B per cell). */
+constexpr std::size_t DENSE_MAX_CELLS = std::size_t{1} << 16;
+/** At most this many marginal terms (Exp. 8-12 track up to 3). */
+constexpr std::size_t MAX_DENSE_TERMS = 3;
+
+/** The dense grids of one applyMarginalDeltasDense() call. */
+struct DenseGrids
 {
-    return t != static_cast<std::size_t>(EntropyTerm::H3D);
+    std::size_t n{0};
+    std::size_t term[NUM_ENTROPY_TERMS]{};
+    int a[MAX_DENSE_TERMS]{};  //!< grid index = d_a * stride + d_b (d: offset in the box)
+    int b[MAX_DENSE_TERMS]{};  //!< a == b: 1D term, index d_b
+    std::int32_t stride[MAX_DENSE_TERMS]{};
+    std::size_t area[MAX_DENSE_TERMS]{};
+    std::size_t offset[MAX_DENSE_TERMS]{};
+};
+
+/** Marginal term sets of the energies, each with a compiled scatter loop. */
+enum class DensePattern
+{
+    None,
+    XY_XZ_YZ,  //!< structured
+    XZ_X_Z,    //!< planar_structured
+    XZ,        //!< planar_low_structured
+    Y          //!< low_structured
+};
+
+DensePattern termsPattern(const DenseGrids& g)
+{
+    const auto is = [&](std::size_t k, EntropyTerm t)
+    { return g.term[k] == static_cast<std::size_t>(t); };
+    if (g.n == 3 && is(0, EntropyTerm::XY) && is(1, EntropyTerm::XZ) && is(2, EntropyTerm::YZ))
+    {
+        return DensePattern::XY_XZ_YZ;
+    }
+    if (g.n == 3 && is(0, EntropyTerm::XZ) && is(1, EntropyTerm::X) && is(2, EntropyTerm::Z))
+    {
+        return DensePattern::XZ_X_Z;
+    }
+    if (g.n == 1 && is(0, EntropyTerm::XZ))
+    {
+        return DensePattern::XZ;
+    }
+    if (g.n == 1 && is(0, EntropyTerm::Y))
+    {
+        return DensePattern::Y;
+    }
+    return DensePattern::None;
+}
+
+/** Kept axes of one grid, as template arguments (A == B: 1D term). */
+template <int A, int B>
+struct GridAxes
+{
+    static constexpr int a = A;
+    static constexpr int b = B;
+};
+
+struct ScatterArgs
+{
+    const CellIndex* from;
+    const CellIndex* to;
+    const float* weights;
+    std::size_t n;
+    std::int32_t lo[3];
+    std::int32_t stride[MAX_DENSE_TERMS];
+    double* const* grids;
+};
+
+/** Adds −w at each point's old grid cell and +w at its new one, for every
+ * grid G... in one pass over the points (their offsets are computed once).
+ * An unchanged cell adds ±0 (branch-free: the change is unpredictable). */
+template <typename... G>
+void scatterDeltas(const ScatterArgs& s)
+{
+    const std::int32_t lx = s.lo[0], ly = s.lo[1], lz = s.lo[2];
+    const auto one = [&](std::size_t j)
+    {
+        const CellIndex& p = s.from[j];
+        const CellIndex& q = s.to[j];
+        const std::int32_t dp[3] = {p.x - lx, p.y - ly, p.z - lz};
+        const std::int32_t dq[3] = {q.x - lx, q.y - ly, q.z - lz};
+        const double w = s.weights[j];
+        std::size_t k = 0;
+        const auto grid = [&](auto axes)
+        {
+            using A = decltype(axes);
+            std::int32_t ia = dp[A::b], ib = dq[A::b];
+            if constexpr (A::a != A::b)
+            {
+                ia += dp[A::a] * s.stride[k];
+                ib += dq[A::a] * s.stride[k];
+            }
+            const double wk = ia != ib ? w : 0.0;
+            s.grids[k][ia] -= wk;
+            s.grids[k][ib] += wk;
+            k++;
+        };
+        (grid(G{}), ...);
+    };
+    // Points are stored in cell order, so consecutive points often hit the
+    // same cell: their read-modify-writes would form one long dependency
+    // chain through memory. Interleaving four distant quarters of the cloud
+    // gives four independent chains.
+    const std::size_t q = s.n / 4;
+    for (std::size_t j = 0; j < q; j++)
+    {
+        one(j);
+        one(j + q);
+        one(j + 2 * q);
+        one(j + 3 * q);
+    }
+    for (std::size_t j = 4 * q; j < s.n; j++)
+    {
+        one(j);
+    }
 }
 /** Axes kept by each term (x, y, z), indexed by EntropyTerm. */
 constexpr std::int32_t TERM_AXES[NUM_ENTROPY_TERMS][3] = {
@@ -78,49 +196,66 @@ struct TermList
 void CEntropyVoxelMap::computeCells(
     const WeightedPointCloud& cloud,
     const mrpt::poses::CPose3D& pose,
-    std::vector<CellIndex>& out) const
+    std::vector<CellIndex>& out,
+    CellBox* box) const
 {
     const auto& R = pose.getRotationMatrix();
     const double inv = 1.0 / m_creation.cell_size;
-    // Fold 1/l_d into the transform: cell = floor((R p + t) / l_d).
+    // Fold 1/l_d and CELL_BIAS into the transform: cell = floor((R p + t) / l_d).
     const double r00 = R(0, 0) * inv, r01 = R(0, 1) * inv, r02 = R(0, 2) * inv;
     const double r10 = R(1, 0) * inv, r11 = R(1, 1) * inv, r12 = R(1, 2) * inv;
     const double r20 = R(2, 0) * inv, r21 = R(2, 1) * inv, r22 = R(2, 2) * inv;
-    const double tx = pose.x() * inv, ty = pose.y() * inv, tz = pose.z() * inv;
+    const double tx = pose.x() * inv + CELL_BIAS, ty = pose.y() * inv + CELL_BIAS,
+                 tz = pose.z() * inv + CELL_BIAS;
     const std::size_t n = cloud.points.size();
     out.resize(n);
     const auto* p = cloud.points.data();
     CellIndex* c = out.data();
+    // Biased coordinates are positive, so truncation is floor. The bounding
+    // box is tracked on them too (floor is monotonic): min/max of doubles
+    // are single instructions.
+    double lx = HUGE_VAL, ly = HUGE_VAL, lz = HUGE_VAL;
+    double hx = -HUGE_VAL, hy = -HUGE_VAL, hz = -HUGE_VAL;
     for (std::size_t i = 0; i < n; i++)
     {
         const double x = p[i].x, y = p[i].y, z = p[i].z;
-        c[i].x = fastFloor(r00 * x + r01 * y + r02 * z + tx);
-        c[i].y = fastFloor(r10 * x + r11 * y + r12 * z + ty);
-        c[i].z = fastFloor(r20 * x + r21 * y + r22 * z + tz);
+        const double bx = r00 * x + r01 * y + r02 * z + tx;
+        const double by = r10 * x + r11 * y + r12 * z + ty;
+        const double bz = r20 * x + r21 * y + r22 * z + tz;
+        c[i].x = biasedFloor(bx);
+        c[i].y = biasedFloor(by);
+        c[i].z = biasedFloor(bz);
+        lx = std::min(lx, bx);
+        ly = std::min(ly, by);
+        lz = std::min(lz, bz);
+        hx = std::max(hx, bx);
+        hy = std::max(hy, by);
+        hz = std::max(hz, bz);
+    }
+    if (box)
+    {
+        *box =
+            n > 0
+                ? CellBox{{biasedFloor(lx), biasedFloor(ly), biasedFloor(lz)}, {biasedFloor(hx), biasedFloor(hy), biasedFloor(hz)}}
+                : CellBox{};
     }
 }
 
-void CEntropyVoxelMap::beginBatches(std::size_t max_new_cells, bool include_3d)
+void CEntropyVoxelMap::beginBatches(std::size_t max_new_cells)
 {
     const TermList terms(m_tracked);
     for (std::size_t k = 0; k < terms.n; k++)
     {
-        if (include_3d || deferInMoves(terms.idx[k]))
-        {
-            m_hist[terms.idx[k]].beginBatch(max_new_cells);
-        }
+        m_hist[terms.idx[k]].beginBatch(max_new_cells);
     }
 }
 
-void CEntropyVoxelMap::endBatches(bool include_3d)
+void CEntropyVoxelMap::endBatches()
 {
     const TermList terms(m_tracked);
     for (std::size_t k = 0; k < terms.n; k++)
     {
-        if (include_3d || deferInMoves(terms.idx[k]))
-        {
-            m_hist[terms.idx[k]].endBatch();
-        }
+        m_hist[terms.idx[k]].endBatch();
     }
 }
 
@@ -131,13 +266,14 @@ void CEntropyVoxelMap::resetTracked()
         h.clear();
     }
     m_total_weight = 0;
+    m_integral_weights = true;
 }
 
 void CEntropyVoxelMap::addToTracked(const Observation& o, double sign)
 {
     const TermList terms(m_tracked);
     const std::size_t n = o.cloud.size();
-    beginBatches(n, true);
+    beginBatches(n);
     for (std::size_t k = 0; k < terms.n; k++)
     {
         const std::size_t t = terms.idx[k];
@@ -147,33 +283,212 @@ void CEntropyVoxelMap::addToTracked(const Observation& o, double sign)
             h.addDeferred(termKey(t, o.cells[j]), sign * o.cloud.weights[j]);
         }
     }
-    endBatches(true);
+    endBatches();
+}
+
+void CEntropyVoxelMap::addNetUpdates(
+    std::size_t t, const WeightedHistogram::Update* u, std::size_t count)
+{
+    if (m_integral_weights)
+    {
+        m_hist[t].addManyIntegral(u, count);
+    }
+    else
+    {
+        m_hist[t].addMany(u, count);
+    }
+}
+
+bool CEntropyVoxelMap::applyMarginalDeltasDense(
+    const WeightedPointCloud& cloud,
+    const std::vector<CellIndex>& from,
+    const std::vector<CellIndex>& to,
+    const CellBox& box)
+{
+    const TermList terms(m_tracked);
+    DenseGrids g;
+    for (std::size_t k = 0; k < terms.n; k++)
+    {
+        const std::size_t t = terms.idx[k];
+        if (t != static_cast<std::size_t>(EntropyTerm::H3D))
+        {
+            g.term[g.n++] = t;
+        }
+    }
+    const auto pattern = termsPattern(g);
+    if (pattern == DensePattern::None)
+    {
+        return false;
+    }
+    const std::size_t n = cloud.size();
+    std::size_t dim[3];
+    for (int a = 0; a < 3; a++)
+    {
+        dim[a] = static_cast<std::size_t>(std::int64_t{box.hi[a]} - box.lo[a] + 1);
+    }
+    // Grid k: row major over its kept axes (a, b), or over b alone for a 1D term.
+    std::size_t total = 0;
+    for (std::size_t k = 0; k < g.n; k++)
+    {
+        const auto& ax = TERM_AXES[g.term[k]];
+        const int b = ax[2] ? 2 : (ax[1] ? 1 : 0);
+        const int a = (ax[0] && b != 0) ? 0 : ((ax[1] && b == 2) ? 1 : b);
+        g.a[k] = a;
+        g.b[k] = b;
+        g.stride[k] = a == b ? 0 : static_cast<std::int32_t>(dim[b]);
+        g.area[k] = a == b ? dim[b] : dim[a] * dim[b];
+        g.offset[k] = total;
+        total += g.area[k];
+        // The sweep costs ~area, the hash path a few times that per point.
+        if (g.area[k] > DENSE_MAX_CELLS || g.area[k] > 16 * n + 4096)
+        {
+            return false;
+        }
+    }
+    if (m_dense.size() < total)
+    {
+        m_dense.resize(total, 0.0);  // grows only; the sweep leaves it zero
+    }
+    double* grids[MAX_DENSE_TERMS]{};
+    for (std::size_t k = 0; k < g.n; k++)
+    {
+        grids[k] = m_dense.data() + g.offset[k];
+    }
+    const ScatterArgs args{
+        from.data(),
+        to.data(),
+        cloud.weights.data(),
+        n,
+        {box.lo[0], box.lo[1], box.lo[2]},
+        {g.stride[0], g.stride[1], g.stride[2]},
+        grids};
+    switch (pattern)
+    {
+        case DensePattern::XY_XZ_YZ:
+            scatterDeltas<GridAxes<0, 1>, GridAxes<0, 2>, GridAxes<1, 2>>(args);
+            break;
+        case DensePattern::XZ_X_Z:
+            scatterDeltas<GridAxes<0, 2>, GridAxes<0, 0>, GridAxes<2, 2>>(args);
+            break;
+        case DensePattern::XZ:
+            scatterDeltas<GridAxes<0, 2>>(args);
+            break;
+        case DensePattern::Y:
+            scatterDeltas<GridAxes<1, 1>>(args);
+            break;
+        case DensePattern::None:
+            break;
+    }
+
+    // Packed key fields of each box coordinate, per axis.
+    m_fields.resize(dim[0] + dim[1] + dim[2]);
+    std::uint64_t* field[3] = {
+        m_fields.data(), m_fields.data() + dim[0], m_fields.data() + dim[0] + dim[1]};
+    constexpr std::uint64_t FIELD = (std::uint64_t{1} << 21) - 1;
+    for (int a = 0; a < 3; a++)
+    {
+        const std::uint64_t mask = FIELD << (42 - 21 * a);
+        for (std::size_t i = 0; i < dim[a]; i++)
+        {
+            std::int32_t c[3] = {0, 0, 0};
+            c[a] = box.lo[a] + static_cast<std::int32_t>(i);
+            field[a][i] = packCellKey(c[0], c[1], c[2]) & mask;
+        }
+    }
+    const std::uint64_t zero_key = packCellKey(0, 0, 0);
+    // Sweep each grid: one net update per changed cell (branch-free
+    // compaction), clearing the grid for the next call. Net updates hit
+    // distinct cells: immediate updates, one w log w each.
+    for (std::size_t k = 0; k < g.n; k++)
+    {
+        const std::size_t t = g.term[k];
+        const int a = g.a[k], b = g.b[k];
+        const std::size_t rows = a == b ? 1 : dim[a];
+        const std::uint64_t keep_a = a == b ? 0 : FIELD << (42 - 21 * a);
+        const std::uint64_t keep_b = FIELD << (42 - 21 * b);
+        const std::uint64_t fill = zero_key & ~(keep_a | keep_b);
+        if (m_updates.size() < g.area[k])
+        {
+            m_updates.resize(g.area[k]);
+        }
+        WeightedHistogram::Update* const u = m_updates.data();
+        const std::uint64_t* const fb = field[b];
+        double* row = grids[k];
+        std::size_t count = 0;
+        for (std::size_t ia = 0; ia < rows; ia++, row += dim[b])
+        {
+            const std::uint64_t ka = (a == b ? 0 : field[a][ia]) | fill;
+            for (std::size_t ib = 0; ib < dim[b]; ib++)
+            {
+                const double v = row[ib];
+                u[count].key = ka | fb[ib];
+                u[count].w = v;
+                count += v != 0 ? 1 : 0;
+                row[ib] = 0;
+            }
+        }
+        addNetUpdates(t, u, count);
+    }
+    return true;
 }
 
 void CEntropyVoxelMap::applyCellDelta(
     const WeightedPointCloud& cloud,
     const std::vector<CellIndex>& from,
-    const std::vector<CellIndex>& to)
+    const std::vector<CellIndex>& to,
+    const CellBox& from_box,
+    const CellBox& to_box)
 {
     const TermList terms(m_tracked);
     const std::size_t n = cloud.size();
-    // Pack each point's from/to 3D cell once; a term's key is then the 3D
-    // key with the dropped axes' fields replaced by the packed 0 (same bits
-    // as packCellKey() with those axes set to 0).
-    m_keys3d.resize(2 * n);
-    std::uint64_t* const kf = m_keys3d.data();
-    std::uint64_t* const kt = kf + n;
-    for (std::size_t j = 0; j < n; j++)
+    if (n == 0)
     {
-        kf[j] = packCellKey(from[j].x, from[j].y, from[j].z);
-        kt[j] = packCellKey(to[j].x, to[j].y, to[j].z);
+        return;
     }
+    CellBox box;  // from_box ∪ to_box
+    for (int a = 0; a < 3; a++)
+    {
+        box.lo[a] = std::min(from_box.lo[a], to_box.lo[a]);
+        box.hi[a] = std::max(from_box.hi[a], to_box.hi[a]);
+    }
+    // Pack each point's from/to 3D cell once (lazily: only the 3D term and
+    // the hash path of large marginals use them); a term's key is then the
+    // 3D key with the dropped axes' fields replaced by the packed 0 (same
+    // bits as packCellKey() with those axes set to 0).
+    bool packed = false;
+    std::uint64_t* kf = nullptr;
+    std::uint64_t* kt = nullptr;
+    const auto pack = [&]()
+    {
+        m_keys3d.resize(2 * n);
+        kf = m_keys3d.data();
+        kt = kf + n;
+        for (std::size_t j = 0; j < n; j++)
+        {
+            kf[j] = packCellKey(from[j].x, from[j].y, from[j].z);
+            kt[j] = packCellKey(to[j].x, to[j].y, to[j].z);
+        }
+        packed = true;
+    };
     const std::uint64_t zero_key = packCellKey(0, 0, 0);
-    // One pass per term: collect the (cell, ±w) updates of the points whose
-    // projected cell changes, then hand them to the histogram in bulk.
+    // Marginal cells collect many updates each: accumulate the net change
+    // per cell in dense grids over the observation's box (no hashing per
+    // update), then touch each changed cell once.
+    const bool marginals_done = applyMarginalDeltasDense(cloud, from, to, box);
     for (std::size_t k = 0; k < terms.n; k++)
     {
         const std::size_t t = terms.idx[k];
+        const bool is3d = t == static_cast<std::size_t>(EntropyTerm::H3D);
+        if (!is3d && marginals_done)
+        {
+            continue;
+        }
+        if (!packed)
+        {
+            pack();
+        }
+        // Hash path: collect the (cell, ±w) updates of the points whose
+        // projected cell changes, then hand them to the histogram in bulk.
         constexpr std::uint64_t FIELD = (std::uint64_t{1} << 21) - 1;
         const std::uint64_t keep =  // all-ones fields for the kept axes
             (TERM_AXES[t][0] ? FIELD << 42 : 0) | (TERM_AXES[t][1] ? FIELD << 21 : 0) |
@@ -200,17 +515,19 @@ void CEntropyVoxelMap::applyCellDelta(
             u[count + 1].w = w;
             count += (ka != kb) ? 2 : 0;
         }
-        if (!deferInMoves(t))
+        if (is3d)
         {
             // 3D cells are mostly touched once and hold small integer
             // weights: immediate updates (table look-ups) beat deferral.
-            m_hist[t].addMany(u, count);
+            addNetUpdates(t, u, count);
         }
         else
         {
             // Marginal cells collect many updates with large weights:
             // deferral evaluates w log w once per touched cell.
+            m_hist[t].beginBatch(count);
             m_hist[t].addDeferredMany(u, count);
+            m_hist[t].endBatch();
         }
     }
 }
@@ -222,7 +539,6 @@ double CEntropyVoxelMap::moveObservation(std::size_t i, const mrpt::poses::CPose
 
 double CEntropyVoxelMap::moveObservations(const std::vector<ObservationMove>& moves)
 {
-    std::size_t max_new = 0;
     for (const auto& mv : moves)
     {
         if (mv.index >= m_obs.size())
@@ -232,26 +548,24 @@ double CEntropyVoxelMap::moveObservations(const std::vector<ObservationMove>& mo
                 "(%zu observations)",
                 mv.index, m_obs.size());
         }
-        max_new += m_obs[mv.index].cloud.size();
     }
     if (m_undo.size() < moves.size())
     {
         m_undo.resize(moves.size());
     }
     m_undo_count = 0;
-    beginBatches(max_new, false);
     for (std::size_t k = 0; k < moves.size(); k++)
     {
         Observation& o = m_obs[moves[k].index];
         UndoEntry& e = m_undo[k];
         e.index = moves[k].index;
         e.old_pose = o.pose;
-        computeCells(o.cloud, moves[k].pose, e.cells);
-        applyCellDelta(o.cloud, o.cells, e.cells);
+        computeCells(o.cloud, moves[k].pose, e.cells, &e.box);
+        applyCellDelta(o.cloud, o.cells, e.cells, o.box, e.box);
         std::swap(o.cells, e.cells);  // e.cells now keeps the old cells
+        std::swap(o.box, e.box);
         o.pose = moves[k].pose;
     }
-    endBatches(false);
     m_undo_count = moves.size();
     return energy();
 }
@@ -259,21 +573,15 @@ double CEntropyVoxelMap::moveObservations(const std::vector<ObservationMove>& mo
 double CEntropyVoxelMap::revertLastMove()
 {
     ASSERTMSG_(m_undo_count > 0, "CEntropyVoxelMap::revertLastMove(): nothing to revert");
-    std::size_t max_new = 0;
-    for (std::size_t k = 0; k < m_undo_count; k++)
-    {
-        max_new += m_obs[m_undo[k].index].cloud.size();
-    }
-    beginBatches(max_new, false);
     for (std::size_t k = m_undo_count; k-- > 0;)
     {
         UndoEntry& e = m_undo[k];
         Observation& o = m_obs[e.index];
-        applyCellDelta(o.cloud, o.cells, e.cells);
+        applyCellDelta(o.cloud, o.cells, e.cells, o.box, e.box);
         std::swap(o.cells, e.cells);
+        std::swap(o.box, e.box);
         o.pose = e.old_pose;
     }
-    endBatches(false);
     m_undo_count = 0;
     return energy();
 }
@@ -367,9 +675,10 @@ double CEntropyVoxelMap::recomputeFromScratch()
     std::size_t n = 0;
     for (auto& o : m_obs)
     {
-        computeCells(o.cloud, o.pose, o.cells);
+        computeCells(o.cloud, o.pose, o.cells, &o.box);
         n += o.cloud.size();
-        m_total_weight += o.cloud.totalWeight();
+        m_total_weight += o.weight_sum;
+        m_integral_weights = m_integral_weights && o.integral_weights;
     }
     const TermList terms(m_tracked);
     const bool has3d = (m_tracked & emslam::maps::termBit(EntropyTerm::H3D)) != 0;

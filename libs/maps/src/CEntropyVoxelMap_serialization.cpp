@@ -88,6 +88,7 @@ void CEntropyVoxelMap::serializeFrom(mrpt::serialization::CArchive& in, uint8_t 
                     auto& p = o.cloud.points[j];
                     in >> p.x >> p.y >> p.z >> o.cloud.weights[j];
                 }
+                setWeightStats(o);
             }
             setCreationOptions(creation);  // rebuilds the histograms
         }

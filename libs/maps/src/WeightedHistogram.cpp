@@ -20,11 +20,13 @@ std::size_t nextPow2(std::size_t n)
     return c;
 }
 
-/** Sets a weight that is only rounding residue of a removal to exactly 0. */
-double cleanResidue(double new_w, double old_w, double delta)
+/** Sets a weight that is only rounding residue of a removal to exactly 0.
+ * Branch-free (a multiply by 0 or 1): whether a removal empties a cell is
+ * unpredictable, and a branch here mispredicted often in moves. */
+inline double cleanResidue(double new_w, double old_w, double delta)
 {
     const double scale = std::max(std::abs(old_w), std::abs(delta));
-    return std::abs(new_w) <= 1e-12 * scale ? 0.0 : new_w;
+    return new_w * static_cast<double>(std::abs(new_w) > 1e-12 * scale);
 }
 }  // namespace
 
@@ -329,22 +331,76 @@ void WeightedHistogram::addMany(const Update* updates, std::size_t n)
     }
 }
 
+void WeightedHistogram::addManyIntegral(const Update* updates, std::size_t n)
+{
+    ASSERTMSG_(!m_in_batch, "WeightedHistogram::addManyIntegral() inside a batch");
+    constexpr std::size_t AHEAD = 12;
+    // addMany() without cleanResidue(): integer sums are exact.
+    const std::size_t capacity = m_slots.size();
+    Slot* const slots = m_slots.data();
+    const std::size_t mask = m_mask;
+    const unsigned shift = m_shift;
+    std::size_t used = m_used;
+    std::size_t occupied = m_occupied;
+    double total = m_total;
+    double sum = m_sum_wlogw;
+    std::size_t i = 0;
+    for (; i < n && 2 * (used + 1) <= capacity; i++)
+    {
+        if (i + AHEAD < n)
+        {
+            __builtin_prefetch(&slots[hashSlot(updates[i + AHEAD].key, shift)], 1);
+        }
+        const double w = updates[i].w;
+        Slot& sl = slots[probeOrInsert(slots, mask, shift, updates[i].key, used)];
+        const double old_w = sl.w;
+        sl.w = old_w + w;
+        total += w;
+        const double new_wlogw = integralWLogW(sl.w);
+        sum += new_wlogw - sl.wlogw;
+        sl.wlogw = new_wlogw;
+        occupied = occupied + (sl.w > 0 ? 1 : 0) - (old_w > 0 ? 1 : 0);
+    }
+    m_used = used;
+    m_occupied = occupied;
+    m_total = total;
+    m_sum_wlogw = sum;
+    for (; i < n; i++)
+    {  // the table may grow: the general per-update form
+        add(updates[i].key, updates[i].w);
+    }
+}
+
 void WeightedHistogram::accumulateMany(const Update* updates, std::size_t n)
 {
     ASSERTMSG_(!m_in_batch, "WeightedHistogram::accumulateMany() inside a batch");
     constexpr std::size_t AHEAD = 12;
-    for (std::size_t i = 0; i < n; i++)
+    std::size_t i = 0;
+    while (i < n)
     {
-        if (i + AHEAD < n)
+        // Until the table must grow, table and sums in locals (see
+        // addDeferredMany()); then grow and go on.
+        const std::size_t capacity = m_slots.size();
+        Slot* const slots = m_slots.data();
+        const std::size_t mask = m_mask;
+        const unsigned shift = m_shift;
+        std::size_t used = m_used;
+        double total = m_total;
+        for (; i < n && 2 * (used + 1) <= capacity; i++)
         {
-            __builtin_prefetch(&m_slots[slotIndexFor(updates[i + AHEAD].key)], 1);
+            if (i + AHEAD < n)
+            {
+                __builtin_prefetch(&slots[hashSlot(updates[i + AHEAD].key, shift)], 1);
+            }
+            slots[probeOrInsert(slots, mask, shift, updates[i].key, used)].w += updates[i].w;
+            total += updates[i].w;
         }
-        if (2 * (m_used + 1) > m_slots.size())
+        m_used = used;
+        m_total = total;
+        if (i < n)
         {
             rehash(2 * m_slots.size());
         }
-        m_slots[findOrInsert(updates[i].key)].w += updates[i].w;
-        m_total += updates[i].w;
     }
 }
 

@@ -21,6 +21,19 @@ double WeightedPointCloud::totalWeight() const
     return s;
 }
 
+bool WeightedPointCloud::hasIntegralWeights() const
+{
+    constexpr float MAX_W = 16777216.0f;  // 2^24: every integer below is a float
+    for (float w : weights)
+    {
+        if (!(w >= 0 && w <= MAX_W && static_cast<float>(static_cast<std::int32_t>(w)) == w))
+        {
+            return false;
+        }
+    }
+    return true;
+}
+
 void sortByCell(WeightedPointCloud& cloud, double cell_size)
 {
     ASSERTMSG_(cell_size > 0, "sortByCell(): cell_size must be > 0");

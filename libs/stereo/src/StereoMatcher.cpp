@@ -39,6 +39,24 @@ mrpt::img::TCamera scaledCamera(const mrpt::img::TCamera& c, double s)
         c.fx() * s, c.fy() * s, (c.cx() + 0.5) * s - 0.5, (c.cy() + 0.5) * s - 0.5);
     return o;
 }
+
+/** OpenCV's SGBM mode of an `algorithm` name. MODE_SGBM and MODE_SGBM_3WAY
+ * aggregate costs only along paths that come from the rows above (one pass),
+ * so a surface whose disparity changes down the image (a floor, a ceiling) is
+ * pulled towards the disparity of the rows above it; MODE_HH runs all 8 paths
+ * (two passes) and is unbiased there. */
+int sgbmMode(const std::string& algorithm)
+{
+    if (algorithm == "sgbm_hh")
+    {
+        return cv::StereoSGBM::MODE_HH;
+    }
+    if (algorithm == "sgbm_3way")
+    {
+        return cv::StereoSGBM::MODE_SGBM_3WAY;
+    }
+    return cv::StereoSGBM::MODE_SGBM;
+}
 }  // namespace
 
 void StereoMatcher::TParameters::loadFromConfigFile(
@@ -65,7 +83,7 @@ void StereoMatcher::TParameters::loadFromConfigFile(
 void StereoMatcher::TParameters::saveToConfigFile(
     mrpt::config::CConfigFileBase& c, const std::string& s) const
 {
-    MRPT_SAVE_CONFIG_VAR_COMMENT(algorithm, "sgbm | sgbm_3way | bm");
+    MRPT_SAVE_CONFIG_VAR_COMMENT(algorithm, "sgbm_hh | sgbm | sgbm_3way | bm");
     MRPT_SAVE_CONFIG_VAR_COMMENT(image_scale, "Resize factor before matching, (0,1]");
     MRPT_SAVE_CONFIG_VAR_COMMENT(num_disparities, "Disparity range [px] at working scale");
     MRPT_SAVE_CONFIG_VAR_COMMENT(min_disparity, "Smallest disparity searched [px]");
@@ -85,8 +103,9 @@ void StereoMatcher::TParameters::saveToConfigFile(
 void StereoMatcher::TParameters::validate() const
 {
     ASSERTMSG_(
-        algorithm == "sgbm" || algorithm == "sgbm_3way" || algorithm == "bm",
-        "[Stereo] algorithm must be sgbm, sgbm_3way or bm, got '" + algorithm + "'");
+        algorithm == "sgbm_hh" || algorithm == "sgbm" || algorithm == "sgbm_3way" ||
+            algorithm == "bm",
+        "[Stereo] algorithm must be sgbm_hh, sgbm, sgbm_3way or bm, got '" + algorithm + "'");
     ASSERTMSG_(image_scale > 0 && image_scale <= 1.0, "[Stereo] image_scale must be in (0, 1]");
     ASSERTMSG_(num_disparities > 0, "[Stereo] num_disparities must be > 0");
     ASSERTMSG_(block_size >= 1 && block_size % 2 == 1, "[Stereo] block_size must be odd, >= 1");
@@ -143,7 +162,7 @@ void StereoMatcher::setParameters(const TParameters& p)
     auto sgbm = cv::StereoSGBM::create(
         p.min_disparity, nd, p.block_size, p.p1_per_pixel * area, p.p2_per_pixel * area, lr,
         p.pre_filter_cap, p.uniqueness_ratio, p.speckle_window_size, p.speckle_range,
-        p.algorithm == "sgbm_3way" ? cv::StereoSGBM::MODE_SGBM_3WAY : cv::StereoSGBM::MODE_SGBM);
+        sgbmMode(p.algorithm));
     m_impl->matcher = sgbm;
 }
 

@@ -260,39 +260,66 @@ protected:
         const mrpt::obs::CObservation& obs) const override;
 
 private:
+    /** Bounding box of a set of cells (inclusive; empty if hi < lo). */
+    struct CellBox
+    {
+        std::int32_t lo[3]{0, 0, 0};
+        std::int32_t hi[3]{-1, -1, -1};
+    };
     struct Observation
     {
         emslam::maps::WeightedPointCloud cloud;      //!< simplified, own frame
         mrpt::poses::CPose3D pose;                   //!< T_world_obs
         std::vector<emslam::maps::CellIndex> cells;  //!< current cell of each point
+        CellBox box;                                 //!< bounding box of `cells`
+        double weight_sum{0};                        //!< cloud.totalWeight()
+        bool integral_weights{false};                //!< cloud.hasIntegralWeights()
     };
+    /** Sets the cached weight statistics of `o` from its cloud. */
+    static void setWeightStats(Observation& o);
     struct UndoEntry
     {
         std::size_t index{0};
         mrpt::poses::CPose3D old_pose;
         std::vector<emslam::maps::CellIndex> cells;  //!< buffer: old cells after a move
+        CellBox box;                                 //!< bounding box of `cells`
     };
 
     /** Converts an MRPT observation to a cloud in the robot frame (sensorPose
      * applied, range and decimation filters); false if unsupported. */
     bool observationToCloud(
         const mrpt::obs::CObservation& obs, emslam::maps::WeightedPointCloud& out) const;
-    /** Cell indices of a cloud at a pose. */
+    /** Cell indices of a cloud at a pose (and their bounding box, if `box`). */
     void computeCells(
         const emslam::maps::WeightedPointCloud& cloud,
         const mrpt::poses::CPose3D& pose,
-        std::vector<emslam::maps::CellIndex>& out) const;
+        std::vector<emslam::maps::CellIndex>& out,
+        CellBox* box = nullptr) const;
     /** Adds (sign +1) or removes (−1) an observation's weights to/from the tracked histograms. */
     void addToTracked(const Observation& o, double sign);
-    /** Applies the difference between two cell assignments of one observation. */
+    /** Applies the difference between two cell assignments of one observation
+     * (`from_box`, `to_box`: their bounding boxes). */
     void applyCellDelta(
         const emslam::maps::WeightedPointCloud& cloud,
         const std::vector<emslam::maps::CellIndex>& from,
-        const std::vector<emslam::maps::CellIndex>& to);
-    /** Starts deferred batches on the tracked histograms (3D only if `include_3d`). */
-    void beginBatches(std::size_t max_new_cells, bool include_3d);
+        const std::vector<emslam::maps::CellIndex>& to,
+        const CellBox& from_box,
+        const CellBox& to_box);
+    /** Applies updates to term `t` (addManyIntegral() if m_integral_weights). */
+    void addNetUpdates(
+        std::size_t t, const emslam::maps::WeightedHistogram::Update* u, std::size_t count);
+    /** The marginal terms of applyCellDelta() through dense grids of weight
+     * deltas over `box` (the union of both boxes); false (nothing done) if
+     * a grid would be too large or the terms have no dense path. */
+    bool applyMarginalDeltasDense(
+        const emslam::maps::WeightedPointCloud& cloud,
+        const std::vector<emslam::maps::CellIndex>& from,
+        const std::vector<emslam::maps::CellIndex>& to,
+        const CellBox& box);
+    /** Starts deferred batches on the tracked histograms. */
+    void beginBatches(std::size_t max_new_cells);
     /** Ends the batches started by beginBatches(). */
-    void endBatches(bool include_3d);
+    void endBatches();
     void resetTracked();
 
     TCreationOptions m_creation;
@@ -304,7 +331,13 @@ private:
     std::vector<emslam::maps::WeightedHistogram::Update>
         m_updates;                        //!< scratch of applyCellDelta()
     std::vector<std::uint64_t> m_keys3d;  //!< scratch of applyCellDelta(): packed from/to cells
+    std::vector<double> m_dense;  //!< scratch of applyMarginalDeltasDense(): grids, kept zero
+    std::vector<std::uint64_t> m_fields;  //!< scratch of applyMarginalDeltasDense(): key fields
     double m_total_weight{0};
+    /** Every observation weight is an integer ≤ 2^24 (point counts): cell
+     * weights are then exact integer sums and moves use
+     * WeightedHistogram::addManyIntegral(). */
+    bool m_integral_weights{true};
 
     MAP_DEFINITION_START(CEntropyVoxelMap)
     emslam::CEntropyVoxelMap::TCreationOptions creationOpts;    //!< `_creationOpts`

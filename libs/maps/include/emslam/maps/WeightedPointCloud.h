@@ -19,6 +19,8 @@ struct WeightedPointCloud
     bool empty() const { return points.empty(); }
     /** Σ weights. */
     double totalWeight() const;
+    /** True if every weight is an integer in [0, 2^24] (e.g. point counts). */
+    bool hasIntegralWeights() const;
     /** Appends one point. */
     void push_back(const mrpt::math::TPoint3Df& p, float w)
     {

@@ -1,0 +1,92 @@
+// SPDX-License-Identifier: BSD-3-Clause
+#pragma once
+
+#include <emslam/sim/StereoSimulator.h>
+
+#include <mrpt/config/CLoadableOptions.h>
+#include <mrpt/hwdrivers/CGenericSensor.h>
+
+#include <cstddef>
+#include <memory>
+#include <string>
+
+namespace emslam::hwdrivers
+{
+/** A live stereo camera backed by the simulator (emslam::sim::StereoSimulator):
+ * each call of doProcess() renders the next frame of a world INI file
+ * (config/sim/) and emits it as a `CObservationStereoImages` (rectified pair,
+ * calibration filled, `hasImageRight`). Capture without hardware, for demos
+ * and tests; the stock `rawlog-grabber` runs it as a plugin
+ * (`rawlog-grabber grab.ini -p libemslam_hwdrivers.so`).
+ *
+ * After the last frame of the trajectory (or `max_frames`) it either starts
+ * again (`loop = true`) or throws EndOfStream from doProcess().
+ *
+ * \code
+ * [SIM_STEREO]
+ * driver       = CSimulatedStereoCamera
+ * sensorLabel  = STEREO             // label of the observations
+ * process_rate = 5                  // [Hz] frame rate (default: the world's [Simulation] fps)
+ * world_file   = config/sim/hall_double_loop.ini   // relative to the working folder
+ * first_frame  = 0                  // first trajectory frame rendered
+ * max_frames   = 0                  // frames per pass, 0: up to the trajectory's end
+ * loop         = false              // after the last frame: start again (true) or end (false)
+ * timestamps   = now                // now: wall clock at render time | simulation: world time
+ * \endcode
+ * Missing or invalid keys throw from loadConfig() naming the key; a missing
+ * or invalid world file throws naming the file.
+ * \ingroup emslam_hwdrivers_grp \sa CStereoImageFolderCamera, CDigiclopsStereoCamera */
+class CSimulatedStereoCamera : public mrpt::hwdrivers::CGenericSensor
+{
+    DEFINE_GENERIC_SENSOR(CSimulatedStereoCamera)
+
+public:
+    /** The sensor-specific INI keys (see the class comment). */
+    struct TParameters : public mrpt::config::CLoadableOptions
+    {
+        void loadFromConfigFile(
+            const mrpt::config::CConfigFileBase& c, const std::string& s) override;
+        void saveToConfigFile(
+            mrpt::config::CConfigFileBase& c, const std::string& s) const override;
+        /** Throws std::invalid_argument naming the key of an invalid value. */
+        void validate() const;
+
+        /** World INI file (config/sim/ format); relative paths are taken from
+         * the working folder. Mandatory. */
+        std::string world_file;
+        /** First trajectory frame rendered. (Default: 0) */
+        std::size_t first_frame{0};
+        /** Frames per pass; 0: up to the end of the trajectory. (Default: 0) */
+        std::size_t max_frames{0};
+        /** Start again at first_frame after the last frame. (Default: false) */
+        bool loop{false};
+        /** "now" (wall clock when rendered) or "simulation" (the world's own
+         * times, [Simulation] start_time + i / fps). (Default: now) */
+        std::string timestamps{"now"};
+    };
+
+    CSimulatedStereoCamera() = default;
+
+    /** Renders and queues the next frame; throws EndOfStream after the last
+     * one unless `loop`. */
+    void doProcess() override;
+
+    const TParameters& parameters() const { return m_params; }
+    /** The simulator (valid after loadConfig()). */
+    const emslam::sim::StereoSimulator& simulator() const { return *m_sim; }
+    /** Frames rendered so far. */
+    std::size_t framesDelivered() const { return m_delivered; }
+
+protected:
+    void loadConfig_sensorSpecific(
+        const mrpt::config::CConfigFileBase& cfg, const std::string& section) override;
+
+private:
+    TParameters m_params;
+    std::shared_ptr<emslam::sim::StereoSimulator> m_sim;
+    std::size_t m_next{0};
+    std::size_t m_end{0};
+    std::size_t m_delivered{0};
+};
+
+}  // namespace emslam::hwdrivers
