@@ -3,6 +3,7 @@
 #include <emslam/egomotion/registerAllClasses.h>
 #include <emslam/hwdrivers/registerAllClasses.h>
 #include <emslam/maps/registerAllClasses.h>
+#include <emslam/rectify/registerAllClasses.h>
 #include <emslam/sim/registerAllClasses.h>
 #include <emslam/stereo/registerAllClasses.h>
 
@@ -18,6 +19,7 @@ void registerAllClasses()
     emslam::maps::registerAllClasses();
     emslam::sim::registerAllClasses();
     emslam::hwdrivers::registerAllClasses();
+    emslam::rectify::registerAllClasses();
     mrpt::maps::registerAllClasses_mrpt_maps();
 }
 }  // namespace emslam::apps

@@ -1,0 +1,91 @@
+// SPDX-License-Identifier: BSD-3-Clause
+#pragma once
+
+#include <mrpt/config/CLoadableOptions.h>
+
+#include <cstdint>
+#include <string>
+
+namespace emslam::rectify
+{
+/** How a Metropolis-Hastings attempt that does not lower the energy is treated. */
+enum class Acceptance : std::uint8_t
+{
+    /** The paper's rule (§2.2.3): accepted with probability p = E_old / E_try. */
+    Ratio = 0,
+    /** Only attempts that lower the energy are kept (a pure descent). */
+    Greedy
+};
+
+/** When rectification runs (§2.2.3). */
+enum class RectificationMode : std::uint8_t
+{
+    /** Every S_rec accepted frames, to convergence, while the robot waits. */
+    Serial = 0,
+    /** Continuously in a second thread, synchronised every S_buf frames. */
+    AnyTime
+};
+
+/** Parameters of the global rectification, section `[Rectifier]` (paper §2.2.3-2.2.4
+ * and §3.2 defaults). The degrees of freedom (3DOF [δx, δz, δθ_y] or 6DOF)
+ * follow the map's energy (`[EntropyVoxelMap]` `energy` / `dof`).
+ *
+ * \code
+ * [Rectifier]
+ * eps_xyz          = 0.05    ; ε of each translation component [m]
+ * eps_rot_deg      = 3       ; ε of each rotation component [deg]
+ * select_fraction  = 0.10    ; S_sel: fraction of the N actions perturbed per attempt
+ * nc_max           = 50      ; NC_max: consecutive failed attempts that end a rectification
+ * max_attempts     = 20000   ; safety cap per rectification (0: none)
+ * min_improvement  = 1e-5    ; a success lowers E by more than this fraction of E
+ * acceptance       = greedy  ; greedy | ratio (the paper: p = E_old / E_try)
+ * reuse_success    = true    ; after a success, try the same change again
+ * rectify_every    = 25      ; S_rec: serial mode, accepted frames between rectifications
+ * mode             = serial  ; serial | anytime
+ * buffer_size      = 10      ; S_buf: AnyTime, frames buffered between synchronisations
+ * n_max            = 60      ; N_max: compress the trajectory when N exceeds it (0: never)
+ * seed             = 1       ; random seed (serial mode repeats exactly)
+ * vertical_band    = false   ; keep only points with band_min_y <= y <= band_max_y
+ * band_min_y       = -1.5    ; [m] camera frame, y down (above the camera is < 0)
+ * band_max_y       = 0.8     ; [m]
+ * \endcode
+ *
+ * `vertical_band` is an option beside the paper: for a 3DOF robot (fixed
+ * camera height) it drops floor and ceiling points, whose projection on the
+ * XZ plane carries no alignment information but rewards folding corridors
+ * onto each other (Exp. 11-12 on dense clouds; see doc/rectify.md).
+ * \ingroup emslam_rectify_grp */
+struct TRectifierOptions : public mrpt::config::CLoadableOptions
+{
+    void loadFromConfigFile(const mrpt::config::CConfigFileBase& c, const std::string& s) override;
+    void saveToConfigFile(mrpt::config::CConfigFileBase& c, const std::string& s) const override;
+    /** Throws std::invalid_argument naming the `[Rectifier]` key of a bad value. */
+    void validate() const;
+
+    double eps_xyz{0.05};          //!< ε_x = ε_y = ε_z [m] (Default: 0.05)
+    double eps_rot_deg{3.0};       //!< ε_θx = ε_θy = ε_θz [deg] (Default: 3)
+    double select_fraction{0.10};  //!< S_sel as a fraction of N, in (0, 1] (Default: 0.10)
+    int nc_max{50};                //!< NC_max (Default: 50)
+    int max_attempts{20000};       //!< cap per rectification; 0: none (Default: 20000)
+    /** Relative energy drop below which an attempt counts as a failure:
+     * without it, noise-level gains keep resetting INC and a run may never
+     * reach NC_max. (Default: 1e-5) */
+    double min_improvement{1e-5};
+    Acceptance acceptance{Acceptance::Greedy};  //!< (Default: greedy; see doc/rectify.md)
+    bool reuse_success{true};                   //!< repeat a successful change (Default: true)
+    int rectify_every{25};                      //!< S_rec (Default: 25)
+    RectificationMode mode{RectificationMode::Serial};  //!< (Default: serial)
+    int buffer_size{10};                                //!< S_buf (Default: 10)
+    int n_max{60};                                      //!< N_max; 0: no compression (Default: 60)
+    std::uint64_t seed{1};                              //!< (Default: 1)
+    bool vertical_band{false};  //!< filter points by camera-frame y (Default: false)
+    double band_min_y{-1.5};    //!< [m] (Default: -1.5)
+    double band_max_y{0.8};     //!< [m] (Default: 0.8)
+};
+
+/** INI names: `ratio`, `greedy`. */
+std::string toString(Acceptance a);
+/** INI names: `serial`, `anytime`. */
+std::string toString(RectificationMode m);
+
+}  // namespace emslam::rectify

@@ -1,0 +1,41 @@
+// SPDX-License-Identifier: BSD-3-Clause
+#pragma once
+
+#include <emslam/rectify/RectificationRunner.h>
+#include <emslam/rectify/TrajectoryRectifier.h>
+
+namespace emslam::rectify
+{
+/** Serial mode: rectify every S_rec accepted frames, in the caller's thread.
+ * \ingroup emslam_rectify_grp \sa RectificationRunner */
+class SerialRectification : public RectificationRunner
+{
+public:
+    SerialRectification(
+        const TRectifierOptions& options,
+        const emslam::CEntropyVoxelMap::TCreationOptions& map_options,
+        const emslam::CEntropyVoxelMap::TInsertionOptions& insertion_options = {});
+
+    void addFrame(
+        const mrpt::poses::CPose3D& action,
+        const emslam::maps::WeightedPointCloud& cloud,
+        double timestamp,
+        std::size_t frame_index) override;
+    void finish() override;
+    bool mapStable() const override;
+    std::vector<RectificationStats> statistics() const override { return m_stats; }
+    std::vector<TimedPose> framePoses() const override { return m_trajectory.framePoses(); }
+    const Trajectory& trajectory() const override { return m_trajectory; }
+
+private:
+    void rectifyNow();
+
+    TRectifierOptions m_options;
+    Trajectory m_trajectory;
+    TrajectoryRectifier m_rectifier;
+    std::vector<RectificationStats> m_stats;
+    std::size_t m_since_rectification{0};
+    bool m_finished{false};
+};
+
+}  // namespace emslam::rectify

@@ -1,0 +1,133 @@
+// SPDX-License-Identifier: BSD-3-Clause
+#pragma once
+
+#include <emslam/maps/CEntropyVoxelMap.h>
+#include <emslam/maps/WeightedPointCloud.h>
+
+#include <mrpt/poses/CPose3D.h>
+
+#include <cstddef>
+#include <limits>
+#include <vector>
+
+namespace emslam::rectify
+{
+/** One original (accepted) frame inside a trajectory element: after
+ * compression an element stands for several frames. */
+struct ElementFrame
+{
+    double timestamp{0.0};                                             //!< [s]
+    std::size_t frame_index{std::numeric_limits<std::size_t>::max()};  //!< caller's frame id
+    mrpt::poses::CPose3D T_element_frame;  //!< pose of the frame in the element's frame
+};
+
+/** A frame pose in the world, for trajectory outputs. */
+struct TimedPose
+{
+    double timestamp{0.0};
+    std::size_t frame_index{std::numeric_limits<std::size_t>::max()};
+    mrpt::poses::CPose3D T_world_frame;
+};
+
+/** The trajectory of the rectifier (§2.2.3): actions a_0..a_{N-1} and, per
+ * element, the observation simplified at l_d, kept in a CEntropyVoxelMap.
+ * The pose of element i is a_0 ⊕ a_1 ⊕ ... ⊕ a_i (a_0: the first element in
+ * the world, normally the identity since the world is the first camera
+ * frame). With a 3DOF energy every action is kept planar ([δx, δz, δθ_y]).
+ *
+ * Changing actions moves only the elements whose poses change: a changed
+ * a_k moves the segment k..N-1, never the elements before it.
+ *
+ * compress() is the trajectory compression of §2.2.4 (Eq. 13-14).
+ * \ingroup emslam_rectify_grp */
+class Trajectory
+{
+public:
+    /** A new value for one action. */
+    struct ActionChange
+    {
+        std::size_t index{0};
+        mrpt::poses::CPose3D action;
+    };
+
+    /** An empty trajectory whose map has these options (validated). */
+    explicit Trajectory(
+        const emslam::CEntropyVoxelMap::TCreationOptions& map_options = {},
+        const emslam::CEntropyVoxelMap::TInsertionOptions& insertion_options = {});
+
+    /** 3 or 6, from the map's energy. */
+    int dof() const { return m_map.creationOptions().dof; }
+    /** True if the energy depends on the global alignment of the map (a
+     * Manhattan-world or flat-floor term: Exp. 9, 10, 12), so a_0 matters. */
+    bool dependsOnGlobalAlignment() const;
+
+    /** Number of elements N. */
+    std::size_t size() const { return m_actions.size(); }
+    bool empty() const { return m_actions.empty(); }
+
+    /** Appends an element: `action` = pose of the new frame in the previous
+     * element's last frame (for the first element: its pose in the world),
+     * `cloud` in the new frame (simplified here at l_d). Projected to 3DOF if
+     * dof() == 3. */
+    void append(
+        const mrpt::poses::CPose3D& action,
+        const emslam::maps::WeightedPointCloud& cloud,
+        double timestamp,
+        std::size_t frame_index = std::numeric_limits<std::size_t>::max());
+
+    const mrpt::poses::CPose3D& action(std::size_t i) const { return m_actions.at(i); }
+    const std::vector<mrpt::poses::CPose3D>& actions() const { return m_actions; }
+    /** Pose of element i in the world. */
+    const mrpt::poses::CPose3D& pose(std::size_t i) const { return m_map.observationPose(i); }
+
+    /** Current energy (O(1)). */
+    double energy() const { return m_map.energy(); }
+    /** Recomputes the map's histograms from scratch (drops rounding drift of
+     * long runs of incremental updates); returns the energy. */
+    double recomputeEnergy() { return m_map.recomputeFromScratch(); }
+
+    /** Sets some actions (3DOF-projected if needed), moves the affected
+     * segment in the map and returns the new energy. One undo record. */
+    double changeActions(const std::vector<ActionChange>& changes);
+    /** Sets all actions (size must be N); one undo record. */
+    double setActions(const std::vector<mrpt::poses::CPose3D>& actions);
+    /** True if the last change can be undone. */
+    bool canRevert() const { return m_undo_valid; }
+    /** Undoes the last changeActions()/setActions(); returns the energy. */
+    double revertLastChange();
+    /** Keeps the last change (forgets its undo record). */
+    void commitChange();
+
+    /** The map of the simplified observations at the current poses. */
+    const emslam::CEntropyVoxelMap& map() const { return m_map; }
+
+    /** Original frames of element i. */
+    const std::vector<ElementFrame>& framesOf(std::size_t i) const { return m_frames.at(i); }
+    /** Number of original frames in all elements. */
+    std::size_t frameCount() const;
+    /** World pose of every original frame, in order. */
+    std::vector<TimedPose> framePoses() const;
+
+    /** Trajectory compression (§2.2.4): fuses elements 2i and 2i+1 (Eq. 13:
+     * the second cloud brought to the first's frame by a_{2i+1}, then the
+     * union simplified again at l_d) and composes the actions (Eq. 14:
+     * a'_0 = a_0, a'_i = a_{2i-1} ⊕ a_{2i}); an odd last element stays
+     * alone. Poses of the kept elements do not change. N becomes ⌈N/2⌉. */
+    void compress();
+    /** Number of compress() calls so far. */
+    std::size_t compressionCount() const { return m_compressions; }
+
+private:
+    /** Re-poses elements from `first` on from the actions. */
+    double movePosesFrom(std::size_t first);
+
+    emslam::CEntropyVoxelMap m_map;
+    std::vector<mrpt::poses::CPose3D> m_actions;
+    std::vector<std::vector<ElementFrame>> m_frames;
+    std::vector<emslam::CEntropyVoxelMap::ObservationMove> m_moves;  //!< scratch
+    std::vector<ActionChange> m_undo;  //!< old values of the last change's actions
+    bool m_undo_valid{false};
+    std::size_t m_compressions{0};
+};
+
+}  // namespace emslam::rectify

@@ -1,0 +1,80 @@
+// SPDX-License-Identifier: BSD-3-Clause
+#pragma once
+
+#include <emslam/rectify/Action.h>
+#include <emslam/rectify/RectificationStats.h>
+#include <emslam/rectify/RectifierOptions.h>
+#include <emslam/rectify/Trajectory.h>
+
+#include <atomic>
+#include <cstddef>
+#include <random>
+#include <vector>
+
+namespace emslam::rectify
+{
+/** Global rectification by information-driven quasi-random updates (§2.2.3):
+ * Metropolis-Hastings over the trajectory's actions.
+ *
+ * One attempt perturbs S_sel = max(1, round(select_fraction · N)) distinct
+ * actions chosen at random — a_0 always when the energy depends on the
+ * global alignment (Manhattan / flat-floor terms), never otherwise (the
+ * energy is then blind to it, and the world stays the first camera frame) —
+ * each component by U(−ε, +ε) (see perturbAction()). An attempt that lowers
+ * the energy is a success and is kept; otherwise it is a failure, kept with
+ * probability p = E_old / E_try (`acceptance = ratio`, the paper's rule) or
+ * never (`greedy`). After a success the same change is tried again, since it
+ * usually points down a slope. The run ends after NC_max consecutive failures
+ * (or `max_attempts`), and leaves the trajectory at the lowest energy seen.
+ *
+ * Deterministic: the same seed, trajectory and call sequence give the same
+ * result. Not thread-safe: one thread drives one rectifier.
+ * \ingroup emslam_rectify_grp */
+class TrajectoryRectifier
+{
+public:
+    explicit TrajectoryRectifier(const TRectifierOptions& p = {});
+
+    /** Rectifies to convergence (see the class comment). `stop`, if given,
+     * is polled between attempts and ends the run early. */
+    RectificationStats rectify(Trajectory& t, const std::atomic<bool>* stop = nullptr);
+
+    /** @name Step-wise interface (AnyTime)
+     * begin() once, attempt() any number of times, finish() at the end: the
+     * trajectory then holds the best state seen since begin(). */
+    /** @{ */
+    /** Starts a run on `t`: the energy is recomputed from scratch, the best
+     * state is the current one, the failure count is 0. */
+    void begin(Trajectory& t, RectificationStats& s);
+    /** One attempt; returns true on success. */
+    bool attempt(Trajectory& t, RectificationStats& s);
+    /** Restores the best state seen and fills `s.energy_after`. */
+    void finish(Trajectory& t, RectificationStats& s);
+    /** Consecutive failed attempts (INC): ≥ NC_max means "map stable". */
+    int consecutiveFailures() const { return m_consecutive_failures; }
+    /** @} */
+
+    const TRectifierOptions& params() const { return m_p; }
+
+private:
+    struct Perturbation
+    {
+        std::size_t index{0};
+        ActionDelta delta{};
+    };
+    void drawPerturbation(const Trajectory& t);
+
+    TRectifierOptions m_p;
+    std::mt19937_64 m_rng;
+    std::vector<Perturbation> m_change;               //!< the attempt being tried
+    bool m_reuse{false};                              //!< m_change was a success: try it again
+    std::vector<std::size_t> m_indices;               //!< scratch: the selection
+    std::vector<std::size_t> m_candidates;            //!< scratch: the selection's pool
+    std::vector<Trajectory::ActionChange> m_changes;  //!< scratch
+    std::vector<mrpt::poses::CPose3D> m_best;
+    double m_best_energy{0.0};
+    double m_energy{0.0};
+    int m_consecutive_failures{0};
+};
+
+}  // namespace emslam::rectify

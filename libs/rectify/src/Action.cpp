@@ -1,0 +1,49 @@
+// SPDX-License-Identifier: BSD-3-Clause
+#include <emslam/rectify/Action.h>
+
+#include <mrpt/poses/Lie/SO.h>
+
+#include <cmath>
+
+namespace emslam::rectify
+{
+mrpt::poses::CPose3D planarAction(const mrpt::poses::CPose3D& action)
+{
+    const auto& R = action.getRotationMatrix();
+    // R_y(θ) = [c 0 s; 0 1 0; -s 0 c]: θ from the entries of the XZ block.
+    const double theta = std::atan2(R(0, 2) - R(2, 0), R(0, 0) + R(2, 2));
+    mrpt::math::CVectorFixedDouble<3> w;
+    w[0] = 0;
+    w[1] = theta;
+    w[2] = 0;
+    mrpt::math::CVectorFixedDouble<3> t;
+    t[0] = action.x();
+    t[1] = 0;
+    t[2] = action.z();
+    return mrpt::poses::CPose3D::FromRotationAndTranslation(mrpt::poses::Lie::SO<3>::exp(w), t);
+}
+
+mrpt::poses::CPose3D perturbAction(const mrpt::poses::CPose3D& action, const ActionDelta& delta)
+{
+    mrpt::math::CVectorFixedDouble<3> w;
+    w[0] = delta[3];
+    w[1] = delta[4];
+    w[2] = delta[5];
+    mrpt::math::CVectorFixedDouble<3> t;
+    t[0] = action.x() + delta[0];
+    t[1] = action.y() + delta[1];
+    t[2] = action.z() + delta[2];
+    const mrpt::math::CMatrixDouble33& A = action.getRotationMatrix();
+    const mrpt::math::CMatrixDouble33 D = mrpt::poses::Lie::SO<3>::exp(w);
+    mrpt::math::CMatrixDouble33 R;
+    for (int r = 0; r < 3; ++r)
+    {
+        for (int c = 0; c < 3; ++c)
+        {
+            R(r, c) = A(r, 0) * D(0, c) + A(r, 1) * D(1, c) + A(r, 2) * D(2, c);
+        }
+    }
+    return mrpt::poses::CPose3D::FromRotationAndTranslation(R, t);
+}
+
+}  // namespace emslam::rectify

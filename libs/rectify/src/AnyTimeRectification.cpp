@@ -1,0 +1,192 @@
+// SPDX-License-Identifier: BSD-3-Clause
+#include <emslam/rectify/AnyTimeRectification.h>
+#include <emslam/rectify/VerticalBand.h>
+
+#include <stdexcept>
+
+namespace emslam::rectify
+{
+AnyTimeRectification::AnyTimeRectification(
+    const TRectifierOptions& options,
+    const emslam::CEntropyVoxelMap::TCreationOptions& map_options,
+    const emslam::CEntropyVoxelMap::TInsertionOptions& insertion_options)
+    : m_options(options), m_trajectory(map_options, insertion_options), m_rectifier(options)
+{
+    m_thread = std::thread([this] { run(); });
+}
+
+AnyTimeRectification::~AnyTimeRectification()
+{
+    stopThread();
+}
+
+void AnyTimeRectification::stopThread()
+{
+    if (!m_thread.joinable())
+    {
+        return;
+    }
+    {
+        std::lock_guard<std::mutex> lock(m_mutex);
+        m_stop = true;
+    }
+    m_wake.notify_all();
+    m_thread.join();
+}
+
+void AnyTimeRectification::run()
+{
+    std::unique_lock<std::mutex> lock(m_mutex);
+    const auto can_work = [this]
+    { return m_stop || (!m_sync_requested && m_run_open && !m_worker_error); };
+    while (true)
+    {
+        m_wake.wait(lock, can_work);
+        if (m_stop)
+        {
+            return;
+        }
+        try
+        {
+            m_rectifier.attempt(m_trajectory, m_current);
+            const bool capped =
+                m_options.max_attempts > 0 &&
+                m_current.attempts >= static_cast<std::size_t>(m_options.max_attempts);
+            if (m_rectifier.consecutiveFailures() >= m_options.nc_max || capped)
+            {
+                closeRun();  // converged: idle until new frames arrive
+            }
+        }
+        catch (...)
+        {
+            m_worker_error = std::current_exception();
+            m_run_open = false;
+        }
+    }
+}
+
+void AnyTimeRectification::closeRun()
+{
+    if (!m_run_open)
+    {
+        return;
+    }
+    m_rectifier.finish(m_trajectory, m_current);
+    m_stats.push_back(m_current);
+    m_run_open = false;
+    m_stable = m_current.converged;
+}
+
+void AnyTimeRectification::synchronise()
+{
+    m_sync_requested = true;
+    {
+        std::lock_guard<std::mutex> lock(m_mutex);  // the worker is between attempts
+        closeRun();
+        for (BufferedFrame& f : m_buffer)
+        {
+            m_trajectory.append(f.action, f.cloud, f.timestamp, f.frame_index);
+            if (m_options.n_max > 0 &&
+                m_trajectory.size() > static_cast<std::size_t>(m_options.n_max))
+            {
+                m_trajectory.compress();
+            }
+        }
+        m_buffer.clear();
+        if (m_trajectory.size() >= 2)
+        {
+            m_rectifier.begin(m_trajectory, m_current);
+            m_run_open = true;
+            m_stable = false;
+        }
+        m_sync_requested = false;
+        ++m_syncs;
+    }
+    m_wake.notify_all();
+}
+
+void AnyTimeRectification::rethrowWorkerError()
+{
+    std::lock_guard<std::mutex> lock(m_mutex);
+    if (m_worker_error)
+    {
+        std::rethrow_exception(m_worker_error);
+    }
+}
+
+void AnyTimeRectification::addFrame(
+    const mrpt::poses::CPose3D& action,
+    const emslam::maps::WeightedPointCloud& cloud,
+    double timestamp,
+    std::size_t frame_index)
+{
+    if (m_finished)
+    {
+        throw std::logic_error("AnyTimeRectification::addFrame after finish()");
+    }
+    rethrowWorkerError();
+    m_buffer.push_back(
+        {action,
+         m_options.vertical_band
+             ? keepVerticalBand(cloud, m_options.band_min_y, m_options.band_max_y)
+             : cloud,
+         timestamp, frame_index});
+    if (m_buffer.size() >= static_cast<std::size_t>(m_options.buffer_size))
+    {
+        synchronise();
+    }
+}
+
+void AnyTimeRectification::finish()
+{
+    if (m_finished)
+    {
+        return;
+    }
+    rethrowWorkerError();
+    if (!m_buffer.empty())
+    {
+        synchronise();
+    }
+    {
+        std::lock_guard<std::mutex> lock(m_mutex);
+        closeRun();
+    }
+    stopThread();
+    rethrowWorkerError();
+    // The thread is gone: the final rectification runs here, as in serial
+    // mode, under the lock since readers may still poll.
+    {
+        std::lock_guard<std::mutex> lock(m_mutex);
+        if (m_trajectory.size() >= 2)
+        {
+            const RectificationStats s = m_rectifier.rectify(m_trajectory);
+            m_stats.push_back(s);
+            m_stable = s.converged;
+        }
+    }
+    m_finished = true;
+}
+
+std::vector<RectificationStats> AnyTimeRectification::statistics() const
+{
+    std::lock_guard<std::mutex> lock(m_mutex);
+    return m_stats;
+}
+
+std::vector<TimedPose> AnyTimeRectification::framePoses() const
+{
+    std::lock_guard<std::mutex> lock(m_mutex);
+    return m_trajectory.framePoses();
+}
+
+const Trajectory& AnyTimeRectification::trajectory() const
+{
+    if (!m_finished)
+    {
+        throw std::logic_error("AnyTimeRectification::trajectory() before finish()");
+    }
+    return m_trajectory;
+}
+
+}  // namespace emslam::rectify

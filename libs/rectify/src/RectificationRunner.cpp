@@ -1,0 +1,20 @@
+// SPDX-License-Identifier: BSD-3-Clause
+#include <emslam/rectify/AnyTimeRectification.h>
+#include <emslam/rectify/RectificationRunner.h>
+#include <emslam/rectify/SerialRectification.h>
+
+namespace emslam::rectify
+{
+std::unique_ptr<RectificationRunner> createRectificationRunner(
+    const TRectifierOptions& options,
+    const emslam::CEntropyVoxelMap::TCreationOptions& map_options,
+    const emslam::CEntropyVoxelMap::TInsertionOptions& insertion_options)
+{
+    if (options.mode == RectificationMode::AnyTime)
+    {
+        return std::make_unique<AnyTimeRectification>(options, map_options, insertion_options);
+    }
+    return std::make_unique<SerialRectification>(options, map_options, insertion_options);
+}
+
+}  // namespace emslam::rectify

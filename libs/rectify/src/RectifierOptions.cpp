@@ -1,0 +1,121 @@
+// SPDX-License-Identifier: BSD-3-Clause
+#include <emslam/rectify/RectifierOptions.h>
+
+#include <mrpt/config/CConfigFileBase.h>
+
+#include <cmath>
+#include <stdexcept>
+
+namespace emslam::rectify
+{
+namespace
+{
+void require(bool ok, const std::string& key, const std::string& msg)
+{
+    if (!ok)
+    {
+        throw std::invalid_argument("[Rectifier] " + key + ": " + msg);
+    }
+}
+
+Acceptance acceptanceFromString(const std::string& s)
+{
+    if (s == "ratio")
+        return Acceptance::Ratio;
+    if (s == "greedy")
+        return Acceptance::Greedy;
+    throw std::invalid_argument(
+        "[Rectifier] acceptance: unknown value '" + s + "' (valid: ratio, greedy)");
+}
+
+RectificationMode modeFromString(const std::string& s)
+{
+    if (s == "serial")
+        return RectificationMode::Serial;
+    if (s == "anytime")
+        return RectificationMode::AnyTime;
+    throw std::invalid_argument(
+        "[Rectifier] mode: unknown value '" + s + "' (valid: serial, anytime)");
+}
+}  // namespace
+
+std::string toString(Acceptance a)
+{
+    return a == Acceptance::Ratio ? "ratio" : "greedy";
+}
+
+std::string toString(RectificationMode m)
+{
+    return m == RectificationMode::Serial ? "serial" : "anytime";
+}
+
+void TRectifierOptions::loadFromConfigFile(
+    const mrpt::config::CConfigFileBase& c, const std::string& s)
+{
+    MRPT_LOAD_CONFIG_VAR(eps_xyz, double, c, s);
+    MRPT_LOAD_CONFIG_VAR(eps_rot_deg, double, c, s);
+    MRPT_LOAD_CONFIG_VAR(select_fraction, double, c, s);
+    MRPT_LOAD_CONFIG_VAR(nc_max, int, c, s);
+    MRPT_LOAD_CONFIG_VAR(max_attempts, int, c, s);
+    MRPT_LOAD_CONFIG_VAR(min_improvement, double, c, s);
+    acceptance = acceptanceFromString(c.read_string(s, "acceptance", toString(acceptance)));
+    MRPT_LOAD_CONFIG_VAR(reuse_success, bool, c, s);
+    MRPT_LOAD_CONFIG_VAR(rectify_every, int, c, s);
+    mode = modeFromString(c.read_string(s, "mode", toString(mode)));
+    MRPT_LOAD_CONFIG_VAR(buffer_size, int, c, s);
+    MRPT_LOAD_CONFIG_VAR(n_max, int, c, s);
+    const double seed_value = c.read_double(s, "seed", static_cast<double>(seed));
+    require(
+        seed_value >= 0 && std::floor(seed_value) == seed_value, "seed",
+        "must be a non-negative integer");
+    seed = static_cast<std::uint64_t>(seed_value);
+    MRPT_LOAD_CONFIG_VAR(vertical_band, bool, c, s);
+    MRPT_LOAD_CONFIG_VAR(band_min_y, double, c, s);
+    MRPT_LOAD_CONFIG_VAR(band_max_y, double, c, s);
+    validate();
+}
+
+void TRectifierOptions::saveToConfigFile(
+    mrpt::config::CConfigFileBase& c, const std::string& s) const
+{
+    MRPT_SAVE_CONFIG_VAR_COMMENT(eps_xyz, "epsilon of each translation component [m]");
+    MRPT_SAVE_CONFIG_VAR_COMMENT(eps_rot_deg, "epsilon of each rotation component [deg]");
+    MRPT_SAVE_CONFIG_VAR_COMMENT(select_fraction, "S_sel, fraction of the actions perturbed");
+    MRPT_SAVE_CONFIG_VAR_COMMENT(nc_max, "NC_max, consecutive failures that end a rectification");
+    MRPT_SAVE_CONFIG_VAR_COMMENT(max_attempts, "cap of attempts per rectification (0: none)");
+    MRPT_SAVE_CONFIG_VAR_COMMENT(min_improvement, "relative energy drop of a success");
+    c.write(s, "acceptance", toString(acceptance), -1, -1, "ratio (paper) | greedy");
+    MRPT_SAVE_CONFIG_VAR_COMMENT(reuse_success, "try a successful change again");
+    MRPT_SAVE_CONFIG_VAR_COMMENT(rectify_every, "S_rec, serial mode");
+    c.write(s, "mode", toString(mode), -1, -1, "serial | anytime");
+    MRPT_SAVE_CONFIG_VAR_COMMENT(buffer_size, "S_buf, AnyTime mode");
+    MRPT_SAVE_CONFIG_VAR_COMMENT(n_max, "N_max, trajectory compression (0: never)");
+    c.write(s, "seed", std::to_string(seed), -1, -1, "random seed");
+    MRPT_SAVE_CONFIG_VAR_COMMENT(vertical_band, "keep only points in [band_min_y, band_max_y]");
+    MRPT_SAVE_CONFIG_VAR_COMMENT(band_min_y, "camera-frame y, down [m]");
+    MRPT_SAVE_CONFIG_VAR_COMMENT(band_max_y, "camera-frame y, down [m]");
+}
+
+void TRectifierOptions::validate() const
+{
+    require(std::isfinite(eps_xyz) && eps_xyz >= 0, "eps_xyz", "must be >= 0");
+    require(
+        std::isfinite(eps_rot_deg) && eps_rot_deg >= 0 && eps_rot_deg < 90, "eps_rot_deg",
+        "must be in [0, 90)");
+    require(eps_xyz > 0 || eps_rot_deg > 0, "eps_xyz", "eps_xyz and eps_rot_deg are both 0");
+    require(select_fraction > 0 && select_fraction <= 1, "select_fraction", "must be in (0, 1]");
+    require(nc_max >= 1, "nc_max", "must be >= 1");
+    require(max_attempts >= 0, "max_attempts", "must be >= 0");
+    require(
+        std::isfinite(min_improvement) && min_improvement >= 0 && min_improvement < 1,
+        "min_improvement", "must be in [0, 1)");
+    require(rectify_every >= 1, "rectify_every", "must be >= 1");
+    require(buffer_size >= 1, "buffer_size", "must be >= 1");
+    require(n_max == 0 || n_max >= 4, "n_max", "must be 0 (no compression) or >= 4");
+    require(
+        !vertical_band ||
+            (std::isfinite(band_min_y) && std::isfinite(band_max_y) && band_min_y < band_max_y),
+        "band_min_y", "must be < band_max_y");
+}
+
+}  // namespace emslam::rectify

@@ -1,0 +1,148 @@
+// SPDX-License-Identifier: BSD-3-Clause
+#include <emslam/rectify/Action.h>
+#include <emslam/rectify/Trajectory.h>
+
+#include <algorithm>
+#include <stdexcept>
+#include <string>
+
+namespace emslam::rectify
+{
+using emslam::maps::EnergyType;
+
+Trajectory::Trajectory(
+    const emslam::CEntropyVoxelMap::TCreationOptions& map_options,
+    const emslam::CEntropyVoxelMap::TInsertionOptions& insertion_options)
+    : m_map(map_options, insertion_options)
+{
+}
+
+bool Trajectory::dependsOnGlobalAlignment() const
+{
+    const EnergyType e = m_map.creationOptions().energy;
+    return e == EnergyType::LowStructured || e == EnergyType::Structured ||
+           e == EnergyType::PlanarStructured;
+}
+
+void Trajectory::append(
+    const mrpt::poses::CPose3D& action,
+    const emslam::maps::WeightedPointCloud& cloud,
+    double timestamp,
+    std::size_t frame_index)
+{
+    // The caller's action starts at the last frame, which after compression
+    // is not the last element's origin.
+    mrpt::poses::CPose3D a = action;
+    if (!m_frames.empty())
+    {
+        a = m_frames.back().back().T_element_frame + action;
+    }
+    if (dof() == 3)
+    {
+        a = planarAction(a);
+    }
+    const mrpt::poses::CPose3D pose = m_actions.empty() ? a : this->pose(m_actions.size() - 1) + a;
+    m_map.insertWeightedCloud(cloud, pose);
+    m_actions.push_back(a);
+    m_frames.push_back({ElementFrame{timestamp, frame_index, mrpt::poses::CPose3D()}});
+    m_undo_valid = false;
+}
+
+double Trajectory::movePosesFrom(std::size_t first)
+{
+    m_moves.clear();
+    mrpt::poses::CPose3D p = first == 0 ? mrpt::poses::CPose3D() : pose(first - 1);
+    for (std::size_t i = first; i < m_actions.size(); ++i)
+    {
+        p = p + m_actions[i];
+        m_moves.push_back({i, p});
+    }
+    return m_map.moveObservations(m_moves);
+}
+
+double Trajectory::changeActions(const std::vector<ActionChange>& changes)
+{
+    if (changes.empty())
+    {
+        return energy();
+    }
+    m_undo.clear();
+    std::size_t first = m_actions.size();
+    for (const ActionChange& c : changes)
+    {
+        if (c.index >= m_actions.size())
+        {
+            throw std::out_of_range(
+                "Trajectory::changeActions: index " + std::to_string(c.index) +
+                " >= N = " + std::to_string(m_actions.size()));
+        }
+        m_undo.push_back({c.index, m_actions[c.index]});
+        m_actions[c.index] = dof() == 3 ? planarAction(c.action) : c.action;
+        first = std::min(first, c.index);
+    }
+    m_undo_valid = true;
+    return movePosesFrom(first);
+}
+
+double Trajectory::setActions(const std::vector<mrpt::poses::CPose3D>& actions)
+{
+    if (actions.size() != m_actions.size())
+    {
+        throw std::invalid_argument(
+            "Trajectory::setActions: got " + std::to_string(actions.size()) +
+            " actions for N = " + std::to_string(m_actions.size()));
+    }
+    std::vector<ActionChange> all(actions.size());
+    for (std::size_t i = 0; i < actions.size(); ++i)
+    {
+        all[i] = {i, actions[i]};
+    }
+    return changeActions(all);
+}
+
+double Trajectory::revertLastChange()
+{
+    if (!m_undo_valid)
+    {
+        throw std::logic_error("Trajectory::revertLastChange: nothing to revert");
+    }
+    // Undo in reverse so a repeated index gets its oldest value back.
+    for (auto it = m_undo.rbegin(); it != m_undo.rend(); ++it)
+    {
+        m_actions[it->index] = it->action;
+    }
+    m_undo_valid = false;
+    return m_map.canRevert() ? m_map.revertLastMove() : energy();
+}
+
+void Trajectory::commitChange()
+{
+    m_undo_valid = false;
+    m_map.commitMove();
+}
+
+std::size_t Trajectory::frameCount() const
+{
+    std::size_t n = 0;
+    for (const auto& f : m_frames)
+    {
+        n += f.size();
+    }
+    return n;
+}
+
+std::vector<TimedPose> Trajectory::framePoses() const
+{
+    std::vector<TimedPose> out;
+    out.reserve(frameCount());
+    for (std::size_t i = 0; i < m_frames.size(); ++i)
+    {
+        for (const ElementFrame& f : m_frames[i])
+        {
+            out.push_back({f.timestamp, f.frame_index, pose(i) + f.T_element_frame});
+        }
+    }
+    return out;
+}
+
+}  // namespace emslam::rectify

@@ -1,0 +1,177 @@
+// SPDX-License-Identifier: BSD-3-Clause
+#include <emslam/rectify/TrajectoryRectifier.h>
+
+#include <mrpt/core/bits_math.h>
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <numeric>
+
+namespace emslam::rectify
+{
+TrajectoryRectifier::TrajectoryRectifier(const TRectifierOptions& p) : m_p(p), m_rng(p.seed)
+{
+    m_p.validate();
+}
+
+void TrajectoryRectifier::begin(Trajectory& t, RectificationStats& s)
+{
+    s = RectificationStats{};
+    s.elements = t.size();
+    s.frames = t.frameCount();
+    m_energy = t.empty() ? 0.0 : t.recomputeEnergy();
+    s.energy_before = m_energy;
+    s.energy_after = m_energy;
+    m_best = t.actions();
+    m_best_energy = m_energy;
+    m_consecutive_failures = 0;
+    m_reuse = false;
+}
+
+void TrajectoryRectifier::drawPerturbation(const Trajectory& t)
+{
+    const std::size_t n = t.size();
+    const bool anchor_first = t.dependsOnGlobalAlignment();
+    // Candidates: all actions, or all but a_0 when the energy ignores the
+    // global alignment (then moving a_0 would only waste attempts).
+    const std::size_t first_free = anchor_first ? 1 : (n > 1 ? 1 : 0);
+    const std::size_t pool = n - first_free;
+    std::size_t count = static_cast<std::size_t>(
+        std::max<long>(1, std::lround(m_p.select_fraction * static_cast<double>(n))));
+
+    m_indices.clear();
+    if (anchor_first)
+    {
+        m_indices.push_back(0);
+        count = std::min(count, n) - 1;
+    }
+    count = std::min(count, pool);
+    // Partial Fisher-Yates over [first_free, n).
+    std::vector<std::size_t>& candidates = m_candidates;
+    candidates.resize(pool);
+    std::iota(candidates.begin(), candidates.end(), first_free);
+    for (std::size_t k = 0; k < count; ++k)
+    {
+        std::uniform_int_distribution<std::size_t> pick(k, pool - 1);
+        std::swap(candidates[k], candidates[pick(m_rng)]);
+        m_indices.push_back(candidates[k]);
+    }
+
+    const double eps_t = m_p.eps_xyz;
+    const double eps_r = mrpt::DEG2RAD(m_p.eps_rot_deg);
+    std::uniform_real_distribution<double> unit(-1.0, 1.0);
+    const bool planar = t.dof() == 3;
+    m_change.clear();
+    for (std::size_t index : m_indices)
+    {
+        Perturbation p;
+        p.index = index;
+        if (planar)
+        {
+            p.delta = {eps_t * unit(m_rng), 0.0, eps_t * unit(m_rng), 0.0,
+                       eps_r * unit(m_rng), 0.0};
+        }
+        else
+        {
+            for (int c = 0; c < 3; ++c)
+                p.delta[c] = eps_t * unit(m_rng);
+            for (int c = 3; c < 6; ++c)
+                p.delta[c] = eps_r * unit(m_rng);
+        }
+        m_change.push_back(p);
+    }
+}
+
+bool TrajectoryRectifier::attempt(Trajectory& t, RectificationStats& s)
+{
+    if (t.size() < 2)
+    {
+        return false;
+    }
+    const auto t0 = std::chrono::steady_clock::now();
+    if (!(m_p.reuse_success && m_reuse))
+    {
+        drawPerturbation(t);
+    }
+    m_changes.clear();
+    for (const Perturbation& p : m_change)
+    {
+        m_changes.push_back({p.index, perturbAction(t.action(p.index), p.delta)});
+    }
+    const double e_try = t.changeActions(m_changes);
+    ++s.attempts;
+
+    const bool success = e_try < m_energy - m_p.min_improvement * std::abs(m_energy);
+    if (success)
+    {
+        ++s.successes;
+        m_consecutive_failures = 0;
+        m_energy = e_try;
+        t.commitChange();
+        m_reuse = true;
+        if (e_try < m_best_energy)
+        {
+            m_best_energy = e_try;
+            if (m_p.acceptance != Acceptance::Greedy)
+            {
+                m_best = t.actions();
+            }
+        }
+    }
+    else
+    {
+        ++s.failures;
+        ++m_consecutive_failures;
+        m_reuse = false;
+        bool keep = false;
+        if (m_p.acceptance == Acceptance::Ratio && e_try > 0 && std::isfinite(e_try))
+        {
+            std::uniform_real_distribution<double> u(0.0, 1.0);
+            keep = u(m_rng) < m_energy / e_try;
+        }
+        if (keep)
+        {
+            ++s.accepted_worse;
+            m_energy = e_try;
+            t.commitChange();
+        }
+        else
+        {
+            m_energy = t.revertLastChange();
+        }
+    }
+    s.seconds += std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+    s.energy_after = m_best_energy;
+    return success;
+}
+
+void TrajectoryRectifier::finish(Trajectory& t, RectificationStats& s)
+{
+    if (m_p.acceptance != Acceptance::Greedy && m_energy > m_best_energy &&
+        m_best.size() == t.size())
+    {
+        m_energy = t.setActions(m_best);
+        t.commitChange();
+    }
+    s.energy_after = t.empty() ? 0.0 : m_energy;
+    s.converged = m_consecutive_failures >= m_p.nc_max;
+}
+
+RectificationStats TrajectoryRectifier::rectify(Trajectory& t, const std::atomic<bool>* stop)
+{
+    RectificationStats s;
+    begin(t, s);
+    const auto t0 = std::chrono::steady_clock::now();
+    while (t.size() >= 2 && m_consecutive_failures < m_p.nc_max &&
+           (m_p.max_attempts == 0 || s.attempts < static_cast<std::size_t>(m_p.max_attempts)) &&
+           !(stop && stop->load(std::memory_order_relaxed)))
+    {
+        attempt(t, s);
+    }
+    finish(t, s);
+    s.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+    return s;
+}
+
+}  // namespace emslam::rectify

@@ -1,0 +1,158 @@
+// SPDX-License-Identifier: BSD-3-Clause
+#include "SimulatedDrive.h"
+
+#include <emslam/rectify/SerialRectification.h>
+#include <emslam/rectify/TrajectoryRectifier.h>
+#include <emslam/rectify/VerticalBand.h>
+
+#include <mrpt/config/CConfigFileMemory.h>
+
+#include <gtest/gtest.h>
+
+#include <TestHelpers.h>
+
+using namespace emslam;
+using namespace emslam::rectify;
+
+namespace
+{
+CEntropyVoxelMap::TCreationOptions planarMap()
+{
+    CEntropyVoxelMap::TCreationOptions map;
+    map.energy = maps::EnergyType::PlanarLowStructured;
+    map.dof = 3;
+    return map;
+}
+
+const std::vector<test::DrivenFrame>& hallStart()
+{
+    static const auto frames = []
+    {
+        test::DriveOptions o;
+        o.max_frames = 300;  // around the first corner of the hall
+        return test::driveWorld("config/sim/hall_double_loop.ini", o);
+    }();
+    return frames;
+}
+
+Trajectory drifted(const std::vector<test::DrivenFrame>& frames)
+{
+    Trajectory t(planarMap());
+    for (const auto& f : frames)
+    {
+        t.append(
+            f.action_drifted, keepVerticalBand(f.cloud, -1.5, 0.8), f.timestamp, f.frame_index);
+        if (t.size() > 60)
+            t.compress();
+    }
+    return t;
+}
+}  // namespace
+
+TEST(TrajectoryRectifier, bestEnergyNeverIncreasesAndStopsAfterNcMaxFailures)
+{
+    Trajectory t = drifted(hallStart());
+    TRectifierOptions opt;
+    opt.eps_xyz = 0.01;
+    opt.eps_rot_deg = 0.5;
+    TrajectoryRectifier r(opt);
+    RectificationStats s;
+    r.begin(t, s);
+    double best = s.energy_before;
+    int consecutive = 0;
+    while (r.consecutiveFailures() < opt.nc_max && s.attempts < 5000)
+    {
+        const bool ok = r.attempt(t, s);
+        consecutive = ok ? 0 : consecutive + 1;
+        ASSERT_EQ(r.consecutiveFailures(), consecutive);
+        ASSERT_LE(s.energy_after, best + 1e-12);
+        best = s.energy_after;
+    }
+    r.finish(t, s);
+    EXPECT_TRUE(s.converged);
+    EXPECT_EQ(s.attempts, s.successes + s.failures);
+    EXPECT_GT(s.successes, 0u);
+    EXPECT_LT(s.energy_after, s.energy_before);
+    EXPECT_NEAR(t.recomputeEnergy(), s.energy_after, 1e-9);
+}
+
+TEST(TrajectoryRectifier, paperRatioRuleKeepsTheBestStateSeen)
+{
+    Trajectory t = drifted(hallStart());
+    TRectifierOptions opt;
+    opt.acceptance = Acceptance::Ratio;  // the paper's rule
+    opt.max_attempts = 300;
+    TrajectoryRectifier r(opt);
+    const RectificationStats s = r.rectify(t);
+    EXPECT_EQ(s.attempts, s.successes + s.failures);
+    EXPECT_GT(s.accepted_worse, 0u);  // p = E_old / E_try is close to 1
+    EXPECT_LE(s.energy_after, s.energy_before);
+    EXPECT_NEAR(t.recomputeEnergy(), s.energy_after, 1e-9);  // the best state is restored
+}
+
+TEST(TrajectoryRectifier, sameSeedSameResult)
+{
+    TRectifierOptions opt;
+    opt.seed = 42;
+    opt.vertical_band = true;
+    const auto run = [&]
+    {
+        SerialRectification slam(opt, planarMap());
+        for (const auto& f : hallStart())
+        {
+            slam.addFrame(f.action_drifted, f.cloud, f.timestamp, f.frame_index);
+        }
+        slam.finish();
+        return std::make_pair(slam.framePoses(), slam.statistics());
+    };
+    const auto [poses_a, stats_a] = run();
+    const auto [poses_b, stats_b] = run();
+    ASSERT_EQ(poses_a.size(), poses_b.size());
+    ASSERT_EQ(stats_a.size(), stats_b.size());
+    for (std::size_t i = 0; i < stats_a.size(); ++i)
+    {
+        EXPECT_EQ(stats_a[i].attempts, stats_b[i].attempts);
+        EXPECT_EQ(stats_a[i].energy_after, stats_b[i].energy_after);
+    }
+    for (std::size_t i = 0; i < poses_a.size(); ++i)
+    {
+        ASSERT_EQ(poses_a[i].T_world_frame.asString(), poses_b[i].T_world_frame.asString());
+    }
+    // A different seed takes a different path.
+    opt.seed = 43;
+    const auto [poses_c, stats_c] = run();
+    EXPECT_NE(poses_a.back().T_world_frame.asString(), poses_c.back().T_world_frame.asString());
+}
+
+TEST(TrajectoryRectifier, optionsRoundTripAndRejectBadValues)
+{
+    TRectifierOptions o;
+    o.eps_xyz = 0.02;
+    o.mode = RectificationMode::AnyTime;
+    o.acceptance = Acceptance::Greedy;
+    o.seed = 1234567890123ULL;
+    mrpt::config::CConfigFileMemory out;
+    o.saveToConfigFile(out, "Rectifier");
+    mrpt::config::CConfigFileMemory in(out.getContent());
+    TRectifierOptions back;
+    back.loadFromConfigFile(in, "Rectifier");
+    EXPECT_DOUBLE_EQ(back.eps_xyz, 0.02);
+    EXPECT_EQ(back.mode, RectificationMode::AnyTime);
+    EXPECT_EQ(back.acceptance, Acceptance::Greedy);
+    EXPECT_EQ(back.seed, 1234567890123ULL);
+    EXPECT_EQ(back.nc_max, 50);
+
+    const auto load = [](const std::string& kv)
+    {
+        mrpt::config::CConfigFileMemory c("[Rectifier]\n" + kv + "\n");
+        TRectifierOptions p;
+        p.loadFromConfigFile(c, "Rectifier");
+    };
+    test::expectThrowContaining([&] { load("mode = parallel"); }, {"[Rectifier] mode"});
+    test::expectThrowContaining([&] { load("acceptance = maybe"); }, {"ratio, greedy"});
+    test::expectThrowContaining([&] { load("select_fraction = 0"); }, {"select_fraction"});
+    test::expectThrowContaining([&] { load("nc_max = 0"); }, {"nc_max"});
+    test::expectThrowContaining([&] { load("n_max = 2"); }, {"n_max"});
+    test::expectThrowContaining([&] { load("eps_rot_deg = -1"); }, {"eps_rot_deg"});
+    test::expectThrowContaining([&] { load("seed = -3"); }, {"seed"});
+}

@@ -1,0 +1,138 @@
+// SPDX-License-Identifier: BSD-3-Clause
+#include <emslam/rectify/Action.h>
+#include <emslam/rectify/Trajectory.h>
+
+#include <mrpt/core/bits_math.h>
+
+#include <gtest/gtest.h>
+
+#include <random>
+
+using namespace emslam;
+using namespace emslam::rectify;
+using mrpt::poses::CPose3D;
+
+namespace
+{
+/** A random blob of points around (0, 0, 3) in the camera frame. */
+maps::WeightedPointCloud blob(std::uint64_t seed, std::size_t n = 400)
+{
+    std::mt19937_64 rng(seed);
+    std::uniform_real_distribution<float> u(-2.f, 2.f);
+    maps::WeightedPointCloud c;
+    for (std::size_t i = 0; i < n; ++i)
+    {
+        c.push_back({u(rng), u(rng), 3.f + u(rng)}, 1.f);
+    }
+    return c;
+}
+
+CEntropyVoxelMap::TCreationOptions mapOptions(maps::EnergyType e)
+{
+    CEntropyVoxelMap::TCreationOptions o;
+    o.energy = e;
+    o.dof = maps::energyDof(e);
+    return o;
+}
+
+double maxPoseDiff(const CPose3D& a, const CPose3D& b)
+{
+    double d = (a.translation() - b.translation()).norm();
+    const auto& A = a.getRotationMatrix();
+    const auto& B = b.getRotationMatrix();
+    for (int r = 0; r < 3; ++r)
+        for (int c = 0; c < 3; ++c)
+            d = std::max(d, std::abs(A(r, c) - B(r, c)));
+    return d;
+}
+}  // namespace
+
+TEST(Trajectory, posesAreTheCompositionOfTheActions)
+{
+    Trajectory t(mapOptions(maps::EnergyType::Unstructured));
+    const CPose3D a1(0.3, 0.0, 0.5, mrpt::DEG2RAD(10.0), 0, 0);
+    const CPose3D a2(0.1, 0.05, 0.4, 0, mrpt::DEG2RAD(-4.0), mrpt::DEG2RAD(2.0));
+    t.append(CPose3D(), blob(1), 0.0, 0);
+    t.append(a1, blob(2), 0.1, 1);
+    t.append(a2, blob(3), 0.2, 2);
+    ASSERT_EQ(t.size(), 3u);
+    EXPECT_LT(maxPoseDiff(t.pose(2), a1 + a2), 1e-12);
+    EXPECT_LT(maxPoseDiff(t.map().observationPose(1), a1), 1e-12);
+    EXPECT_EQ(t.frameCount(), 3u);
+    EXPECT_EQ(t.framePoses()[2].frame_index, 2u);
+    EXPECT_DOUBLE_EQ(t.framePoses()[1].timestamp, 0.1);
+}
+
+TEST(Trajectory, changingAnActionMovesOnlyTheLaterSegment)
+{
+    Trajectory t(mapOptions(maps::EnergyType::Structured));
+    for (int i = 0; i < 6; ++i)
+    {
+        t.append(i == 0 ? CPose3D() : CPose3D(0.2, 0, 0.3, 0.05, 0, 0), blob(10 + i), i, i);
+    }
+    const std::vector<CPose3D> before = {t.pose(0), t.pose(1), t.pose(2)};
+    const CPose3D new_a3 = perturbAction(t.action(3), {0.05, -0.02, 0.03, 0.01, 0.02, -0.03});
+    const double e = t.changeActions({{3, new_a3}});
+    for (int i = 0; i < 3; ++i)
+    {
+        EXPECT_LT(maxPoseDiff(t.pose(i), before[i]), 1e-15) << i;
+    }
+    EXPECT_LT(maxPoseDiff(t.pose(5), t.pose(2) + new_a3 + t.action(4) + t.action(5)), 1e-12);
+    // The incremental energy equals a from-scratch evaluation at the new poses.
+    const auto scratch = t.map().computeEntropiesFromScratch();
+    EXPECT_NEAR(e, maps::energyFromTerms(maps::EnergyType::Structured, scratch), 1e-9);
+
+    // Reverting restores the actions, poses and energy.
+    const double e_back = t.revertLastChange();
+    EXPECT_LT(maxPoseDiff(t.pose(5), before[2] + t.action(3) + t.action(4) + t.action(5)), 1e-12);
+    EXPECT_NEAR(e_back, t.recomputeEnergy(), 1e-9);
+    EXPECT_FALSE(t.canRevert());
+    EXPECT_THROW(t.revertLastChange(), std::logic_error);
+    EXPECT_THROW(t.changeActions({{6, CPose3D()}}), std::out_of_range);
+}
+
+TEST(Trajectory, planarEnergiesKeepActionsPlanar)
+{
+    Trajectory t(mapOptions(maps::EnergyType::PlanarLowStructured));
+    ASSERT_EQ(t.dof(), 3);
+    t.append(CPose3D(), blob(1), 0, 0);
+    // A 6DOF action: y, pitch and roll components are dropped.
+    t.append(
+        CPose3D(0.4, 0.1, 0.2, mrpt::DEG2RAD(3.0), mrpt::DEG2RAD(20.0), mrpt::DEG2RAD(2.0)),
+        blob(2), 1, 1);
+    const CPose3D& a = t.action(1);
+    EXPECT_NEAR(a.x(), 0.4, 1e-12);
+    EXPECT_NEAR(a.y(), 0.0, 1e-12);
+    EXPECT_NEAR(a.z(), 0.2, 1e-12);
+    const auto& R = a.getRotationMatrix();
+    EXPECT_NEAR(R(1, 1), 1.0, 1e-12);  // a pure rotation about the vertical y axis
+    EXPECT_NEAR(R(0, 1), 0.0, 1e-12);
+    EXPECT_NEAR(R(1, 0), 0.0, 1e-12);
+    // MRPT's pitch is the rotation about y.
+    EXPECT_NEAR(std::atan2(R(0, 2), R(0, 0)), mrpt::DEG2RAD(20.0), mrpt::DEG2RAD(1.5));
+
+    // A 3DOF perturbation keeps it planar.
+    t.changeActions({{1, perturbAction(a, {0.05, 0, -0.05, 0, 0.03, 0})}});
+    EXPECT_NEAR(t.pose(1).y(), 0.0, 1e-12);
+    EXPECT_NEAR(t.pose(1).getRotationMatrix()(1, 1), 1.0, 1e-12);
+}
+
+TEST(Trajectory, actionsAfterCompressionStartAtTheLastFrame)
+{
+    Trajectory t(mapOptions(maps::EnergyType::Unstructured));
+    const CPose3D step(0.2, 0, 0.3, 0.1, 0, 0);
+    for (int i = 0; i < 5; ++i)
+    {
+        t.append(i == 0 ? CPose3D() : step, blob(20 + i), i, i);
+    }
+    t.compress();
+    ASSERT_EQ(t.size(), 3u);
+    t.append(step, blob(30), 5, 5);
+    // Frame 5 is one step after frame 4, wherever frame 4 sits in its element.
+    CPose3D expected;
+    for (int i = 0; i < 5; ++i)
+        expected = expected + step;
+    const auto poses = t.framePoses();
+    ASSERT_EQ(poses.size(), 6u);
+    EXPECT_LT(maxPoseDiff(poses[5].T_world_frame, expected), 1e-9);
+}
