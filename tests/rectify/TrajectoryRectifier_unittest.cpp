@@ -2,13 +2,16 @@
 #include "SimulatedDrive.h"
 
 #include <emslam/rectify/SerialRectification.h>
+#include <emslam/rectify/SpaceSampler.h>
 #include <emslam/rectify/TrajectoryRectifier.h>
 #include <emslam/rectify/VerticalBand.h>
 
 #include <mrpt/config/CConfigFileMemory.h>
+#include <mrpt/io/vector_loadsave.h>
 
 #include <gtest/gtest.h>
 
+#include <TestData.h>
 #include <TestHelpers.h>
 
 using namespace emslam;
@@ -155,4 +158,24 @@ TEST(TrajectoryRectifier, optionsRoundTripAndRejectBadValues)
     test::expectThrowContaining([&] { load("n_max = 2"); }, {"n_max"});
     test::expectThrowContaining([&] { load("eps_rot_deg = -1"); }, {"eps_rot_deg"});
     test::expectThrowContaining([&] { load("seed = -3"); }, {"seed"});
+}
+
+TEST(TrajectoryRectifier, shippedConfigLoadsWithThePaperDefaults)
+{
+    mrpt::config::CConfigFileMemory c(
+        mrpt::io::file_get_contents(test::sourceDir() + "/config/rectify/rectifier.ini"));
+    TRectifierOptions o;
+    o.loadFromConfigFile(c, "Rectifier");
+    EXPECT_DOUBLE_EQ(o.eps_xyz, 0.05);
+    EXPECT_DOUBLE_EQ(o.eps_rot_deg, 3.0);
+    EXPECT_DOUBLE_EQ(o.select_fraction, 0.10);
+    EXPECT_EQ(o.nc_max, 50);
+    EXPECT_EQ(o.rectify_every, 25);
+    EXPECT_EQ(o.buffer_size, 10);
+    EXPECT_EQ(o.n_max, 60);
+    EXPECT_EQ(o.mode, RectificationMode::Serial);
+    SpaceSampler::TParameters sp;
+    sp.loadFromConfigFile(c, "SpaceSampling");
+    EXPECT_DOUBLE_EQ(sp.t_min, 0.15);
+    EXPECT_DOUBLE_EQ(sp.theta_min_deg, 5.0);
 }
