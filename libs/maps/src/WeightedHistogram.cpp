@@ -288,54 +288,14 @@ void WeightedHistogram::addDeferredMany(const Update* updates, std::size_t n)
     }
 }
 
-void WeightedHistogram::addMany(const Update* updates, std::size_t n)
+template <bool kIntegral>
+void WeightedHistogram::addManyImpl(const Update* updates, std::size_t n)
 {
     ASSERTMSG_(!m_in_batch, "WeightedHistogram::addMany() inside a batch");
     constexpr std::size_t AHEAD = 12;
     // Until the table must grow, sums in locals (see addDeferredMany()); the
     // same operations in the same order as add(), so S and W are bit-identical.
-    const std::size_t capacity = m_slots.size();
-    Slot* const slots = m_slots.data();
-    const std::size_t mask = m_mask;
-    const unsigned shift = m_shift;
-    std::size_t used = m_used;
-    std::size_t occupied = m_occupied;
-    double total = m_total;
-    double sum = m_sum_wlogw;
-    std::size_t i = 0;
-    for (; i < n && 2 * (used + 1) <= capacity; i++)
-    {
-        if (i + AHEAD < n)
-        {
-            __builtin_prefetch(&slots[hashSlot(updates[i + AHEAD].key, shift)], 1);
-        }
-        const std::uint64_t key = updates[i].key;
-        const double w = updates[i].w;
-        const std::size_t j = probeOrInsert(slots, mask, shift, key, used);
-        Slot& sl = slots[j];
-        const double old_w = sl.w;
-        sl.w = cleanResidue(old_w + w, old_w, w);
-        total += w;
-        const double new_wlogw = wLogW(sl.w);
-        sum += new_wlogw - sl.wlogw;
-        sl.wlogw = new_wlogw;
-        occupied = occupied + (sl.w > 0 ? 1 : 0) - (old_w > 0 ? 1 : 0);
-    }
-    m_used = used;
-    m_occupied = occupied;
-    m_total = total;
-    m_sum_wlogw = sum;
-    for (; i < n; i++)
-    {  // the table may grow: the general per-update form
-        add(updates[i].key, updates[i].w);
-    }
-}
-
-void WeightedHistogram::addManyIntegral(const Update* updates, std::size_t n)
-{
-    ASSERTMSG_(!m_in_batch, "WeightedHistogram::addManyIntegral() inside a batch");
-    constexpr std::size_t AHEAD = 12;
-    // addMany() without cleanResidue(): integer sums are exact.
+    // Integer weights sum exactly: no residue clean-up, integer w log w.
     const std::size_t capacity = m_slots.size();
     Slot* const slots = m_slots.data();
     const std::size_t mask = m_mask;
@@ -354,9 +314,18 @@ void WeightedHistogram::addManyIntegral(const Update* updates, std::size_t n)
         const double w = updates[i].w;
         Slot& sl = slots[probeOrInsert(slots, mask, shift, updates[i].key, used)];
         const double old_w = sl.w;
-        sl.w = old_w + w;
+        double new_wlogw = 0;
+        if constexpr (kIntegral)
+        {
+            sl.w = old_w + w;
+            new_wlogw = integralWLogW(sl.w);
+        }
+        else
+        {
+            sl.w = cleanResidue(old_w + w, old_w, w);
+            new_wlogw = wLogW(sl.w);
+        }
         total += w;
-        const double new_wlogw = integralWLogW(sl.w);
         sum += new_wlogw - sl.wlogw;
         sl.wlogw = new_wlogw;
         occupied = occupied + (sl.w > 0 ? 1 : 0) - (old_w > 0 ? 1 : 0);
@@ -369,6 +338,16 @@ void WeightedHistogram::addManyIntegral(const Update* updates, std::size_t n)
     {  // the table may grow: the general per-update form
         add(updates[i].key, updates[i].w);
     }
+}
+
+void WeightedHistogram::addMany(const Update* updates, std::size_t n)
+{
+    addManyImpl<false>(updates, n);
+}
+
+void WeightedHistogram::addManyIntegral(const Update* updates, std::size_t n)
+{
+    addManyImpl<true>(updates, n);
 }
 
 void WeightedHistogram::accumulateMany(const Update* updates, std::size_t n)

@@ -210,6 +210,9 @@ public:
     }
 
 private:
+    /** addMany() (kIntegral = false) and addManyIntegral() (true). */
+    template <bool kIntegral>
+    void addManyImpl(const Update* updates, std::size_t n);
     static constexpr std::uint64_t EMPTY_KEY = ~std::uint64_t{0};
     static constexpr std::size_t WLOGW_TABLE_SIZE = std::size_t{1} << 14;
     static const double* wlogwTable();
