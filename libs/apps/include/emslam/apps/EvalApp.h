@@ -1,0 +1,46 @@
+// SPDX-License-Identifier: BSD-3-Clause
+#pragma once
+
+#include <emslam/apps/TrajectoryMetrics.h>
+
+#include <string>
+
+namespace emslam::apps
+{
+/** `emslam-eval`: measures an estimated trajectory against ground truth, both
+ * in TUM format (see TrajectoryMetrics): ATE RMSE after alignment, KITTI
+ * translational / rotational drift, end-point error, loop gap, path length,
+ * matched poses. Prints them and optionally writes them as JSON.
+ *
+ * \code
+ * emslam-eval --gt GT.tum --est EST.tum [--align se3|sim3|none] [--json OUT.json]
+ *   [--max-dt SECONDS] [--segment-step N]
+ * \endcode
+ * It has no INI parameters. \ingroup emslam_apps_grp \sa TrajectoryMetrics */
+class EvalApp
+{
+public:
+    /** Parses the command line. Throws on bad arguments (including an unknown
+     * --align value or a non-positive --max-dt). After `--help` or
+     * `--version`, helpRequested() is true and run() does nothing. */
+    void initialize(int argc, const char** argv);
+    void initialize(int argc, char** argv) { initialize(argc, const_cast<const char**>(argv)); }
+    /** Reads both trajectories, computes and prints the metrics, writes the
+     * JSON file. Throws with a message naming the file and the cause on a
+     * missing, unreadable or empty trajectory, or when no timestamps match. */
+    void run();
+
+    bool helpRequested() const { return m_help_requested; }
+
+    /** Options of the evaluation; tests may edit them between initialize() and run(). */
+    TrajectoryMetrics::Options options;
+
+    // ---- Result of run() ----
+    TrajectoryMetrics metrics;
+
+private:
+    bool m_help_requested{false};
+    std::string m_gt, m_est, m_json;
+};
+
+}  // namespace emslam::apps

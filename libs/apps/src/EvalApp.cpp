@@ -1,0 +1,173 @@
+// SPDX-License-Identifier: BSD-3-Clause
+#include <emslam/apps/CommandLine.h>
+#include <emslam/apps/EvalApp.h>
+#include <emslam/stereo/ExceptionMessage.h>
+
+#include <cmath>
+#include <cstdio>
+#include <filesystem>
+#include <fstream>
+#include <stdexcept>
+
+namespace emslam::apps
+{
+namespace
+{
+/** Loads a TUM file, with a message that says which input (`what`) failed and why. */
+emslam::stereo::TumTrajectory loadTrajectory(const std::string& file, const std::string& what)
+{
+    namespace fs = std::filesystem;
+    std::error_code ec;
+    if (!fs::exists(file, ec))
+    {
+        throw std::runtime_error(what + " file '" + file + "' does not exist");
+    }
+    if (fs::is_directory(file, ec))
+    {
+        throw std::runtime_error(what + " file '" + file + "' is a directory");
+    }
+    emslam::stereo::TumTrajectory t;
+    try
+    {
+        t.loadFromFile(file);
+    }
+    catch (const std::exception& e)
+    {
+        // The reader's message names the file and line; say which input it was.
+        throw std::runtime_error(
+            "cannot read " + what + ": " + emslam::stereo::shortExceptionMessage(e));
+    }
+    if (t.empty())
+    {
+        throw std::runtime_error(what + " file '" + file + "' has no poses");
+    }
+    return t;
+}
+
+/** "%.3f" or "n/a" for NaN (no drift segment fits). */
+std::string fmt(double v, const char* f = "%.4f")
+{
+    if (!std::isfinite(v))
+    {
+        return "n/a";
+    }
+    char buf[64];
+    std::snprintf(buf, sizeof(buf), f, v);
+    return buf;
+}
+}  // namespace
+
+void EvalApp::initialize(int argc, const char** argv)
+{
+    TCLAP::CmdLine cmd(
+        "emslam-eval: an estimated trajectory against ground truth (both TUM: t tx ty tz qx qy "
+        "qz qw): ATE RMSE after alignment, KITTI drift, end-point error, loop gap, path length.",
+        ' ', "0.1");
+    // Not TCLAP-required: its "required arguments missing" message names none.
+    TCLAP::ValueArg<std::string> gt(
+        "", "gt", "(required) Ground-truth trajectory (TUM)", false, "", "FILE", cmd);
+    TCLAP::ValueArg<std::string> est(
+        "", "est", "(required) Estimated trajectory (TUM)", false, "", "FILE", cmd);
+    TCLAP::ValueArg<std::string> align(
+        "", "align", "Alignment before the ATE: se3 (rigid), sim3 (with scale) or none", false,
+        "se3", "se3|sim3|none", cmd);
+    TCLAP::ValueArg<std::string> json(
+        "", "json", "Also write the metrics to this JSON file", false, "", "FILE", cmd);
+    TCLAP::ValueArg<double> max_dt(
+        "", "max-dt", "Largest time difference of an associated pose pair [s]", false,
+        options.max_dt, "SECONDS", cmd);
+    TCLAP::ValueArg<std::size_t> step(
+        "", "segment-step", "Drift segments start every N matched poses", false,
+        options.segment_step, "N", cmd);
+
+    if (!parseCommandLine(cmd, argc, argv))
+    {
+        m_help_requested = true;
+        return;
+    }
+    for (auto* a : {&gt, &est})
+    {
+        if (a->getValue().empty())
+        {
+            throw std::invalid_argument(
+                "missing --" + a->getName() + " FILE; try emslam-eval --help");
+        }
+    }
+    m_gt = gt.getValue();
+    m_est = est.getValue();
+    m_json = json.getValue();
+    try
+    {
+        options.alignment = parseAlignment(align.getValue());
+    }
+    catch (const std::invalid_argument&)
+    {
+        throw std::invalid_argument(
+            "bad --align value '" + align.getValue() + "': expected se3, sim3 or none");
+    }
+    options.max_dt = max_dt.getValue();
+    if (!(options.max_dt > 0) || !std::isfinite(options.max_dt))
+    {
+        throw std::invalid_argument("--max-dt must be a positive number of seconds");
+    }
+    if (step.getValue() == 0)
+    {
+        throw std::invalid_argument("--segment-step must be at least 1");
+    }
+    options.segment_step = step.getValue();
+}
+
+void EvalApp::run()
+{
+    if (m_help_requested)
+    {
+        return;
+    }
+    const auto gt = loadTrajectory(m_gt, "ground-truth");
+    const auto est = loadTrajectory(m_est, "estimate");
+    try
+    {
+        metrics = TrajectoryMetrics::compute(gt, est, options);
+    }
+    catch (const std::runtime_error& e)
+    {
+        throw std::runtime_error(
+            std::string(e.what()) + "; ground truth '" + m_gt + "', estimate '" + m_est + "'");
+    }
+    const auto& m = metrics;
+    std::string lengths = "none";
+    if (!m.rel.lengths_m.empty())
+    {
+        lengths = fmt(m.rel.lengths_m.front(), "%.1f") + ".." +
+                  fmt(m.rel.lengths_m.back(), "%.1f") + " m";
+    }
+    std::printf(
+        "matched poses      %zu (ground truth %zu, estimate %zu, max dt %g s)\n"
+        "alignment          %s (scale %.6f)\n"
+        "ATE RMSE           %s m\n"
+        "t_rel              %s %%\n"
+        "r_rel              %s deg/m\n"
+        "drift segments     %zu (lengths %s, every %zu poses)\n"
+        "end-point error    %s m\n"
+        "loop gap           %s m (first to last estimated pose)\n"
+        "path length        %s m (ground truth; estimate %s m)\n",
+        m.matched_poses, m.gt_poses, m.est_poses, options.max_dt,
+        alignmentName(m.alignment).c_str(), m.align.scale, fmt(m.ate_rmse_m).c_str(),
+        fmt(m.rel.t_rel_percent, "%.3f").c_str(), fmt(m.rel.r_rel_deg_per_m, "%.5f").c_str(),
+        m.rel.segments, lengths.c_str(), options.segment_step, fmt(m.end_error_m).c_str(),
+        fmt(m.loop_gap_m).c_str(), fmt(m.path_length_m, "%.3f").c_str(),
+        fmt(m.est_path_length_m, "%.3f").c_str());
+    if (!m_json.empty())
+    {
+        std::ofstream f(m_json, std::ios::out | std::ios::trunc);
+        f << m.toJson();
+        f.flush();
+        if (!f.good())
+        {
+            throw std::runtime_error("cannot write JSON file '" + m_json + "'");
+        }
+        std::printf("metrics written to '%s'\n", m_json.c_str());
+    }
+}
+
+}  // namespace emslam::apps

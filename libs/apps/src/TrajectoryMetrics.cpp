@@ -1,0 +1,366 @@
+// SPDX-License-Identifier: BSD-3-Clause
+#include <emslam/apps/TrajectoryMetrics.h>
+
+#include <mrpt/math/CMatrixFixed.h>
+
+#include <Eigen/Dense>
+#include <algorithm>
+#include <charconv>
+#include <cmath>
+#include <limits>
+#include <numeric>
+#include <sstream>
+#include <stdexcept>
+#include <tuple>
+
+namespace emslam::apps
+{
+namespace
+{
+constexpr double UNDEFINED = std::numeric_limits<double>::quiet_NaN();
+/** The KITTI devkit's segment lengths [m], used on paths of at least the first one. */
+constexpr double KITTI_LENGTHS[] = {100, 200, 300, 400, 500, 600, 700, 800};
+/** Fractions of the path used as segment lengths on shorter paths. */
+constexpr double SHORT_FRACTIONS[] = {0.1, 0.2, 0.3, 0.4, 0.5};
+
+/** Indices of `traj` sorted by time (stable: equal stamps keep file order). */
+std::vector<std::size_t> timeOrder(const emslam::stereo::TumTrajectory& traj)
+{
+    std::vector<std::size_t> idx(traj.size());
+    std::iota(idx.begin(), idx.end(), std::size_t{0});
+    std::stable_sort(
+        idx.begin(), idx.end(),
+        [&](std::size_t a, std::size_t b) { return traj.poses[a].t < traj.poses[b].t; });
+    return idx;
+}
+
+/** Rotation angle of `T` [rad]; atan2 keeps precision at small angles, where
+ * the devkit's acos((trace - 1) / 2) loses half the digits. */
+double rotationAngle(const mrpt::poses::CPose3D& T)
+{
+    const auto R = T.getRotationMatrix();
+    const double c = 0.5 * (R(0, 0) + R(1, 1) + R(2, 2) - 1.0);
+    const double sx = R(2, 1) - R(1, 2), sy = R(0, 2) - R(2, 0), sz = R(1, 0) - R(0, 1);
+    const double s = 0.5 * std::sqrt(sx * sx + sy * sy + sz * sz);
+    return std::atan2(s, c);
+}
+
+/** Shortest decimal text that reads back to the same double; null for NaN/inf. */
+std::string jsonNumber(double v)
+{
+    if (!std::isfinite(v))
+    {
+        return "null";
+    }
+    char buf[64];
+    const auto res = std::to_chars(buf, buf + sizeof(buf), v);
+    return std::string(buf, res.ptr);
+}
+}  // namespace
+
+Alignment parseAlignment(const std::string& s)
+{
+    std::string l = s;
+    std::transform(
+        l.begin(), l.end(), l.begin(),
+        [](unsigned char c) { return static_cast<char>(std::tolower(c)); });
+    if (l == "none")
+    {
+        return Alignment::None;
+    }
+    if (l == "se3")
+    {
+        return Alignment::SE3;
+    }
+    if (l == "sim3")
+    {
+        return Alignment::Sim3;
+    }
+    throw std::invalid_argument("unknown alignment '" + s + "' (expected se3, sim3 or none)");
+}
+
+std::string alignmentName(Alignment a)
+{
+    switch (a)
+    {
+        case Alignment::None:
+            return "none";
+        case Alignment::SE3:
+            return "se3";
+        case Alignment::Sim3:
+            return "sim3";
+    }
+    return "?";
+}
+
+AssociatedPoses associateByTimestamp(
+    const emslam::stereo::TumTrajectory& gt,
+    const emslam::stereo::TumTrajectory& est,
+    double max_dt)
+{
+    const auto og = timeOrder(gt);
+    // Candidate pairs (|dt|, i_est, i_gt): for each estimated pose, every
+    // ground-truth pose within max_dt (a window found by binary search).
+    std::vector<std::tuple<double, std::size_t, std::size_t>> cand;
+    for (std::size_t e = 0; e < est.size(); ++e)
+    {
+        const double te = est.poses[e].t;
+        auto it = std::lower_bound(
+            og.begin(), og.end(), te - max_dt,
+            [&](std::size_t g, double t) { return gt.poses[g].t < t; });
+        for (; it != og.end() && gt.poses[*it].t <= te + max_dt; ++it)
+        {
+            cand.emplace_back(std::abs(gt.poses[*it].t - te), e, *it);
+        }
+    }
+    std::stable_sort(
+        cand.begin(), cand.end(),
+        [](const auto& a, const auto& b) { return std::get<0>(a) < std::get<0>(b); });
+    std::vector<bool> used_e(est.size(), false), used_g(gt.size(), false);
+    std::vector<std::pair<std::size_t, std::size_t>> pairs;
+    for (const auto& [dt, e, g] : cand)
+    {
+        if (!used_e[e] && !used_g[g])
+        {
+            used_e[e] = used_g[g] = true;
+            pairs.emplace_back(e, g);
+        }
+    }
+    std::sort(
+        pairs.begin(), pairs.end(),
+        [&](const auto& a, const auto& b) { return est.poses[a.first].t < est.poses[b.first].t; });
+    AssociatedPoses out;
+    for (const auto& [e, g] : pairs)
+    {
+        out.t_est.push_back(est.poses[e].t);
+        out.est.push_back(est.poses[e].pose);
+        out.t_gt.push_back(gt.poses[g].t);
+        out.gt.push_back(gt.poses[g].pose);
+    }
+    return out;
+}
+
+mrpt::poses::CPose3D SimilarityTransform::apply(const mrpt::poses::CPose3D& T_ref_body) const
+{
+    // Scale the position in the estimate's frame, then move it rigidly.
+    mrpt::poses::CPose3D scaled = T_ref_body;
+    scaled.x(scale * T_ref_body.x());
+    scaled.y(scale * T_ref_body.y());
+    scaled.z(scale * T_ref_body.z());
+    return T_gt_est + scaled;
+}
+
+SimilarityTransform alignPositions(
+    const std::vector<mrpt::poses::CPose3D>& gt,
+    const std::vector<mrpt::poses::CPose3D>& est,
+    Alignment mode)
+{
+    if (gt.size() != est.size() || gt.empty())
+    {
+        throw std::invalid_argument(
+            "alignPositions: need two equally long, non-empty position lists (got " +
+            std::to_string(gt.size()) + " and " + std::to_string(est.size()) + ")");
+    }
+    SimilarityTransform out;
+    if (mode == Alignment::None)
+    {
+        return out;
+    }
+    const auto n = static_cast<Eigen::Index>(gt.size());
+    Eigen::Matrix3Xd X(3, n), Y(3, n);
+    for (Eigen::Index i = 0; i < n; ++i)
+    {
+        const auto& e = est[static_cast<std::size_t>(i)];
+        const auto& g = gt[static_cast<std::size_t>(i)];
+        X.col(i) << e.x(), e.y(), e.z();
+        Y.col(i) << g.x(), g.y(), g.z();
+    }
+    const Eigen::Vector3d mx = X.rowwise().mean(), my = Y.rowwise().mean();
+    const Eigen::Matrix3Xd Xc = X.colwise() - mx, Yc = Y.colwise() - my;
+    const Eigen::Matrix3d sigma = Yc * Xc.transpose() / static_cast<double>(n);
+    const Eigen::JacobiSVD<Eigen::Matrix3d> svd(sigma, Eigen::ComputeFullU | Eigen::ComputeFullV);
+    Eigen::Vector3d d(1, 1, 1);
+    // A reflection would fit better on degenerate sets; force a rotation.
+    if (svd.matrixU().determinant() * svd.matrixV().determinant() < 0)
+    {
+        d(2) = -1;
+    }
+    const Eigen::Matrix3d R = svd.matrixU() * d.asDiagonal() * svd.matrixV().transpose();
+    const double var_x = Xc.squaredNorm() / static_cast<double>(n);
+    if (mode == Alignment::Sim3 && var_x > 1e-18)
+    {
+        out.scale = svd.singularValues().dot(d) / var_x;
+    }
+    const Eigen::Vector3d t = my - out.scale * R * mx;
+    mrpt::math::CMatrixDouble33 Rm;
+    for (int r = 0; r < 3; ++r)
+    {
+        for (int c = 0; c < 3; ++c)
+        {
+            Rm(r, c) = R(r, c);
+        }
+    }
+    out.T_gt_est.setRotationMatrix(Rm);
+    out.T_gt_est.x(t.x());
+    out.T_gt_est.y(t.y());
+    out.T_gt_est.z(t.z());
+    return out;
+}
+
+double pathLength(const std::vector<mrpt::poses::CPose3D>& poses)
+{
+    double len = 0;
+    for (std::size_t i = 1; i < poses.size(); ++i)
+    {
+        len += poses[i].distanceTo(poses[i - 1]);
+    }
+    return len;
+}
+
+RelativeErrors relativeErrors(
+    const std::vector<mrpt::poses::CPose3D>& gt,
+    const std::vector<mrpt::poses::CPose3D>& est,
+    std::size_t step)
+{
+    if (gt.size() != est.size())
+    {
+        throw std::invalid_argument("relativeErrors: trajectories of different lengths");
+    }
+    step = std::max<std::size_t>(step, 1);
+    // Distance along the ground-truth path at every pose (devkit's trajectoryDistances).
+    std::vector<double> dist(gt.size(), 0.0);
+    for (std::size_t i = 1; i < gt.size(); ++i)
+    {
+        dist[i] = dist[i - 1] + gt[i].distanceTo(gt[i - 1]);
+    }
+    RelativeErrors out;
+    const double total = dist.empty() ? 0.0 : dist.back();
+    if (total >= KITTI_LENGTHS[0])
+    {
+        out.lengths_m.assign(std::begin(KITTI_LENGTHS), std::end(KITTI_LENGTHS));
+    }
+    else if (total > 0)
+    {
+        for (const double f : SHORT_FRACTIONS)
+        {
+            out.lengths_m.push_back(f * total);
+        }
+    }
+    double sum_t = 0, sum_r = 0;
+    for (std::size_t first = 0; first < gt.size(); first += step)
+    {
+        for (const double len : out.lengths_m)
+        {
+            // The first pose strictly beyond `len` along the path, as the devkit.
+            const auto it = std::upper_bound(
+                dist.begin() + static_cast<std::ptrdiff_t>(first), dist.end(), dist[first] + len);
+            if (it == dist.end())
+            {
+                continue;
+            }
+            const auto last = static_cast<std::size_t>(it - dist.begin());
+            const mrpt::poses::CPose3D d_gt = gt[last] - gt[first];
+            const mrpt::poses::CPose3D d_est = est[last] - est[first];
+            const mrpt::poses::CPose3D err = d_gt - d_est;  // inv(d_est) * d_gt
+            sum_t += err.norm() / len;
+            sum_r += rotationAngle(err) / len;
+            ++out.segments;
+        }
+    }
+    if (out.segments == 0)
+    {
+        out.t_rel_percent = out.r_rel_deg_per_m = UNDEFINED;
+        return out;
+    }
+    const double n = static_cast<double>(out.segments);
+    out.t_rel_percent = 100.0 * sum_t / n;
+    out.r_rel_deg_per_m = (180.0 / M_PI) * sum_r / n;
+    return out;
+}
+
+TrajectoryMetrics TrajectoryMetrics::compute(
+    const emslam::stereo::TumTrajectory& gt,
+    const emslam::stereo::TumTrajectory& est,
+    const Options& opts)
+{
+    if (gt.empty())
+    {
+        throw std::runtime_error("the ground-truth trajectory has no poses");
+    }
+    if (est.empty())
+    {
+        throw std::runtime_error("the estimated trajectory has no poses");
+    }
+    TrajectoryMetrics m;
+    m.alignment = opts.alignment;
+    m.gt_poses = gt.size();
+    m.est_poses = est.size();
+    const AssociatedPoses a = associateByTimestamp(gt, est, opts.max_dt);
+    m.matched_poses = a.size();
+    if (a.size() == 0)
+    {
+        const auto span = [](const emslam::stereo::TumTrajectory& t)
+        {
+            const auto [lo, hi] = std::minmax_element(
+                t.poses.begin(), t.poses.end(),
+                [](const auto& p, const auto& q) { return p.t < q.t; });
+            std::ostringstream s;
+            s.precision(15);
+            s << "[" << lo->t << ", " << hi->t << "] s";
+            return s.str();
+        };
+        std::ostringstream s;
+        s << "no timestamp of the estimate matches the ground truth within max_dt = " << opts.max_dt
+          << " s (estimate " << span(est) << ", ground truth " << span(gt) << ")";
+        throw std::runtime_error(s.str());
+    }
+
+    m.align = alignPositions(a.gt, a.est, opts.alignment);
+    std::vector<mrpt::poses::CPose3D> aligned;
+    aligned.reserve(a.size());
+    double sq = 0;
+    for (std::size_t i = 0; i < a.size(); ++i)
+    {
+        aligned.push_back(m.align.apply(a.est[i]));
+        sq += aligned.back().sqrDistanceTo(a.gt[i]);
+    }
+    m.ate_rmse_m = std::sqrt(sq / static_cast<double>(a.size()));
+    m.rel = relativeErrors(a.gt, aligned, opts.segment_step);
+    // Anchor the estimate on the ground truth at the first pair: drift from the start.
+    const mrpt::poses::CPose3D d_est = aligned.back() - aligned.front();
+    m.end_error_m = (a.gt.front() + d_est).distanceTo(a.gt.back());
+    const auto oe = timeOrder(est);
+    m.loop_gap_m = m.align.scale * est.poses[oe.front()].pose.distanceTo(est.poses[oe.back()].pose);
+    m.path_length_m = pathLength(a.gt);
+    m.est_path_length_m = pathLength(aligned);
+    return m;
+}
+
+std::string TrajectoryMetrics::toJson() const
+{
+    std::string lengths;
+    for (const double l : rel.lengths_m)
+    {
+        lengths += (lengths.empty() ? "" : ", ") + jsonNumber(l);
+    }
+    std::ostringstream s;
+    s << "{\n"
+      << "  \"alignment\": \"" << alignmentName(alignment) << "\",\n"
+      << "  \"gt_poses\": " << gt_poses << ",\n"
+      << "  \"est_poses\": " << est_poses << ",\n"
+      << "  \"matched_poses\": " << matched_poses << ",\n"
+      << "  \"scale\": " << jsonNumber(align.scale) << ",\n"
+      << "  \"ate_rmse_m\": " << jsonNumber(ate_rmse_m) << ",\n"
+      << "  \"t_rel_percent\": " << jsonNumber(rel.t_rel_percent) << ",\n"
+      << "  \"r_rel_deg_per_m\": " << jsonNumber(rel.r_rel_deg_per_m) << ",\n"
+      << "  \"segments\": " << rel.segments << ",\n"
+      << "  \"segment_lengths_m\": [" << lengths << "],\n"
+      << "  \"end_error_m\": " << jsonNumber(end_error_m) << ",\n"
+      << "  \"loop_gap_m\": " << jsonNumber(loop_gap_m) << ",\n"
+      << "  \"path_length_m\": " << jsonNumber(path_length_m) << ",\n"
+      << "  \"est_path_length_m\": " << jsonNumber(est_path_length_m) << "\n"
+      << "}\n";
+    return s.str();
+}
+
+}  // namespace emslam::apps

@@ -1,0 +1,212 @@
+// SPDX-License-Identifier: BSD-3-Clause
+#include "TestData.h"
+#include "TestHelpers.h"
+
+#include <emslam/apps/AppMain.h>
+#include <emslam/apps/EvalApp.h>
+#include <emslam/stereo/KittiSequence.h>
+#include <emslam/stereo/TumTrajectory.h>
+
+#include <gtest/gtest.h>
+
+#include <unistd.h>
+
+#include <cmath>
+#include <cstdlib>
+#include <filesystem>
+#include <fstream>
+#include <iterator>
+#include <string>
+#include <vector>
+
+using emslam::stereo::TumTrajectory;
+using mrpt::poses::CPose3D;
+
+namespace
+{
+struct EvalRun
+{
+    int exit_code;
+    std::string out, err;
+};
+
+/** Runs the whole emslam-eval main body (appMain) in-process: exit code and output. */
+EvalRun runEval(std::vector<std::string> args)
+{
+    args.insert(args.begin(), "emslam-eval");
+    std::vector<char*> argv;
+    argv.reserve(args.size());
+    for (auto& a : args)
+    {
+        argv.push_back(a.data());
+    }
+    testing::internal::CaptureStdout();
+    testing::internal::CaptureStderr();
+    const int rc = emslam::apps::appMain<emslam::apps::EvalApp>(
+        "emslam-eval", static_cast<int>(argv.size()), argv.data());
+    EvalRun r{rc, testing::internal::GetCapturedStdout(), testing::internal::GetCapturedStderr()};
+    return r;
+}
+
+/** The number after `"key": ` in a flat JSON object (NaN if absent or null). */
+double jsonValue(const std::string& json, const std::string& key)
+{
+    const auto pos = json.find("\"" + key + "\": ");
+    if (pos == std::string::npos || json.compare(pos + key.size() + 4, 4, "null") == 0)
+    {
+        return std::nan("");
+    }
+    return std::strtod(json.c_str() + pos + key.size() + 4, nullptr);
+}
+
+std::string readFile(const std::string& path)
+{
+    std::ifstream f(path);
+    return std::string(std::istreambuf_iterator<char>(f), {});
+}
+
+/** A 40 m line, one pose per metre at 10 Hz; `stretch` scales the positions. */
+TumTrajectory line(double stretch, double t_offset = 0.0)
+{
+    TumTrajectory t;
+    for (int i = 0; i <= 40; ++i)
+    {
+        t.add(1000.0 + 0.1 * i + t_offset, CPose3D(stretch * i, 0, 0, 0, 0, 0));
+    }
+    return t;
+}
+
+void expectFailure(const std::vector<std::string>& args, std::initializer_list<std::string> parts)
+{
+    const EvalRun r = runEval(args);
+    EXPECT_NE(r.exit_code, 0);
+    for (const auto& p : parts)
+    {
+        EXPECT_NE(r.err.find(p), std::string::npos) << "stderr lacks '" << p << "': " << r.err;
+    }
+}
+}  // namespace
+
+TEST(EvalApp, helpExitsZero)
+{
+    const EvalRun r = runEval({"--help"});
+    EXPECT_EQ(r.exit_code, 0);
+    EXPECT_NE(r.out.find("--align"), std::string::npos);
+}
+
+// A 2 % scale drift on a 40 m line, estimate stamps 5 ms late.
+TEST(EvalApp, writesJsonWithKnownValues)
+{
+    const std::string dir = emslam::test::makeTempDir("eval_app");
+    line(1.0).saveToFile(dir + "/gt.tum");
+    line(1.02, 0.005).saveToFile(dir + "/est.tum");
+    const EvalRun r =
+        runEval({"--gt", dir + "/gt.tum", "--est", dir + "/est.tum", "--json", dir + "/m.json"});
+    ASSERT_EQ(r.exit_code, 0) << r.err;
+    EXPECT_NE(r.out.find("ATE RMSE"), std::string::npos) << r.out;
+    const std::string json = readFile(dir + "/m.json");
+    EXPECT_EQ(jsonValue(json, "matched_poses"), 41.0) << json;
+    EXPECT_DOUBLE_EQ(jsonValue(json, "path_length_m"), 40.0);
+    EXPECT_NEAR(jsonValue(json, "loop_gap_m"), 40.8, 1e-9);
+    EXPECT_NEAR(jsonValue(json, "end_error_m"), 0.8, 1e-9);
+    // See TrajectoryMetrics.constantScaleDriftShortPath.
+    EXPECT_NEAR(jsonValue(json, "t_rel_percent"), 2.0 * 18.0375 / 16.0, 1e-9);
+    EXPECT_NEAR(jsonValue(json, "r_rel_deg_per_m"), 0.0, 1e-12);
+    // Rigid fit of x_gt = 1.02 x_est + c: residual RMSE = 0.02 * std(x) = 0.02 * sqrt(140).
+    EXPECT_NEAR(jsonValue(json, "ate_rmse_m"), 0.02 * std::sqrt(140.0), 1e-9);
+
+    const EvalRun sim = runEval(
+        {"--gt", dir + "/gt.tum", "--est", dir + "/est.tum", "--align", "sim3", "--json",
+         dir + "/s.json"});
+    ASSERT_EQ(sim.exit_code, 0) << sim.err;
+    const std::string sj = readFile(dir + "/s.json");
+    EXPECT_NEAR(jsonValue(sj, "scale"), 1.0 / 1.02, 1e-12);
+    EXPECT_LT(jsonValue(sj, "ate_rmse_m"), 1e-9);
+    EXPECT_LT(jsonValue(sj, "t_rel_percent"), 1e-9);
+}
+
+TEST(EvalApp, badInputFailsWithMessage)
+{
+    const std::string dir = emslam::test::makeTempDir("eval_app_bad");
+    const std::string gt = dir + "/gt.tum", est = dir + "/est.tum";
+    line(1.0).saveToFile(gt);
+    line(1.0).saveToFile(est);
+    emslam::test::writeFile(dir + "/empty.tum", "# no poses\n");
+    emslam::test::writeFile(dir + "/garbled.tum", "1000.0 1 2 3\n");
+    line(1.0, 60.0).saveToFile(dir + "/late.tum");
+
+    expectFailure({"--gt", dir + "/nope.tum", "--est", est}, {"ground-truth", "nope.tum", "exist"});
+    expectFailure({"--gt", gt, "--est", dir + "/nope.tum"}, {"estimate", "nope.tum", "exist"});
+    expectFailure({"--gt", gt, "--est", dir}, {"estimate", "directory"});
+    expectFailure({"--gt", gt, "--est", dir + "/garbled.tum"}, {"estimate", "garbled.tum:1"});
+    expectFailure({"--gt", dir + "/empty.tum", "--est", est}, {"ground-truth", "no poses"});
+    expectFailure({"--gt", gt, "--est", dir + "/empty.tum"}, {"estimate", "no poses"});
+    expectFailure({"--gt", gt, "--est", dir + "/late.tum"}, {"no timestamp", "late.tum"});
+    expectFailure({"--gt", gt, "--est", est, "--align", "affine"}, {"--align", "'affine'"});
+    expectFailure({"--gt", gt, "--est", est, "--max-dt", "0"}, {"--max-dt"});
+    expectFailure({"--est", est}, {"missing --gt"});
+    expectFailure({"--gt", gt}, {"missing --est"});
+    expectFailure({"--gt", gt, "--est", est, "--json", dir + "/no/such/dir/m.json"}, {"m.json"});
+    // Unreadable (permissions): root reads anyway, so only checked as a user.
+    if (::geteuid() != 0)
+    {
+        const std::string locked = dir + "/locked.tum";
+        line(1.0).saveToFile(locked);
+        std::filesystem::permissions(locked, std::filesystem::perms::none);
+        expectFailure({"--gt", gt, "--est", locked}, {"cannot read estimate", "locked.tum"});
+    }
+    // A wider tolerance lets the shifted estimate match.
+    EXPECT_EQ(runEval({"--gt", gt, "--est", dir + "/late.tum", "--max-dt", "61"}).exit_code, 0);
+}
+
+// KITTI 06 frames 0-50 (59.9 m): the ground truth against itself and against a
+// copy scaled by 1.01.
+TEST(EvalApp, kitti06GroundTruth)
+{
+    EMSLAM_REQUIRE_TEST_DATA(seq_dir, "kitti-odometry/sequences/06");
+    EMSLAM_REQUIRE_TEST_DATA(poses, "kitti-odometry/poses/06.txt");
+    const emslam::stereo::KittiSequence seq(seq_dir, poses);
+    TumTrajectory gt, est;
+    for (std::size_t i = 0; i < seq.size(); ++i)
+    {
+        const CPose3D& p = seq.groundTruth(i);
+        gt.add(seq.timestamp(i), p);
+        CPose3D s = p;
+        s.x(1.01 * p.x());
+        s.y(1.01 * p.y());
+        s.z(1.01 * p.z());
+        est.add(seq.timestamp(i), s);
+    }
+    const std::string dir = emslam::test::makeTempDir("eval_app_kitti");
+    gt.saveToFile(dir + "/gt.tum");
+    est.saveToFile(dir + "/est.tum");
+
+    ASSERT_EQ(
+        runEval({"--gt", dir + "/gt.tum", "--est", dir + "/gt.tum", "--json", dir + "/self.json"})
+            .exit_code,
+        0);
+    const std::string self = readFile(dir + "/self.json");
+    EXPECT_EQ(jsonValue(self, "matched_poses"), 51.0);
+    EXPECT_NEAR(jsonValue(self, "path_length_m"), 59.9, 0.05);
+    EXPECT_LT(jsonValue(self, "ate_rmse_m"), 1e-9);
+    EXPECT_LT(jsonValue(self, "t_rel_percent"), 1e-9);
+    // Straight drive: the loop gap is about the path length.
+    EXPECT_NEAR(jsonValue(self, "loop_gap_m"), 59.9, 1.0);
+
+    const EvalRun r = runEval(
+        {"--gt", dir + "/gt.tum", "--est", dir + "/est.tum", "--align", "sim3", "--json",
+         dir + "/sim.json"});
+    ASSERT_EQ(r.exit_code, 0) << r.err;
+    const std::string sim = readFile(dir + "/sim.json");
+    EXPECT_NEAR(jsonValue(sim, "scale"), 1.0 / 1.01, 1e-9);
+    EXPECT_LT(jsonValue(sim, "ate_rmse_m"), 1e-6);
+    ASSERT_EQ(
+        runEval({"--gt", dir + "/gt.tum", "--est", dir + "/est.tum", "--json", dir + "/se3.json"})
+            .exit_code,
+        0);
+    // 1 % longer steps: 1 % drift, a little more as segments end past their
+    // nominal length (frames are ~1.2 m apart, the shortest segment 6 m).
+    const double t_rel = jsonValue(readFile(dir + "/se3.json"), "t_rel_percent");
+    EXPECT_GE(t_rel, 1.0);
+    EXPECT_LT(t_rel, 1.25);
+}
