@@ -3,10 +3,12 @@
 
 #include <mrpt/system/filesystem.h>
 
+#include <algorithm>
 #include <fstream>
 #include <iterator>
 #include <memory>
 #include <stdexcept>
+#include <vector>
 
 namespace emslam::apps
 {
@@ -37,6 +39,17 @@ bool parseCommandLine(TCLAP::CmdLine& cmd, int argc, const char** argv)
     const bool run = cmd.parse(argc, argv);
     cmd.setOutput(nullptr);
     return run;
+}
+
+bool parseCommandLine(TCLAP::CmdLine& cmd, const char* program, int argc, const char** argv)
+{
+    std::vector<const char*> args(argv, argv + std::max(argc, 0));
+    if (args.empty())
+    {
+        args.push_back(program);
+    }
+    args[0] = program;
+    return parseCommandLine(cmd, static_cast<int>(args.size()), args.data());
 }
 
 void applyConfigOverrides(

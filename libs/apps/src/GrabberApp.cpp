@@ -462,13 +462,7 @@ void GrabberApp::initialize(int argc, const char** argv)
     TCLAP::SwitchArg arg_quiet("q", "quiet", "No status line or summary.", cmd, false);
 
     quit_requested = false;
-    std::vector<const char*> args(argv, argv + std::max(argc, 0));
-    if (args.empty())
-    {
-        args.push_back(PROGRAM);
-    }
-    args[0] = PROGRAM;
-    if (!parseCommandLine(cmd, static_cast<int>(args.size()), args.data()))
+    if (!parseCommandLine(cmd, PROGRAM, argc, argv))
     {
         quit_requested = true;
         return;

@@ -186,13 +186,7 @@ void ImportApp::initialize(int argc, const char** argv)
     m_initialized = false;
     quit_requested = false;
     // Usage shows the program name, not the path it was started from.
-    std::vector<const char*> args(argv, argv + std::max(argc, 0));
-    if (args.empty())
-    {
-        args.push_back(PROGRAM);
-    }
-    args[0] = PROGRAM;
-    if (!parseCommandLine(cmd, static_cast<int>(args.size()), args.data()))
+    if (!parseCommandLine(cmd, PROGRAM, argc, argv))
     {
         quit_requested = true;  // --help / --version: already printed
         return;

@@ -16,6 +16,11 @@ namespace emslam::apps
  * \ingroup emslam_apps_grp */
 bool parseCommandLine(TCLAP::CmdLine& cmd, int argc, const char** argv);
 
+/** Same, with argv[0] replaced by (or, if argc is 0, set to) `program`, so
+ * usage and error texts name the program as users type it, whatever path
+ * started it. \ingroup emslam_apps_grp */
+bool parseCommandLine(TCLAP::CmdLine& cmd, const char* program, int argc, const char** argv);
+
 /** Applies `--set Section.key=value` overrides to `cfg`. Throws
  * std::invalid_argument on a malformed item.
  * \ingroup emslam_apps_grp */
