@@ -11,10 +11,13 @@ fi
 
 export DEBIAN_FRONTEND=noninteractive
 $SUDO apt-get update -q
+# chromium: the MapperReport test renders report.html with it, headless
+# (the test is skipped without it).
 $SUDO apt-get install -y -q --no-install-recommends \
     build-essential cmake pkg-config ca-certificates \
     libmrpt-dev mrpt-apps mrpt-common \
     libopencv-dev opencv-doc libeigen3-dev \
     libusb-1.0-0-dev libdc1394-dev \
     libgtest-dev libgmock-dev libbenchmark-dev \
-    clang-format
+    clang-format \
+    chromium

@@ -3,6 +3,7 @@
 #include "TestHelpers.h"
 
 #include <emslam/apps/ImportApp.h>
+#include <emslam/stereo/KittiSequence.h>
 #include <emslam/stereo/TumTrajectory.h>
 
 #include <mrpt/core/Clock.h>
@@ -16,6 +17,7 @@
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
+#include <iostream>
 #include <opencv2/core.hpp>
 #include <opencv2/imgcodecs.hpp>
 #include <string>
@@ -104,6 +106,23 @@ std::string writeKitti(const std::string& root, int n)
     writeFile(dir + "/times.txt", times);
     writeFile(root + "/poses.txt", poses);
     return dir;
+}
+
+/** Observation timestamps [s] of a rawlog of stereo observations. */
+std::vector<double> stereoTimes(const std::vector<mrpt::serialization::CSerializable::Ptr>& objs)
+{
+    std::vector<double> t;
+    for (const auto& o : objs)
+    {
+        const auto obs = std::dynamic_pointer_cast<mrpt::obs::CObservationStereoImages>(o);
+        t.push_back(obs ? mrpt::Clock::toDouble(obs->timestamp) : -1.0);
+    }
+    return t;
+}
+
+bool equalImages(const cv::Mat& a, const cv::Mat& b)
+{
+    return a.size() == b.size() && a.type() == b.type() && cv::norm(a, b, cv::NORM_INF) == 0;
 }
 
 bool hasPartialFiles(const std::string& dir)
@@ -338,4 +357,141 @@ TEST(ImportApp, helpRequestsQuit)
     EXPECT_NE(text.find("--gt-out"), std::string::npos);
     EXPECT_NO_THROW(app.run());
     EXPECT_EQ(app.frames_written, 0U);
+}
+
+// The "pseudo-loop" of the KITTI 06 excerpt: forward on the even frames, back
+// on the odd ones; the last written frame (1) is ~1.2 m from the first (0).
+TEST(ImportApp, importsRealKittiPseudoLoopFrameList)
+{
+    EMSLAM_REQUIRE_TEST_DATA(seq, "kitti-odometry/sequences/06");
+    EMSLAM_REQUIRE_TEST_DATA(poses, "kitti-odometry/poses/06.txt");
+    const std::string out = emslam::test::makeTempDir("import_kitti_loop");
+    ImportApp app;
+    initApp(
+        app, {"kitti", seq, "--poses", poses, "-o", out + "/loop.rawlog", "--gt-out",
+              out + "/loop.tum", "--frames", "0:50:2,49:1:-2", "-q"});
+    ASSERT_EQ(app.frames.size(), 51U);
+    app.run();
+    EXPECT_TRUE(app.retimed);
+    EXPECT_EQ(app.frames_written, 51U);
+    EXPECT_EQ(app.poses_written, 51U);
+
+    const auto objs = readRawlog(out + "/loop.rawlog");
+    ASSERT_EQ(objs.size(), 51U);
+    const auto t = stereoTimes(objs);
+    const auto gt = emslam::stereo::TumTrajectory::fromFile(out + "/loop.tum");
+    ASSERT_EQ(gt.size(), 51U);
+    emslam::stereo::KittiSequence kitti;
+    kitti.open(seq, poses);
+    const double period = t[1] - t[0];
+    EXPECT_NEAR(period, 0.1, 0.01);  // KITTI's median period, ~10 Hz
+    EXPECT_NEAR(t[0], kitti.timestamp(0), 1e-6);
+    for (std::size_t k = 0; k < objs.size(); k++)
+    {
+        if (k > 0)
+        {
+            EXPECT_GT(t[k], t[k - 1]) << k;
+            EXPECT_NEAR(t[k] - t[0], static_cast<double>(k) * period, 1e-5) << k;
+        }
+        EXPECT_NEAR(gt.poses[k].t, t[k], 1e-6) << k;
+        // Original pose of the listed frame, relative to frame 0.
+        const auto expected = kitti.groundTruth(app.frames[k]) - kitti.groundTruth(0);
+        EXPECT_NEAR((gt.poses[k].pose.translation() - expected.translation()).norm(), 0.0, 1e-6)
+            << k;
+    }
+    // Output frame k holds input frame list[k].
+    for (const std::size_t k : {0U, 1U, 25U, 26U, 49U, 50U})
+    {
+        const auto obs = std::dynamic_pointer_cast<mrpt::obs::CObservationStereoImages>(objs[k]);
+        ASSERT_TRUE(obs);
+        const cv::Mat expected =
+            cv::imread(kitti.leftImageFile(app.frames[k]), cv::IMREAD_GRAYSCALE);
+        EXPECT_TRUE(equalImages(obs->imageLeft.asCvMatRef(), expected))
+            << "output frame " << k << " vs input frame " << app.frames[k];
+    }
+    const double gap = gt.poses[50].pose.translation().norm();
+    std::cout << "pseudo-loop: ground-truth end-to-start distance " << gap << " m\n";
+    EXPECT_GT(gap, 0.5);
+    EXPECT_LT(gap, 2.5);
+}
+
+TEST(ImportApp, frameListKeepsTimesWhenIncreasingAndRetimesOtherwise)
+{
+    const std::string root = emslam::test::makeTempDir("import_framelist");
+    const std::string seq = writeKitti(root, 6);  // frame i: pixels = i, times 0.1 * i
+    const std::string o = root + "/o.rawlog";
+
+    ImportApp inc;
+    initApp(inc, {"kitti", seq, "-o", o, "--frames", "0, 2:3,5", "-q"});
+    inc.run();
+    EXPECT_FALSE(inc.retimed);
+    const auto t_inc = stereoTimes(readRawlog(o));
+    ASSERT_EQ(t_inc.size(), 4U);
+    EXPECT_NEAR(t_inc[3] - t_inc[0], 0.5, 1e-6);  // frame 5's own time
+
+    ImportApp back;
+    initApp(back, {"kitti", seq, "-o", o, "--frames", "4,1:3,3:0:-3"});
+    testing::internal::CaptureStderr();
+    testing::internal::CaptureStdout();
+    back.run();
+    const std::string err = testing::internal::GetCapturedStderr();
+    testing::internal::GetCapturedStdout();
+    EXPECT_EQ(back.frames, (std::vector<std::size_t>{4, 1, 2, 3, 3, 0}));
+    EXPECT_TRUE(back.retimed);
+    EXPECT_NE(err.find("not increasing"), std::string::npos) << err;
+    const auto objs = readRawlog(o);
+    ASSERT_EQ(objs.size(), 6U);
+    const auto t = stereoTimes(objs);
+    for (std::size_t k = 0; k < objs.size(); k++)
+    {
+        EXPECT_NEAR(t[k] - t[0], 0.1 * static_cast<double>(k), 1e-5) << k;
+        const auto obs = std::dynamic_pointer_cast<mrpt::obs::CObservationStereoImages>(objs[k]);
+        ASSERT_TRUE(obs);
+        EXPECT_EQ(obs->imageLeft.asCvMatRef().at<uint8_t>(3, 4), back.frames[k]) << k;
+    }
+}
+
+TEST(ImportApp, badFrameListsThrowClearErrors)
+{
+    const std::string root = emslam::test::makeTempDir("import_badframes");
+    const std::string seq = writeKitti(root, 3);
+    const std::string o = root + "/o.rawlog";
+    const auto init = [&](std::vector<std::string> extra)
+    {
+        std::vector<std::string> args = {"kitti", seq, "-o", o, "-q"};
+        args.insert(args.end(), extra.begin(), extra.end());
+        return [args]
+        {
+            ImportApp app;
+            initApp(app, args);
+        };
+    };
+    using emslam::test::expectThrowContaining;
+    expectThrowContaining(init({"--frames", "5:"}), {"--frames item '5:'", "not a frame index"});
+    expectThrowContaining(init({"--frames", "a"}), {"'a' is not a frame index", "A:B:STEP"});
+    expectThrowContaining(init({"--frames", "0:10:0"}), {"'0:10:0'", "STEP must not be 0"});
+    expectThrowContaining(init({"--frames", "0:10:-1"}), {"leads away from 10"});
+    expectThrowContaining(init({"--frames", "1,,2"}), {"--frames item ''"});
+    expectThrowContaining(init({"--frames", "1:2:3:4"}), {"expected N, A:B or A:B:STEP"});
+    expectThrowContaining(init({"--frames", "-1"}), {"'-1' is not a frame index"});
+    expectThrowContaining(
+        init({"--frames", "0:2", "--step", "2"}), {"--frames cannot be combined with --first"});
+    EXPECT_THROW(init({"--frames", "5:"})(), std::invalid_argument);
+
+    ImportApp app;
+    initApp(app, {"kitti", seq, "-o", o, "--frames", "0,3", "-q"});
+    expectThrowContaining(
+        [&] { app.run(); }, {"frame index 3 is out of range", "3 frames (indexes 0..2)"});
+    EXPECT_FALSE(fs::exists(o));
+}
+
+TEST(ImportApp, realKittiFrameIndexBeyondTheSequence)
+{
+    EMSLAM_REQUIRE_TEST_DATA(seq, "kitti-odometry/sequences/06");
+    const std::string out = emslam::test::makeTempDir("import_kitti_badindex");
+    ImportApp app;
+    initApp(app, {"kitti", seq, "-o", out + "/k.rawlog", "--frames", "0:50:2,51", "-q"});
+    emslam::test::expectThrowContaining(
+        [&] { app.run(); }, {"frame index 51 is out of range", "51 frames (indexes 0..50)"});
+    EXPECT_FALSE(fs::exists(out + "/k.rawlog"));
 }

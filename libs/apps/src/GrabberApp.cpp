@@ -2,6 +2,7 @@
 #include <emslam/apps/CommandLine.h>
 #include <emslam/apps/GrabberApp.h>
 #include <emslam/apps/RawlogOutput.h>
+#include <emslam/apps/StopSignal.h>
 #include <emslam/hwdrivers/DeviceList.h>
 #include <emslam/hwdrivers/SensorStatus.h>
 #include <emslam/stereo/ExceptionMessage.h>
@@ -18,7 +19,6 @@
 #include <algorithm>
 #include <atomic>
 #include <chrono>
-#include <csignal>
 #include <cstdio>
 #include <filesystem>
 #include <iostream>
@@ -41,45 +41,6 @@ constexpr const char* PROGRAM = "emslam-grabber";
 /** Observations of a running sensor are held back at most this long to sort
  * them with the other sensors' [s]. */
 constexpr double MAX_REORDER_DELAY = 2.0;
-
-std::atomic<bool> g_stop_requested{false};
-
-extern "C" void onStopSignal(int /*signum*/)
-{
-    g_stop_requested.store(true);
-}
-
-/** Installs SIGINT / SIGTERM handlers for its lifetime. */
-class SignalGuard
-{
-public:
-    SignalGuard()
-    {
-        struct sigaction sa
-        {
-        };
-        sa.sa_handler = onStopSignal;
-        sa.sa_flags = SA_RESTART;  // sensors blocked in a read keep waiting
-        sigemptyset(&sa.sa_mask);
-        sigaction(SIGINT, &sa, &m_old_int);
-        sigaction(SIGTERM, &sa, &m_old_term);
-    }
-    ~SignalGuard()
-    {
-        sigaction(SIGINT, &m_old_int, nullptr);
-        sigaction(SIGTERM, &m_old_term, nullptr);
-    }
-    SignalGuard(const SignalGuard&) = delete;
-    SignalGuard& operator=(const SignalGuard&) = delete;
-
-private:
-    struct sigaction m_old_int
-    {
-    };
-    struct sigaction m_old_term
-    {
-    };
-};
 
 /** The human part of an exception's text. Beyond shortExceptionMessage(),
  * drops the banner and backtrace lines MRPT adds when it re-throws an
@@ -152,7 +113,7 @@ void sensorThread(Slot& s, const std::atomic<bool>& stop)
         catch (const std::exception& e)
         {
             // A device call interrupted by the stop signal is not a failure.
-            const bool stopping = stop.load() || g_stop_requested.load();
+            const bool stopping = stop.load() || StopSignal::requested();
             s.error = errorText(e);
             s.state.store(stopping ? ENDED : FAILED);
             return;
@@ -425,7 +386,7 @@ private:
 
 void GrabberApp::requestStop()
 {
-    g_stop_requested.store(true);
+    StopSignal::request();
 }
 
 void GrabberApp::initialize(int argc, char** argv)
@@ -565,8 +526,8 @@ void GrabberApp::run()
         std::cerr << " (Ctrl+C stops)\n";
     }
 
-    g_stop_requested.store(false);
-    const SignalGuard signals;
+    StopSignal::clear();
+    const StopSignalGuard signals;
     std::atomic<bool> stop_threads{false};
     for (auto& s : slots)
     {
@@ -625,7 +586,7 @@ void GrabberApp::run()
                 stop_reason = std::to_string(*max_frames) + " stereo frames written";
                 break;
             }
-            if (g_stop_requested.load())
+            if (StopSignal::requested())
             {
                 stop_reason = "interrupted by a signal";
                 break;

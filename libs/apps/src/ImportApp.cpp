@@ -9,17 +9,21 @@
 #include <emslam/stereo/TumTrajectory.h>
 
 #include <mrpt/3rdparty/tclap/CmdLine.h>
+#include <mrpt/core/Clock.h>
 #include <mrpt/core/exceptions.h>
 #include <mrpt/obs/CObservation.h>
 #include <mrpt/system/os.h>
+#include <mrpt/system/string_utils.h>
 
 #include <algorithm>
 #include <chrono>
+#include <cstddef>
 #include <cstdio>
 #include <filesystem>
 #include <functional>
 #include <iostream>
 #include <memory>
+#include <optional>
 #include <sstream>
 #include <stdexcept>
 #include <vector>
@@ -31,6 +35,8 @@ namespace emslam::apps
 namespace
 {
 constexpr const char* PROGRAM = "emslam-import";
+/** More frames than any dataset has: a typo such as 0:999999999 fails fast. */
+constexpr std::size_t MAX_LISTED_FRAMES = 10'000'000;
 
 [[noreturn]] void usageError(const std::string& msg)
 {
@@ -51,6 +57,8 @@ struct FrameSource
     bool has_gt{false};
     std::string description;
     std::function<Frame(std::size_t)> get;
+    /** Timestamp of frame i [s], without loading it. */
+    std::function<double(std::size_t)> time;
 };
 
 template <class Reader>
@@ -65,6 +73,7 @@ FrameSource makeSource(std::shared_ptr<Reader> reader, bool has_gt, const std::s
         auto f = reader->frame(i);
         return FrameSource::Frame{f.obs, f.ground_truth, f.t};
     };
+    s.time = [reader](std::size_t i) { return reader->timestamp(i); };
     return s;
 }
 
@@ -97,6 +106,149 @@ std::vector<double> parseIntrinsics(const std::string& s)
         usageError("--intrinsics expects 'fx,fy,cx,cy' (positive focal lengths), got '" + s + "'");
     }
     return v;
+}
+
+/** A frame index or range bound of --frames (digits only). */
+std::size_t parseFrameIndex(
+    const std::string& item, const std::string& text, const char* what = "a frame index")
+{
+    if (text.empty() || text.size() > 9 ||
+        text.find_first_not_of("0123456789") != std::string::npos)
+    {
+        usageError(
+            "--frames item '" + item + "': '" + text + "' is not " + what +
+            " (items are N, A:B or A:B:STEP, e.g. 0:50:2,49:1:-2)");
+    }
+    return static_cast<std::size_t>(std::stoul(text));
+}
+
+/** The STEP of an `A:B:STEP` item: a non-zero integer that leads from A to B. */
+long long parseRangeStep(const std::string& item, const std::string& text, long long a, long long b)
+{
+    const bool negative = !text.empty() && text[0] == '-';
+    const std::string digits = text.substr(negative || (!text.empty() && text[0] == '+') ? 1 : 0);
+    const long long magnitude = static_cast<long long>(parseFrameIndex(item, digits, "a STEP"));
+    if (magnitude == 0)
+    {
+        usageError("--frames item '" + item + "': STEP must not be 0");
+    }
+    const long long step = negative ? -magnitude : magnitude;
+    if ((b - a) * step < 0)
+    {
+        usageError(
+            "--frames item '" + item + "': STEP " + text + " leads away from " + std::to_string(b) +
+            " (use a " + (step > 0 ? "negative" : "positive") + " STEP)");
+    }
+    return step;
+}
+
+/** Appends the indexes of one `N`, `A:B` or `A:B:STEP` item (B included when reached). */
+void appendFrameItem(const std::string& item, std::vector<std::size_t>& out)
+{
+    std::vector<std::string> parts;
+    std::stringstream ss(item);
+    for (std::string p; std::getline(ss, p, ':');)
+    {
+        parts.push_back(p);
+    }
+    if (!item.empty() && item.back() == ':')
+    {
+        parts.emplace_back();  // getline drops a trailing empty field: "5:" is "5" and ""
+    }
+    if (parts.empty() || parts.size() > 3)
+    {
+        usageError("--frames item '" + item + "': expected N, A:B or A:B:STEP");
+    }
+    const auto a = static_cast<long long>(parseFrameIndex(item, parts[0]));
+    if (parts.size() == 1)
+    {
+        out.push_back(static_cast<std::size_t>(a));
+        return;
+    }
+    const auto b = static_cast<long long>(parseFrameIndex(item, parts[1]));
+    const long long step =
+        parts.size() == 3 ? parseRangeStep(item, parts[2], a, b) : (b >= a ? 1 : -1);
+    if (out.size() + static_cast<std::size_t>((b - a) / step + 1) > MAX_LISTED_FRAMES)
+    {
+        usageError("--frames lists more than " + std::to_string(MAX_LISTED_FRAMES) + " frames");
+    }
+    for (long long i = a; step > 0 ? i <= b : i >= b; i += step)
+    {
+        out.push_back(static_cast<std::size_t>(i));
+    }
+}
+
+/** Parses the --frames list: comma-separated items, see ImportApp::frames. */
+std::vector<std::size_t> parseFrameList(const std::string& list)
+{
+    std::vector<std::size_t> out;
+    std::stringstream ss(list);
+    for (std::string item; std::getline(ss, item, ',');)
+    {
+        appendFrameItem(mrpt::system::trim(item), out);
+    }
+    if (list.empty() || list.back() == ',')
+    {
+        appendFrameItem("", out);  // reports the empty item
+    }
+    return out;
+}
+
+/** The frames `first, first+step, ...` up to `last`, checked against the sequence. */
+std::vector<std::size_t> rangeIndices(
+    const FrameSource& src, std::size_t first, std::optional<std::size_t> last, std::size_t step)
+{
+    if (first >= src.size)
+    {
+        THROW_EXCEPTION_FMT(
+            "--first %zu is beyond the last frame (%zu) of %s", first, src.size - 1,
+            src.description.c_str());
+    }
+    const std::size_t last_idx = last.value_or(src.size - 1);
+    if (last_idx >= src.size)
+    {
+        THROW_EXCEPTION_FMT(
+            "--last %zu is beyond the last frame (%zu) of %s", last_idx, src.size - 1,
+            src.description.c_str());
+    }
+    std::vector<std::size_t> indices;
+    for (std::size_t i = first; i <= last_idx; i += step)
+    {
+        indices.push_back(i);
+    }
+    return indices;
+}
+
+void checkFrameList(const FrameSource& src, const std::vector<std::size_t>& frames)
+{
+    for (const std::size_t i : frames)
+    {
+        if (i >= src.size)
+        {
+            THROW_EXCEPTION_FMT(
+                "--frames: frame index %zu is out of range: %zu frames (indexes 0..%zu) in %s", i,
+                src.size, src.size - 1, src.description.c_str());
+        }
+    }
+}
+
+/** Median time between consecutive frames of the whole sequence [s]: robust to
+ * the odd dropped frame. */
+double medianFramePeriod(const FrameSource& src)
+{
+    std::vector<double> dt;
+    for (std::size_t i = 1; i < src.size; i++)
+    {
+        dt.push_back(src.time(i) - src.time(i - 1));
+    }
+    if (dt.empty())
+    {
+        THROW_EXCEPTION("--frames: cannot re-time frames of a one-frame sequence");
+    }
+    std::nth_element(dt.begin(), dt.begin() + static_cast<std::ptrdiff_t>(dt.size() / 2), dt.end());
+    const double period = dt[dt.size() / 2];
+    ASSERTMSG_(period > 0, "--frames: the sequence's median frame period is not positive");
+    return period;
 }
 
 std::string humanBytes(std::uintmax_t n)
@@ -175,6 +327,13 @@ void ImportApp::initialize(int argc, const char** argv)
         "N", cmd);
     TCLAP::ValueArg<long long> arg_step(
         "", "step", "Import every K-th frame (default 1).", false, 1, "K", cmd);
+    TCLAP::ValueArg<std::string> arg_frames(
+        "", "frames",
+        "Import exactly these frames, in this order (not with --first/--last/--step): "
+        "comma-separated N, A:B or A:B:STEP (B included when reached, STEP may be negative). "
+        "E.g. '0:50:2,49:1:-2': forward on even frames, back on odd ones. A list that is not "
+        "increasing re-times the frames: t(first listed) + k * median frame period.",
+        false, "", "LIST", cmd);
     TCLAP::ValueArg<std::string> arg_label(
         "", "label", "Sensor label of the observations (default STEREO, or RGBD for tum).", false,
         "", "LABEL", cmd);
@@ -259,6 +418,15 @@ void ImportApp::initialize(int argc, const char** argv)
         last = static_cast<std::size_t>(arg_last.getValue());
     }
     step = static_cast<std::size_t>(arg_step.getValue());
+    frames.clear();
+    if (arg_frames.isSet())
+    {
+        if (arg_first.isSet() || arg_last.isSet() || arg_step.isSet())
+        {
+            usageError("--frames cannot be combined with --first, --last or --step");
+        }
+        frames = parseFrameList(arg_frames.getValue());
+    }
     if (!gt_out_file.empty())
     {
         if (dataset == "kitti" && kitti_poses_file.empty())
@@ -293,6 +461,7 @@ void ImportApp::run()
     poses_written = 0;
     frames_without_gt = 0;
     output_bytes = 0;
+    retimed = false;
 
     // Open and validate the dataset.
     FrameSource src;
@@ -351,25 +520,16 @@ void ImportApp::run()
         THROW_EXCEPTION_FMT("Unknown dataset format '%s'", dataset.c_str());
     }
 
-    // Frame selection.
-    if (first >= src.size)
-    {
-        THROW_EXCEPTION_FMT(
-            "--first %zu is beyond the last frame (%zu) of %s", first, src.size - 1,
-            src.description.c_str());
-    }
-    const std::size_t last_idx = last.value_or(src.size - 1);
-    if (last_idx >= src.size)
-    {
-        THROW_EXCEPTION_FMT(
-            "--last %zu is beyond the last frame (%zu) of %s", last_idx, src.size - 1,
-            src.description.c_str());
-    }
-    std::vector<std::size_t> indices;
-    for (std::size_t i = first; i <= last_idx; i += step)
-    {
-        indices.push_back(i);
-    }
+    // Frame selection, and new times if the list goes back in time.
+    checkFrameList(src, frames);
+    const std::vector<std::size_t> indices =
+        frames.empty() ? rangeIndices(src, first, last, step) : frames;
+    ASSERTMSG_(!indices.empty(), "ImportApp: no frame selected");
+    // Any step back (or repeat) would put the rawlog out of time order.
+    retimed =
+        std::adjacent_find(indices.begin(), indices.end(), std::greater_equal<>()) != indices.end();
+    const double period = retimed ? medianFramePeriod(src) : 0.0;
+    const double t0 = src.time(indices.front());
 
     RawlogOutput::checkOutputFolders(output_file, gt_out_file);
 
@@ -377,6 +537,14 @@ void ImportApp::run()
     {
         std::cerr << PROGRAM << ": importing " << indices.size() << " of " << src.description
                   << " into '" << output_file << "'\n";
+        if (retimed)
+        {
+            std::cerr << PROGRAM
+                      << mrpt::format(
+                             ": the frame list is not increasing: written frame k gets time "
+                             "%.6f + k * %.6f s (t of frame %zu + k * median frame period)\n",
+                             t0, period, indices.front());
+        }
     }
 
     emslam::stereo::TumTrajectory gt;
@@ -388,7 +556,12 @@ void ImportApp::run()
             ProgressLine progress(PROGRAM, indices.size(), !quiet);
             for (std::size_t k = 0; k < indices.size(); k++)
             {
-                const auto fr = src.get(indices[k]);
+                auto fr = src.get(indices[k]);
+                if (retimed)
+                {
+                    fr.t = t0 + static_cast<double>(k) * period;
+                    fr.obs->timestamp = mrpt::Clock::fromDouble(fr.t);
+                }
                 out.archive() << *fr.obs;
                 ++frames_written;
                 if (fr.ground_truth)

@@ -3,6 +3,9 @@
 
 #include <unistd.h>
 
+#include <algorithm>
+#include <chrono>
+#include <cmath>
 #include <cstdio>
 #include <utility>
 
@@ -12,8 +15,37 @@ ProgressLine::ProgressLine(std::string program, std::size_t total, bool enabled)
     : m_program(std::move(program)),
       m_total(total),
       m_enabled(enabled),
-      m_tty(::isatty(::fileno(stderr)) != 0)
+      m_tty(::isatty(::fileno(stderr)) != 0),
+      m_start(std::chrono::duration<double>(std::chrono::steady_clock::now().time_since_epoch())
+                  .count())
 {
+}
+
+void ProgressLine::updateFraction(std::size_t done, double fraction, const std::string& extra)
+{
+    if (!m_enabled)
+    {
+        return;
+    }
+    fraction = std::clamp(fraction, 0.0, 1.0);
+    const int pct = static_cast<int>(100.0 * fraction);
+    if (!m_tty && pct / 10 <= m_last_decile && fraction < 1.0)
+    {
+        return;
+    }
+    m_last_decile = pct / 10;
+    const double now =
+        std::chrono::duration<double>(std::chrono::steady_clock::now().time_since_epoch()).count();
+    const double elapsed = now - m_start;
+    const double fps = elapsed > 0 ? static_cast<double>(done) / elapsed : 0.0;
+    const auto total = fraction > 0 ? static_cast<std::size_t>(std::lround(done / fraction)) : 0;
+    const double eta = fraction > 0 ? elapsed * (1.0 - fraction) / fraction : 0.0;
+    const auto eta_s = static_cast<long>(std::lround(eta));
+    std::fprintf(
+        stderr, "%s%s: frame %zu/~%zu (%3d%%), %.1f fps, ETA %ld:%02ld%s%s%s", m_tty ? "\r" : "",
+        m_program.c_str(), done, total, pct, fps, eta_s / 60, eta_s % 60, extra.empty() ? "" : ", ",
+        extra.c_str(), m_tty ? "   " : "\n");
+    std::fflush(stderr);
 }
 
 void ProgressLine::update(std::size_t done)

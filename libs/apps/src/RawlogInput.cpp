@@ -1,47 +1,112 @@
 // SPDX-License-Identifier: BSD-3-Clause
 #include <emslam/apps/RawlogInput.h>
+#include <emslam/stereo/ExceptionMessage.h>
 
 #include <mrpt/img/CImage.h>
 #include <mrpt/obs/CRawlog.h>
+#include <mrpt/obs/CSensoryFrame.h>
+#include <mrpt/serialization/CSerializable.h>
 #include <mrpt/system/filesystem.h>
 
+#include <algorithm>
 #include <stdexcept>
 
 namespace emslam::apps
 {
-RawlogInput::RawlogInput(const std::string& file)
+/** The gz file stream, counting the uncompressed bytes handed out: a record
+ * whose read hits the end of the file after consuming bytes is a cut record,
+ * one that consumes none is the clean end. */
+class RawlogInput::CountingStream : public mrpt::io::CStream
+{
+public:
+    mrpt::io::CFileGZInputStream file;
+    std::uint64_t consumed{0};
+
+    size_t Read(void* buffer, size_t count) override
+    {
+        const size_t n = file.Read(buffer, count);
+        consumed += n;
+        return n;
+    }
+    size_t Write(const void* /*buffer*/, size_t /*count*/) override
+    {
+        throw std::logic_error("RawlogInput is read-only");
+    }
+    uint64_t Seek(int64_t /*offset*/, TSeekOrigin /*origin*/) override
+    {
+        throw std::logic_error("RawlogInput cannot seek");
+    }
+    uint64_t getTotalBytesCount() const override { return file.getTotalBytesCount(); }
+    uint64_t getPosition() const override { return file.getPosition(); }
+};
+
+RawlogInput::RawlogInput(const std::string& file) : m_stream(std::make_unique<CountingStream>())
 {
     if (!mrpt::system::fileExists(file))
     {
         throw std::runtime_error("rawlog '" + file + "' does not exist");
     }
-    if (!m_stream.open(file))
+    if (!m_stream->file.open(file))
     {
         throw std::runtime_error("cannot open rawlog '" + file + "'");
     }
     mrpt::img::CImage::setImagesPathBase(mrpt::obs::CRawlog::detectImagesDirectory(file));
     m_archive =
-        std::make_unique<mrpt::serialization::CArchiveStreamBase<mrpt::io::CFileGZInputStream>>(
-            m_stream);
+        std::make_unique<mrpt::serialization::CArchiveStreamBase<CountingStream>>(*m_stream);
 }
+
+RawlogInput::~RawlogInput() = default;
 
 bool RawlogInput::next(std::vector<mrpt::obs::CObservation::Ptr>& batch)
 {
     batch.clear();
-    if (!mrpt::obs::CRawlog::getActionObservationPairOrObservation(
-            *m_archive, m_actions, m_sf, m_obs, m_index))
+    if (m_ended)
     {
         return false;
     }
-    if (m_obs)
+    const std::uint64_t start = m_stream->consumed;
+    mrpt::serialization::CSerializable::Ptr obj;
+    try
     {
-        batch.push_back(m_obs);
+        obj = m_archive->ReadObject();
     }
-    else if (m_sf)
+    catch (const std::exception& e)
     {
-        batch.assign(m_sf->begin(), m_sf->end());
+        m_ended = true;
+        const bool clean_end = m_stream->consumed == start &&
+                               dynamic_cast<const mrpt::serialization::CExceptionEOF*>(&e);
+        if (!clean_end)
+        {
+            m_ended_early = true;
+            const bool cut = dynamic_cast<const mrpt::serialization::CExceptionEOF*>(&e);
+            m_end_reason = "record " + std::to_string(m_records) + " (byte " +
+                           std::to_string(start) + "): " +
+                           (cut ? std::string("the file ends in the middle of the record")
+                                : emslam::stereo::shortExceptionMessage(e));
+        }
+        return false;
+    }
+    ++m_records;
+    if (auto obs = std::dynamic_pointer_cast<mrpt::obs::CObservation>(obj))
+    {
+        batch.push_back(std::move(obs));
+    }
+    else if (auto sf = std::dynamic_pointer_cast<mrpt::obs::CSensoryFrame>(obj))
+    {
+        batch.assign(sf->begin(), sf->end());
     }
     return true;
+}
+
+double RawlogInput::fractionRead() const
+{
+    const auto total = m_stream->file.getTotalBytesCount();
+    if (total == 0)
+    {
+        return m_ended ? 1.0 : 0.0;
+    }
+    return std::min(
+        1.0, static_cast<double>(m_stream->file.getPosition()) / static_cast<double>(total));
 }
 
 }  // namespace emslam::apps

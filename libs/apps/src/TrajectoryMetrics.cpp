@@ -1,4 +1,5 @@
 // SPDX-License-Identifier: BSD-3-Clause
+#include <emslam/apps/Json.h>
 #include <emslam/apps/TrajectoryMetrics.h>
 
 #include <mrpt/math/CMatrixFixed.h>
@@ -45,17 +46,6 @@ double rotationAngle(const mrpt::poses::CPose3D& T)
     return std::atan2(s, c);
 }
 
-/** Shortest decimal text that reads back to the same double; null for NaN/inf. */
-std::string jsonNumber(double v)
-{
-    if (!std::isfinite(v))
-    {
-        return "null";
-    }
-    char buf[64];
-    const auto res = std::to_chars(buf, buf + sizeof(buf), v);
-    return std::string(buf, res.ptr);
-}
 }  // namespace
 
 Alignment parseAlignment(const std::string& s)

@@ -109,7 +109,10 @@ void TRectifierOptions::validate() const
     require(
         std::isfinite(min_improvement) && min_improvement >= 0 && min_improvement < 1,
         "min_improvement", "must be in [0, 1)");
-    require(rectify_every >= 1, "rectify_every", "must be >= 1");
+    require(rectify_every >= 0, "rectify_every", "must be >= 0 (0: never, egomotion only)");
+    require(
+        rectify_every >= 1 || mode == RectificationMode::Serial, "rectify_every",
+        "must be >= 1 in anytime mode");
     require(buffer_size >= 1, "buffer_size", "must be >= 1");
     require(n_max == 0 || n_max >= 4, "n_max", "must be 0 (no compression) or >= 4");
     require(

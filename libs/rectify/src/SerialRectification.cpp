@@ -34,7 +34,9 @@ void SerialRectification::addFrame(
     {
         m_trajectory.compress();
     }
-    if (++m_since_rectification >= static_cast<std::size_t>(m_options.rectify_every))
+    ++m_since_rectification;
+    if (m_options.rectify_every > 0 &&
+        m_since_rectification >= static_cast<std::size_t>(m_options.rectify_every))
     {
         rectifyNow();
     }
@@ -55,7 +57,7 @@ void SerialRectification::finish()
     {
         return;
     }
-    if (m_since_rectification > 0)
+    if (m_since_rectification > 0 && m_options.rectify_every > 0)
     {
         rectifyNow();
     }

@@ -143,6 +143,7 @@ bool TrajectoryRectifier::attempt(Trajectory& t, RectificationStats& s)
     }
     s.seconds += std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
     s.energy_after = m_best_energy;
+    s.energy_trace.push_back(static_cast<float>(m_energy));
     return success;
 }
 

@@ -5,6 +5,7 @@
 #include <cstdint>
 #include <optional>
 #include <string>
+#include <vector>
 
 namespace emslam::apps
 {
@@ -20,7 +21,8 @@ namespace emslam::apps
  *                                                [--time-offset SECONDS]
  * emslam-import euroc MAV0_DIR     -o OUT.rawlog [--gt GT.csv]       [--gt-out GT.tum]
  * emslam-import tum   RGBD_DIR     -o OUT.rawlog [--intrinsics fx,fy,cx,cy] [--gt-out GT.tum]
- *   common: [--first N] [--last N] [--step K] [--label LABEL] [--quiet]
+ *   common: [--first N] [--last N] [--step K] | [--frames LIST]
+ *           [--label LABEL] [--quiet]
  * \endcode
  *
  * - kitti / euroc: one `CObservationStereoImages` per frame (images embedded,
@@ -29,7 +31,14 @@ namespace emslam::apps
  *   EurocSequence and TumRgbdSequence for the details of each format.
  * - Frames `first, first+step, ...` up to `last` (inclusive, 0-based indices
  *   into the dataset's frame list) are imported; the same selection applies
- *   to the ground truth.
+ *   to the ground truth. Or `--frames LIST` (see `frames`) names the frames
+ *   one by one, in any order: `0:50:2,49:1:-2` drives a sequence forward on
+ *   the even frames and back on the odd ones (a "pseudo-loop").
+ * - Timestamps stay strictly increasing, as MRPT tools and the mapper expect:
+ *   if `frames` is not strictly increasing, the k-th written frame gets the
+ *   time `t(frames[0]) + k * median frame period of the sequence`, in the
+ *   rawlog and the ground truth alike (poses stay those of the listed
+ *   frames), and `retimed` is set.
  * - The ground-truth file holds one line per imported frame that has ground
  *   truth: `t x y z qx qy qz qw`, the pose of the left (colour) camera in the
  *   frame of the first imported frame that has ground truth. Frames without
@@ -83,6 +92,12 @@ public:
     std::optional<std::size_t> last;
     /** Import every `step`-th frame (>= 1). */
     std::size_t step{1};
+    /** Frame indexes to import, in output order (repeats allowed); when not
+     * empty, first / last / step are ignored. `--frames` fills it from a
+     * comma-separated list of `N`, `A:B` or `A:B:STEP` items (B included when
+     * reached; STEP may be negative; `A:B` steps by -1 if B < A), e.g.
+     * `0:50:2,49:1:-2`. run() throws if an index is beyond the sequence. */
+    std::vector<std::size_t> frames;
     /** gzip level of the rawlog, 0..9. (Default: 1, fastest) */
     int gz_level{1};
     /** No progress and summary output. */
@@ -99,6 +114,8 @@ public:
     std::size_t poses_written{0};
     /** Imported frames that had no ground truth (not in gt_out_file). */
     std::size_t frames_without_gt{0};
+    /** True if the frames got new timestamps (`frames` not strictly increasing). */
+    bool retimed{false};
     /** Size of output_file [bytes]. */
     std::uintmax_t output_bytes{0};
     /** Wall-clock duration of run() [s]. */

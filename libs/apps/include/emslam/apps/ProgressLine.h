@@ -20,6 +20,12 @@ public:
     /** Reports that `done` of the `total` frames are finished. */
     void update(std::size_t done);
 
+    /** For loops whose total is not known in advance (a streamed rawlog):
+     * `fraction` of the input is consumed after `done` frames. Prints
+     * `PROGRAM: frame DONE/~TOTAL (PCT%), F fps, ETA M:SS[, extra]`, with the
+     * total and the ETA extrapolated from the fraction. */
+    void updateFraction(std::size_t done, double fraction, const std::string& extra = {});
+
     /** Ends the in-place line on a terminal (call once, after the loop). */
     void finish();
 
@@ -29,6 +35,7 @@ private:
     bool m_enabled;
     bool m_tty;
     int m_last_decile{0};
+    double m_start{0.0};  //!< [s] steady clock at construction
 };
 
 }  // namespace emslam::apps

@@ -2,12 +2,12 @@
 #pragma once
 
 #include <mrpt/io/CFileGZInputStream.h>
-#include <mrpt/obs/CActionCollection.h>
+#include <mrpt/io/CStream.h>
 #include <mrpt/obs/CObservation.h>
-#include <mrpt/obs/CSensoryFrame.h>
 #include <mrpt/serialization/CArchive.h>
 
 #include <cstddef>
+#include <cstdint>
 #include <memory>
 #include <string>
 #include <vector>
@@ -22,7 +22,12 @@ namespace emslam::apps
  * RawlogInput in(file);
  * std::vector<mrpt::obs::CObservation::Ptr> batch;
  * while (in.next(batch)) { for (const auto& o : batch) { ... } }
+ * if (in.endedEarly()) { warn(in.endReason()); }
  * \endcode
+ * Unlike mrpt::obs::CRawlog's reader, which ends silently on any error, it
+ * tells a clean end of file from a file cut in the middle of a record or a
+ * record that cannot be read (endedEarly(), endReason()): everything before
+ * stays usable.
  * \ingroup emslam_apps_grp \sa RawlogOutput */
 class RawlogInput
 {
@@ -30,21 +35,36 @@ public:
     /** Opens `file`; throws std::runtime_error ("rawlog 'FILE' does not
      * exist", "cannot open rawlog 'FILE'") if it cannot. */
     explicit RawlogInput(const std::string& file);
+    ~RawlogInput();
 
     RawlogInput(const RawlogInput&) = delete;
     RawlogInput& operator=(const RawlogInput&) = delete;
 
     /** Reads the next entry into `batch` (the observation, or all those of the
-     * sensory frame; possibly none). Returns false at the end of the file. */
+     * sensory frame; possibly none, e.g. for an action). Returns false at the
+     * end of the file, or when a record cannot be read (see endedEarly()). */
     bool next(std::vector<mrpt::obs::CObservation::Ptr>& batch);
 
+    /** True if reading stopped before a clean end of file: the file is cut in
+     * the middle of a record, or a record is corrupt or of an unknown class. */
+    bool endedEarly() const { return m_ended_early; }
+    /** Why reading stopped early: the record number, the byte offset (of the
+     * uncompressed stream) where that record starts, and the cause. */
+    const std::string& endReason() const { return m_end_reason; }
+    /** Records (serialized objects) read completely so far. */
+    std::size_t recordsRead() const { return m_records; }
+    /** Fraction of the file read so far, in [0, 1] (from the position in the
+     * compressed file for gz rawlogs): for progress and ETA. */
+    double fractionRead() const;
+
 private:
-    mrpt::io::CFileGZInputStream m_stream;
+    class CountingStream;
+    std::unique_ptr<CountingStream> m_stream;
     std::unique_ptr<mrpt::serialization::CArchive> m_archive;
-    mrpt::obs::CActionCollection::Ptr m_actions;
-    mrpt::obs::CSensoryFrame::Ptr m_sf;
-    mrpt::obs::CObservation::Ptr m_obs;
-    std::size_t m_index{0};
+    std::size_t m_records{0};
+    bool m_ended{false};
+    bool m_ended_early{false};
+    std::string m_end_reason;
 };
 
 }  // namespace emslam::apps

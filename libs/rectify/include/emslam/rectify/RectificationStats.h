@@ -2,6 +2,7 @@
 #pragma once
 
 #include <cstddef>
+#include <vector>
 
 namespace emslam::rectify
 {
@@ -20,6 +21,9 @@ struct RectificationStats
     double energy_after{0.0};       //!< energy of the trajectory it left (the best seen)
     double seconds{0.0};            //!< wall time spent on attempts [s]
     bool converged{false};          //!< ended by NC_max consecutive failures
+    /** Energy of the trajectory after each attempt (kept or reverted), for
+     * plots; 4 bytes per attempt. */
+    std::vector<float> energy_trace;
 };
 
 }  // namespace emslam::rectify

@@ -1,0 +1,153 @@
+// SPDX-License-Identifier: BSD-3-Clause
+#pragma once
+
+#include <emslam/apps/IntensityCloud.h>
+#include <emslam/apps/MapperReport.h>
+#include <emslam/egomotion/EgomotionEstimator.h>
+#include <emslam/maps/CEntropyVoxelMap.h>
+#include <emslam/rectify/RectificationRunner.h>
+#include <emslam/rectify/RectifierOptions.h>
+#include <emslam/rectify/SpaceSampler.h>
+#include <emslam/stereo/StereoFrontEnd.h>
+#include <emslam/stereo/TumTrajectory.h>
+
+#include <mrpt/config/CConfigFileBase.h>
+#include <mrpt/config/CLoadableOptions.h>
+#include <mrpt/obs/CObservation.h>
+#include <mrpt/poses/CPose3D.h>
+
+#include <cstddef>
+#include <map>
+#include <memory>
+#include <string>
+#include <vector>
+
+namespace emslam::apps
+{
+/** The whole SLAM pipeline of the paper, one frame at a time (the data flow
+ * of the design): stereo front-end → egomotion (§2.1) → space sampling
+ * (§2.2.4) → trajectory with global rectification, serial or AnyTime, and
+ * compression (§2.2.3-2.2.4). MapperApp feeds it from a rawlog and writes its
+ * results.
+ *
+ * Frames whose egomotion fails keep the previous pose (the action is taken
+ * as the identity) and are counted; the next step is measured from them.
+ * \ingroup emslam_apps_grp \sa MapperApp */
+class Mapper
+{
+public:
+    /** `[Mapper]`: what the mapper keeps besides the paper's parameters. */
+    struct TOptions : public mrpt::config::CLoadableOptions
+    {
+        void loadFromConfigFile(
+            const mrpt::config::CConfigFileBase& c, const std::string& s) override;
+        void saveToConfigFile(
+            mrpt::config::CConfigFileBase& c, const std::string& s) const override;
+        /** Throws std::invalid_argument naming the key of a bad value. */
+        void validate() const;
+
+        /** Egomotion and space sampling only; the entropy map is still built
+         * (energy of the egomotion map) but never rectified. (Default: false) */
+        bool egomotion_only{false};
+        /** Cell size of the map.ply / map.3Dscene cloud [m]: each accepted
+         * frame keeps one point per cell (≤ 0: every point). (Default: 0.05) */
+        double map_cell_size{0.05};
+    };
+
+    /** Every parameter the mapper uses, one INI section each. */
+    struct TParameters
+    {
+        emslam::stereo::StereoMatcher::TParameters stereo;             //!< [Stereo]
+        emslam::egomotion::EgomotionEstimator::TParameters egomotion;  //!< [Egomotion]
+        emslam::CEntropyVoxelMap::TCreationOptions map;                //!< [EntropyVoxelMap]
+        emslam::CEntropyVoxelMap::TInsertionOptions insertion;         //!< [EntropyVoxelMap]
+        emslam::rectify::SpaceSampler::TParameters sampling;           //!< [SpaceSampling]
+        emslam::rectify::TRectifierOptions rectifier;                  //!< [Rectifier]
+        TOptions mapper;                                               //!< [Mapper]
+
+        /** Loads every section (missing keys keep their defaults) and
+         * validates; throws std::invalid_argument naming the section and key
+         * of a bad value. */
+        void loadFromConfigFile(const mrpt::config::CConfigFileBase& c);
+        /** Saves every section, every key. */
+        void saveToConfigFile(mrpt::config::CConfigFileBase& c) const;
+    };
+
+    explicit Mapper(const TParameters& p);
+    ~Mapper();
+    Mapper(const Mapper&) = delete;
+    Mapper& operator=(const Mapper&) = delete;
+
+    /** Processes one observation. Returns false (and does nothing) if it is
+     * neither stereo nor RGB-D. Throws on a stereo observation the front-end
+     * cannot use (no right image, wrong calibration size, ...). */
+    bool process(const mrpt::obs::CObservation& obs);
+
+    /** Ends the run: syncs the rectifier, runs the final rectification and
+     * builds the outputs. Idempotent; process() throws afterwards. */
+    void finish();
+
+    const TParameters& parameters() const { return m_p; }
+
+    /** Frames processed (stereo or RGB-D observations). */
+    std::size_t frameCount() const { return m_records.size(); }
+    /** Frames accepted into the trajectory. */
+    std::size_t acceptedCount() const { return m_sampler.accepted(); }
+    /** Steps whose egomotion failed. */
+    std::size_t egomotionFailures() const { return m_failures; }
+    /** One record per processed frame. */
+    const std::vector<MapperFrameRecord>& frames() const { return m_records; }
+    /** Energy of the map after the last rectification (or of the unrectified
+     * map in egomotion-only mode); 0 before any. */
+    double currentEnergy() const { return m_energy; }
+
+    /** Size of the frames as processed (after any stereo scaling) [px]; 0 before the first. */
+    int imageWidth() const { return m_image_width; }
+    int imageHeight() const { return m_image_height; }
+
+    /** Egomotion pose of every processed frame (T_world_cam, world = first camera). */
+    const emslam::stereo::TumTrajectory& egomotionTrajectory() const { return m_egomotion; }
+
+    /** @name Results, valid after finish()
+     * @{ */
+    /** Every accepted frame after the final rectification. */
+    const emslam::stereo::TumTrajectory& slamTrajectory() const { return m_slam; }
+    /** Every rectification run. */
+    const std::vector<emslam::rectify::RectificationStats>& rectifications() const
+    {
+        return m_rectifications;
+    }
+    /** The entropy map of the final trajectory. */
+    const emslam::CEntropyVoxelMap& entropyMap() const;
+    /** The map cloud (with grey levels) at the final poses, world frame. */
+    const IntensityCloud& mapCloud() const { return m_map_cloud; }
+    /** Final energy (recomputed from scratch). */
+    double finalEnergy() const { return m_energy; }
+    /** Elements N and trajectory compressions at the end. */
+    std::size_t trajectoryElements() const;
+    std::size_t compressions() const;
+    /** @} */
+
+private:
+    void addAccepted(const emslam::stereo::StereoFrame& f, std::size_t index, double t);
+
+    TParameters m_p;
+    emslam::stereo::StereoFrontEnd m_front;
+    emslam::egomotion::EgomotionEstimator m_egomotion_estimator;
+    emslam::rectify::SpaceSampler m_sampler;
+    std::unique_ptr<emslam::rectify::RectificationRunner> m_runner;
+    mrpt::poses::CPose3D m_T_world_cur;
+    emslam::stereo::TumTrajectory m_egomotion, m_slam;
+    std::vector<MapperFrameRecord> m_records;
+    std::size_t m_failures{0};
+    std::size_t m_rectifications_seen{0};
+    double m_energy{0.0};
+    /** Per accepted frame (by frame index): its cloud in its camera frame. */
+    std::map<std::size_t, IntensityCloud> m_frame_clouds;
+    IntensityCloud m_map_cloud;
+    std::vector<emslam::rectify::RectificationStats> m_rectifications;
+    int m_image_width{0}, m_image_height{0};
+    bool m_finished{false};
+};
+
+}  // namespace emslam::apps

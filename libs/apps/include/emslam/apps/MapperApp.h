@@ -1,0 +1,66 @@
+// SPDX-License-Identifier: BSD-3-Clause
+#pragma once
+
+#include <emslam/apps/Mapper.h>
+#include <emslam/apps/MapperOutputs.h>
+
+#include <mrpt/config/CConfigFileMemory.h>
+
+#include <memory>
+#include <string>
+
+namespace emslam::apps
+{
+/** `emslam-mapper`: the main job. Streams a rawlog through Mapper (stereo →
+ * egomotion → space sampling → global rectification → compression) and
+ * writes, to the output folder:
+ * `trajectory_egomotion.tum`, `trajectory_slam.tum`, `map.ply`,
+ * `map.3Dscene`, `entropy_map.bin`, `stats.csv`, `summary.json`,
+ * `effective.ini` and `report.html`.
+ *
+ * \code
+ * emslam-mapper CONFIG.ini DATASET.rawlog --out DIR [--egomotion-only]
+ *   [--gt GT.tum] [--set SECTION.key=value ...] [--max-frames N] [--quiet]
+ * \endcode
+ * - The configuration is checked before any work: an unknown section or key
+ *   (with the closest valid name), or a bad value, stops the run.
+ * - Ctrl-C (SIGINT) or SIGTERM stops after the current frame; every output
+ *   is still written for the frames processed so far.
+ * - A rawlog cut in the middle of a record (or with a corrupt record) is
+ *   processed up to its last complete record, with a warning.
+ * \ingroup emslam_apps_grp \sa Mapper */
+class MapperApp
+{
+public:
+    /** Parses the command line and loads and checks the configuration.
+     * Throws on bad arguments or configuration. After `--help` or
+     * `--version`, helpRequested() is true and run() does nothing. */
+    void initialize(int argc, const char** argv);
+    void initialize(int argc, char** argv) { initialize(argc, const_cast<const char**>(argv)); }
+    /** Maps the rawlog and writes the outputs. Throws naming the file and the
+     * cause on bad input (missing rawlog, no stereo / RGB-D observation). */
+    void run();
+
+    bool helpRequested() const { return m_help_requested; }
+
+    /** Effective configuration; tests may edit it between initialize() and run(). */
+    mrpt::config::CConfigFileMemory params;
+
+    /** The mapper of the last run() (results stay readable). */
+    const Mapper& mapper() const { return *m_mapper; }
+    /** What the last run() added to the mapper's results. */
+    const MapperRunInfo& runInfo() const { return m_info; }
+
+private:
+    void writeOutputs(const emslam::stereo::TumTrajectory& ground_truth);
+
+    bool m_help_requested{false};
+    bool m_quiet{false};
+    bool m_egomotion_only{false};
+    std::string m_config, m_rawlog, m_out, m_gt;
+    std::size_t m_max_frames{0};
+    std::unique_ptr<Mapper> m_mapper;
+    MapperRunInfo m_info;
+};
+
+}  // namespace emslam::apps

@@ -1,0 +1,56 @@
+// SPDX-License-Identifier: BSD-3-Clause
+#pragma once
+
+#include <emslam/rectify/RectificationStats.h>
+#include <emslam/stereo/TumTrajectory.h>
+
+#include <cstddef>
+#include <string>
+#include <utility>
+#include <vector>
+
+namespace emslam::apps
+{
+/** What the mapper did on one input frame, as plotted in the report and
+ * written to stats.csv. \ingroup emslam_apps_grp */
+struct MapperFrameRecord
+{
+    std::size_t index{0};            //!< frame number in the rawlog's stereo / RGB-D stream
+    double timestamp{0.0};           //!< [s]
+    double ms_stereo{0.0};           //!< stereo front-end (disparity, 3D) [ms]
+    double ms_egomotion{0.0};        //!< egomotion, all four stages [ms]
+    double ms_rectification{0.0};    //!< time the frame waited for rectification [ms]
+    double ms_total{0.0};            //!< the whole frame [ms]
+    std::size_t points{0};           //!< 3D points of the frame
+    std::size_t initial_matches{0};  //!< matches before LWO
+    std::size_t final_matches{0};    //!< matches after LWO
+    bool egomotion_ok{true};         //!< false: the step failed (first frame: true)
+    bool accepted{false};            //!< joined the trajectory (space sampling)
+    double energy{0.0};  //!< map energy after the frame (0 before the first rectification)
+};
+
+/** Everything report.html shows. \ingroup emslam_apps_grp \sa writeMapperReport() */
+struct MapperReportData
+{
+    std::string title;  //!< e.g. the rawlog's file name
+    /** Camera trajectories in the world (first camera) frame. */
+    emslam::stereo::TumTrajectory egomotion, slam;
+    /** Optional ground truth, already expressed in the same world frame
+     * (empty: not drawn). */
+    emslam::stereo::TumTrajectory ground_truth;
+    std::vector<MapperFrameRecord> frames;
+    std::vector<emslam::rectify::RectificationStats> rectifications;
+    /** Rows of the summary table: (name, value as text). */
+    std::vector<std::pair<std::string, std::string>> summary;
+};
+
+/** Writes `data` as one self-contained HTML file (inline SVG and CSS, no
+ * script or network access needed): top (X-Z) and side (X-Y / Z-Y) views of
+ * the trajectories, the energy over the cumulative rectification attempts,
+ * the time per frame with its rectification peaks (paper Fig. 17), the
+ * successful / failed attempts per rectification (Fig. 20) and the summary
+ * table. Throws std::runtime_error naming the file if it cannot be written.
+ * \ingroup emslam_apps_grp */
+void writeMapperReport(const std::string& file, const MapperReportData& data);
+
+}  // namespace emslam::apps

@@ -1,0 +1,38 @@
+// SPDX-License-Identifier: BSD-3-Clause
+#pragma once
+
+namespace emslam::apps
+{
+/** A process-wide "please stop" flag that SIGINT / SIGTERM raise while a
+ * StopSignalGuard lives, so long loops (grabbing, mapping) can end cleanly
+ * and still write what they have. Thread- and signal-safe.
+ * \ingroup emslam_apps_grp */
+class StopSignal
+{
+public:
+    /** True once a signal arrived or request() was called. */
+    static bool requested();
+    /** Raises the flag, as a signal does. */
+    static void request();
+    /** Lowers the flag (at the start of a run). */
+    static void clear();
+};
+
+/** Installs the SIGINT / SIGTERM handlers of StopSignal for its lifetime and
+ * restores the previous ones afterwards. Blocking reads are restarted
+ * (SA_RESTART), so a signal never turns into a spurious I/O error.
+ * \ingroup emslam_apps_grp */
+class StopSignalGuard
+{
+public:
+    StopSignalGuard();
+    ~StopSignalGuard();
+    StopSignalGuard(const StopSignalGuard&) = delete;
+    StopSignalGuard& operator=(const StopSignalGuard&) = delete;
+
+private:
+    struct Saved;
+    Saved* m_saved;
+};
+
+}  // namespace emslam::apps

@@ -1,0 +1,127 @@
+// SPDX-License-Identifier: BSD-3-Clause
+#include <emslam/apps/IntensityCloud.h>
+
+#include <cmath>
+#include <cstdio>
+#include <fstream>
+#include <stdexcept>
+#include <unordered_map>
+
+namespace emslam::apps
+{
+void IntensityCloud::appendTransformed(const IntensityCloud& other, const mrpt::poses::CPose3D& T)
+{
+    points.reserve(points.size() + other.size());
+    for (const auto& p : other.points)
+    {
+        double x = 0, y = 0, z = 0;
+        T.composePoint(p.x, p.y, p.z, x, y, z);
+        points.emplace_back(static_cast<float>(x), static_cast<float>(y), static_cast<float>(z));
+    }
+    intensity.insert(intensity.end(), other.intensity.begin(), other.intensity.end());
+}
+
+std::size_t IntensityCloud::memoryBytes() const
+{
+    return points.capacity() * sizeof(mrpt::math::TPoint3Df) + intensity.capacity();
+}
+
+namespace
+{
+struct CellSum
+{
+    double x{0}, y{0}, z{0}, grey{0};
+    int n{0};
+};
+
+std::uint64_t cellKey(const mrpt::math::TPoint3Df& p, double inv_cell)
+{
+    // 21 bits per axis: ±10^6 cells, far beyond any stereo range.
+    const auto k = [&](float v)
+    {
+        return static_cast<std::uint64_t>(
+                   static_cast<std::int64_t>(std::floor(v * inv_cell)) + (1 << 20)) &
+               0x1FFFFF;
+    };
+    return (k(p.x) << 42) | (k(p.y) << 21) | k(p.z);
+}
+}  // namespace
+
+IntensityCloud downsampleFrame(const emslam::stereo::StereoFrame& frame, double cell_size)
+{
+    IntensityCloud out;
+    const auto grey = [&](std::size_t i)
+    { return frame.intensity.at<std::uint8_t>(frame.pixels[i].v, frame.pixels[i].u); };
+    if (cell_size <= 0)
+    {
+        out.points = frame.points;
+        out.intensity.reserve(frame.size());
+        for (std::size_t i = 0; i < frame.size(); ++i)
+        {
+            out.intensity.push_back(grey(i));
+        }
+        return out;
+    }
+    const double inv_cell = 1.0 / cell_size;
+    std::unordered_map<std::uint64_t, CellSum> cells;
+    cells.reserve(frame.size() / 4 + 16);
+    for (std::size_t i = 0; i < frame.size(); ++i)
+    {
+        const auto& p = frame.points[i];
+        if (!std::isfinite(p.x) || !std::isfinite(p.y) || !std::isfinite(p.z))
+        {
+            continue;
+        }
+        CellSum& c = cells[cellKey(p, inv_cell)];
+        c.x += p.x;
+        c.y += p.y;
+        c.z += p.z;
+        c.grey += grey(i);
+        ++c.n;
+    }
+    out.points.reserve(cells.size());
+    out.intensity.reserve(cells.size());
+    for (const auto& [key, c] : cells)
+    {
+        const double n = c.n;
+        out.points.emplace_back(
+            static_cast<float>(c.x / n), static_cast<float>(c.y / n), static_cast<float>(c.z / n));
+        out.intensity.push_back(static_cast<std::uint8_t>(std::lround(c.grey / n)));
+    }
+    return out;
+}
+
+void savePly(const IntensityCloud& cloud, const std::string& file)
+{
+    const std::string tmp = file + ".partial";
+    {
+        std::ofstream out(tmp, std::ios::binary);
+        if (!out)
+        {
+            throw std::runtime_error("cannot write '" + file + "'");
+        }
+        out << "ply\nformat binary_little_endian 1.0\ncomment emslam map\nelement vertex "
+            << cloud.size()
+            << "\nproperty float x\nproperty float y\nproperty float z\n"
+               "property uchar red\nproperty uchar green\nproperty uchar blue\nend_header\n";
+        for (std::size_t i = 0; i < cloud.size(); ++i)
+        {
+            const auto& p = cloud.points[i];
+            const float xyz[3] = {p.x, p.y, p.z};
+            const std::uint8_t g = cloud.intensity[i];
+            const std::uint8_t rgb[3] = {g, g, g};
+            out.write(reinterpret_cast<const char*>(xyz), sizeof(xyz));
+            out.write(reinterpret_cast<const char*>(rgb), sizeof(rgb));
+        }
+        if (!out.flush())
+        {
+            throw std::runtime_error("cannot write '" + file + "' (disk full?)");
+        }
+    }
+    if (std::rename(tmp.c_str(), file.c_str()) != 0)
+    {
+        throw std::runtime_error("cannot rename '" + tmp + "' to '" + file + "'");
+    }
+}
+
+}  // namespace emslam::apps

@@ -1,0 +1,249 @@
+// SPDX-License-Identifier: BSD-3-Clause
+#include <emslam/apps/Mapper.h>
+#include <emslam/stereo/ExceptionMessage.h>
+
+#include <mrpt/config/CConfigFileBase.h>
+
+#include <chrono>
+#include <cmath>
+#include <functional>
+#include <limits>
+#include <stdexcept>
+
+namespace emslam::apps
+{
+namespace
+{
+constexpr const char* MAPPER_SECTION = "Mapper";
+constexpr const char* STEREO_SECTION = "Stereo";
+constexpr const char* EGOMOTION_SECTION = "Egomotion";
+constexpr const char* MAP_SECTION = "EntropyVoxelMap";
+constexpr const char* SAMPLING_SECTION = "SpaceSampling";
+constexpr const char* RECTIFIER_SECTION = "Rectifier";
+
+using Clock = std::chrono::steady_clock;
+
+double msSince(Clock::time_point t0)
+{
+    return std::chrono::duration<double, std::milli>(Clock::now() - t0).count();
+}
+
+/** Runs `load`; an error that does not name its section yet gets it in front. */
+void loadSection(const std::string& section, const std::function<void()>& load)
+{
+    try
+    {
+        load();
+    }
+    catch (const std::exception& e)
+    {
+        const std::string msg = emslam::stereo::shortExceptionMessage(e);
+        if (msg.find("[" + section + "]") != std::string::npos)
+        {
+            throw std::invalid_argument(msg);
+        }
+        throw std::invalid_argument("[" + section + "] " + msg);
+    }
+}
+
+/** The frame's points the entropy map takes: `[EntropyVoxelMap]` min_range,
+ * max_range and decimation apply, as for observations inserted through MRPT. */
+emslam::maps::WeightedPointCloud toWeightedCloud(
+    const emslam::stereo::StereoFrame& f, const emslam::CEntropyVoxelMap::TInsertionOptions& o)
+{
+    const double max_r2 =
+        o.max_range > 0 ? o.max_range * o.max_range : std::numeric_limits<double>::infinity();
+    const double min_r2 = o.min_range * o.min_range;
+    const auto step = static_cast<std::size_t>(o.decimation);
+    emslam::maps::WeightedPointCloud c;
+    c.points.reserve(f.size() / step + 1);
+    for (std::size_t i = 0; i < f.size(); i += step)
+    {
+        const auto& p = f.points[i];
+        const double r2 = static_cast<double>(p.x) * p.x + static_cast<double>(p.y) * p.y +
+                          static_cast<double>(p.z) * p.z;
+        if (std::isfinite(r2) && r2 <= max_r2 && r2 >= min_r2)
+        {
+            c.points.push_back(p);
+        }
+    }
+    c.weights.assign(c.points.size(), 1.0f);
+    return c;
+}
+}  // namespace
+
+void Mapper::TOptions::loadFromConfigFile(
+    const mrpt::config::CConfigFileBase& c, const std::string& s)
+{
+    MRPT_LOAD_CONFIG_VAR(egomotion_only, bool, c, s);
+    MRPT_LOAD_CONFIG_VAR(map_cell_size, double, c, s);
+    validate();
+}
+
+void Mapper::TOptions::saveToConfigFile(
+    mrpt::config::CConfigFileBase& c, const std::string& s) const
+{
+    MRPT_SAVE_CONFIG_VAR_COMMENT(egomotion_only, "egomotion only: the map is never rectified");
+    MRPT_SAVE_CONFIG_VAR_COMMENT(map_cell_size, "[m] map.ply cell per frame (<= 0: every point)");
+}
+
+void Mapper::TOptions::validate() const
+{
+    if (!std::isfinite(map_cell_size))
+    {
+        throw std::invalid_argument("[Mapper] map_cell_size: must be a finite number");
+    }
+}
+
+void Mapper::TParameters::loadFromConfigFile(const mrpt::config::CConfigFileBase& c)
+{
+    loadSection(STEREO_SECTION, [&] { stereo.loadFromConfigFile(c, STEREO_SECTION); });
+    loadSection(EGOMOTION_SECTION, [&] { egomotion.loadFromConfigFile(c, EGOMOTION_SECTION); });
+    loadSection(MAP_SECTION, [&] { map.loadFromConfigFile(c, MAP_SECTION); });
+    loadSection(MAP_SECTION, [&] { insertion.loadFromConfigFile(c, MAP_SECTION); });
+    loadSection(SAMPLING_SECTION, [&] { sampling.loadFromConfigFile(c, SAMPLING_SECTION); });
+    loadSection(RECTIFIER_SECTION, [&] { rectifier.loadFromConfigFile(c, RECTIFIER_SECTION); });
+    loadSection(MAPPER_SECTION, [&] { mapper.loadFromConfigFile(c, MAPPER_SECTION); });
+}
+
+void Mapper::TParameters::saveToConfigFile(mrpt::config::CConfigFileBase& c) const
+{
+    stereo.saveToConfigFile(c, STEREO_SECTION);
+    egomotion.saveToConfigFile(c, EGOMOTION_SECTION);
+    map.saveToConfigFile(c, MAP_SECTION);
+    insertion.saveToConfigFile(c, MAP_SECTION);
+    sampling.saveToConfigFile(c, SAMPLING_SECTION);
+    rectifier.saveToConfigFile(c, RECTIFIER_SECTION);
+    mapper.saveToConfigFile(c, MAPPER_SECTION);
+}
+
+Mapper::Mapper(const TParameters& p)
+    : m_p(p), m_front(p.stereo), m_egomotion_estimator(p.egomotion), m_sampler(p.sampling)
+{
+    if (m_p.mapper.egomotion_only)
+    {
+        m_p.rectifier.mode = emslam::rectify::RectificationMode::Serial;
+        m_p.rectifier.rectify_every = 0;
+    }
+    m_runner = emslam::rectify::createRectificationRunner(m_p.rectifier, m_p.map, m_p.insertion);
+}
+
+Mapper::~Mapper() = default;
+
+bool Mapper::process(const mrpt::obs::CObservation& obs)
+{
+    if (m_finished)
+    {
+        throw std::logic_error("Mapper::process after finish()");
+    }
+    const auto t0 = Clock::now();
+    emslam::stereo::StereoFrame f;
+    if (!m_front.process(obs, f))
+    {
+        return false;
+    }
+    MapperFrameRecord r;
+    r.index = m_records.size();
+    r.timestamp = mrpt::Clock::toDouble(f.timestamp);
+    r.ms_stereo = msSince(t0);
+    r.points = f.size();
+    m_image_width = f.intensity.cols;
+    m_image_height = f.intensity.rows;
+
+    const auto ego = m_egomotion_estimator.process(f);
+    r.ms_egomotion = ego.ms_total;
+    mrpt::poses::CPose3D action;  // identity: first frame, or a failed step
+    if (r.index > 0)
+    {
+        r.initial_matches = ego.initial_matches;
+        r.final_matches = ego.final_matches;
+        r.egomotion_ok = ego.ok;
+        if (ego.ok)
+        {
+            action = ego.T_prev_cur;
+        }
+        else
+        {
+            ++m_failures;
+        }
+    }
+    m_T_world_cur = m_T_world_cur + action;
+    m_egomotion.add(r.timestamp, m_T_world_cur);
+
+    r.accepted = m_sampler.feed(action);
+    if (r.accepted)
+    {
+        const auto t_rect = Clock::now();
+        addAccepted(f, r.index, r.timestamp);
+        r.ms_rectification = msSince(t_rect);
+    }
+    r.energy = m_energy;
+    r.ms_total = msSince(t0);
+    m_records.push_back(r);
+    return true;
+}
+
+void Mapper::addAccepted(const emslam::stereo::StereoFrame& f, std::size_t index, double t)
+{
+    // The first accepted frame is the world origin; later ones are placed by
+    // the motion since the previous accepted frame.
+    const mrpt::poses::CPose3D action =
+        m_sampler.accepted() == 1 ? mrpt::poses::CPose3D() : m_sampler.actionSinceAccepted();
+    m_runner->addFrame(action, toWeightedCloud(f, m_p.insertion), t, index);
+    m_frame_clouds.emplace(index, downsampleFrame(f, m_p.mapper.map_cell_size));
+    const auto stats = m_runner->statistics();
+    if (stats.size() > m_rectifications_seen)
+    {
+        m_rectifications_seen = stats.size();
+        m_energy = stats.back().energy_after;
+    }
+}
+
+void Mapper::finish()
+{
+    if (m_finished)
+    {
+        return;
+    }
+    m_finished = true;
+    m_runner->finish();
+    m_rectifications = m_runner->statistics();
+    if (m_runner->trajectory().empty())
+    {
+        return;
+    }
+    m_energy = m_runner->trajectory().energy();
+    m_slam = {};
+    m_map_cloud = {};
+    for (const auto& fp : m_runner->framePoses())
+    {
+        m_slam.add(fp.timestamp, fp.T_world_frame);
+        const auto it = m_frame_clouds.find(fp.frame_index);
+        if (it != m_frame_clouds.end())
+        {
+            m_map_cloud.appendTransformed(it->second, fp.T_world_frame);
+        }
+    }
+    m_frame_clouds.clear();
+}
+
+const emslam::CEntropyVoxelMap& Mapper::entropyMap() const
+{
+    if (!m_finished)
+    {
+        throw std::logic_error("Mapper::entropyMap before finish()");
+    }
+    return m_runner->trajectory().map();
+}
+
+std::size_t Mapper::trajectoryElements() const
+{
+    return m_finished ? m_runner->trajectory().size() : 0;
+}
+
+std::size_t Mapper::compressions() const
+{
+    return m_finished ? m_runner->trajectory().compressionCount() : 0;
+}
+
+}  // namespace emslam::apps

@@ -1,0 +1,235 @@
+// SPDX-License-Identifier: BSD-3-Clause
+#include <emslam/apps/CommandLine.h>
+#include <emslam/apps/ConfigValidation.h>
+#include <emslam/apps/MapperApp.h>
+#include <emslam/apps/MapperReport.h>
+#include <emslam/apps/ProgressLine.h>
+#include <emslam/apps/RawlogInput.h>
+#include <emslam/apps/StopSignal.h>
+
+#include <mrpt/system/filesystem.h>
+
+#include <chrono>
+#include <cstdio>
+#include <fstream>
+#include <stdexcept>
+#include <vector>
+
+namespace emslam::apps
+{
+namespace
+{
+constexpr const char* PROGRAM = "emslam-mapper";
+
+std::string joinPath(const std::string& dir, const std::string& name)
+{
+    return dir + "/" + name;
+}
+
+void writeEffectiveIni(const Mapper::TParameters& p, const std::string& file)
+{
+    mrpt::config::CConfigFileMemory cfg;
+    p.saveToConfigFile(cfg);
+    std::ofstream out(file, std::ios::out | std::ios::trunc);
+    out << "# emslam-mapper: every parameter this run used (load it with emslam-mapper to "
+           "repeat the run)\n"
+        << cfg.getContent();
+    if (!out.flush())
+    {
+        throw std::runtime_error("cannot write '" + file + "'");
+    }
+}
+
+std::string energyText(double e)
+{
+    char buf[48];
+    std::snprintf(buf, sizeof(buf), "energy %.4f", e);
+    return buf;
+}
+}  // namespace
+
+void MapperApp::initialize(int argc, const char** argv)
+{
+    TCLAP::CmdLine cmd(
+        "emslam-mapper: Entropy Minimization SLAM over a rawlog. Stereo (or RGB-D) "
+        "observations go through the stereo front-end, egomotion (GLM features, log-polar "
+        "matching, LWO, Dpp), space sampling and global rectification by entropy minimization; "
+        "the trajectories, map, statistics and an HTML report are written to --out.",
+        ' ', "0.1");
+    TCLAP::UnlabeledValueArg<std::string> config(
+        "config",
+        "INI file ([Stereo] [Egomotion] [EntropyVoxelMap] [SpaceSampling] [Rectifier] "
+        "[Mapper]); see config/mapper/",
+        true, "", "CONFIG.ini", cmd);
+    TCLAP::UnlabeledValueArg<std::string> rawlog(
+        "rawlog", "Rawlog with CObservationStereoImages / CObservation3DRangeScan", true, "",
+        "DATASET.rawlog", cmd);
+    TCLAP::ValueArg<std::string> out(
+        "o", "out", "Output folder (created if needed)", true, "", "DIR", cmd);
+    TCLAP::SwitchArg egomotion_only(
+        "", "egomotion-only", "No global rectification (same as --set Mapper.egomotion_only=true)",
+        cmd);
+    TCLAP::ValueArg<std::string> gt(
+        "", "gt", "Ground truth (TUM) for the report and summary.json", false, "", "GT.tum", cmd);
+    TCLAP::MultiArg<std::string> sets(
+        "", "set", "Override a parameter: SECTION.key=value", false, "SECTION.key=value", cmd);
+    TCLAP::ValueArg<std::size_t> max_frames(
+        "", "max-frames", "Stop after N stereo / RGB-D frames (0: all)", false, 0, "N", cmd);
+    TCLAP::SwitchArg quiet("q", "quiet", "No progress line", cmd);
+
+    if (!parseCommandLine(cmd, PROGRAM, argc, argv))
+    {
+        m_help_requested = true;
+        return;
+    }
+    m_config = config.getValue();
+    m_rawlog = rawlog.getValue();
+    m_out = out.getValue();
+    m_gt = gt.getValue();
+    m_egomotion_only = egomotion_only.getValue();
+    m_max_frames = max_frames.getValue();
+    m_quiet = quiet.getValue();
+    loadConfig(params, m_config, sets.getValue());
+
+    // Everything a run needs is checked here, before any long work.
+    Mapper::TParameters reference;
+    mrpt::config::CConfigFileMemory known;
+    reference.saveToConfigFile(known);
+    requireKnownConfigEntries(params, known);
+    Mapper::TParameters p;
+    p.loadFromConfigFile(params);
+    if (!mrpt::system::fileExists(m_rawlog))
+    {
+        throw std::runtime_error("rawlog '" + m_rawlog + "' does not exist");
+    }
+    if (!m_gt.empty() && !mrpt::system::fileExists(m_gt))
+    {
+        throw std::runtime_error("ground truth '" + m_gt + "' does not exist");
+    }
+}
+
+void MapperApp::run()
+{
+    if (m_help_requested)
+    {
+        return;
+    }
+    const auto t_start = std::chrono::steady_clock::now();
+    Mapper::TParameters p;
+    p.loadFromConfigFile(params);
+    p.mapper.egomotion_only = p.mapper.egomotion_only || m_egomotion_only;
+    const emslam::stereo::TumTrajectory ground_truth =
+        m_gt.empty() ? emslam::stereo::TumTrajectory{}
+                     : emslam::stereo::TumTrajectory::fromFile(m_gt);
+    RawlogInput in(m_rawlog);
+    if (!mrpt::system::directoryExists(m_out) && !mrpt::system::createDirectory(m_out))
+    {
+        throw std::runtime_error("cannot create output folder '" + m_out + "'");
+    }
+    m_mapper = std::make_unique<Mapper>(p);
+    m_info = {};
+    m_info.rawlog = m_rawlog;
+    m_info.config = m_config;
+
+    StopSignal::clear();
+    const StopSignalGuard signals;
+    ProgressLine progress(PROGRAM, 1, !m_quiet);
+    std::vector<mrpt::obs::CObservation::Ptr> batch;
+    bool done = false;
+    while (!done && in.next(batch))
+    {
+        for (const auto& o : batch)
+        {
+            if (StopSignal::requested() ||
+                (m_max_frames != 0 && m_mapper->frameCount() >= m_max_frames))
+            {
+                done = true;
+                break;
+            }
+            if (!m_mapper->process(*o))
+            {
+                ++m_info.ignored_observations;
+                continue;
+            }
+            progress.updateFraction(
+                m_mapper->frameCount(), in.fractionRead(), energyText(m_mapper->currentEnergy()));
+        }
+        done = done || StopSignal::requested();
+    }
+    progress.finish();
+    m_info.interrupted = StopSignal::requested();
+    if (in.endedEarly())
+    {
+        m_info.input_ended_early = in.endReason();
+        if (in.recordsRead() == 0)
+        {
+            throw std::runtime_error(
+                "'" + m_rawlog + "' is not a readable rawlog: " + in.endReason());
+        }
+        std::fprintf(
+            stderr,
+            "%s: warning: rawlog '%s' ended early at %s; mapping the %zu frames before it\n",
+            PROGRAM, m_rawlog.c_str(), in.endReason().c_str(), m_mapper->frameCount());
+    }
+    if (m_info.interrupted)
+    {
+        std::fprintf(
+            stderr, "%s: interrupted after %zu frames; writing the outputs\n", PROGRAM,
+            m_mapper->frameCount());
+    }
+    if (m_mapper->frameCount() == 0)
+    {
+        throw std::runtime_error(
+            "no stereo or RGB-D observation in rawlog '" + m_rawlog + "' (" +
+            std::to_string(m_info.ignored_observations) + " observations of other classes)");
+    }
+    m_mapper->finish();
+    m_info.seconds =
+        std::chrono::duration<double>(std::chrono::steady_clock::now() - t_start).count();
+    writeOutputs(ground_truth);
+}
+
+void MapperApp::writeOutputs(const emslam::stereo::TumTrajectory& ground_truth)
+{
+    const Mapper& m = *m_mapper;
+    if (!ground_truth.empty())
+    {
+        TrajectoryMetrics::Options opts;
+        m_info.egomotion_vs_gt =
+            TrajectoryMetrics::compute(ground_truth, m.egomotionTrajectory(), opts);
+        m_info.slam_vs_gt = TrajectoryMetrics::compute(ground_truth, m.slamTrajectory(), opts);
+    }
+    m.egomotionTrajectory().saveToFile(joinPath(m_out, "trajectory_egomotion.tum"));
+    m.slamTrajectory().saveToFile(joinPath(m_out, "trajectory_slam.tum"));
+    savePly(m.mapCloud(), joinPath(m_out, "map.ply"));
+    writeScene(m, joinPath(m_out, "map.3Dscene"));
+    writeEntropyMap(m, joinPath(m_out, "entropy_map.bin"));
+    writeStatsCsv(m, joinPath(m_out, "stats.csv"));
+    writeSummaryJson(m, m_info, joinPath(m_out, "summary.json"));
+    writeEffectiveIni(m.parameters(), joinPath(m_out, "effective.ini"));
+    writeMapperReport(joinPath(m_out, "report.html"), makeReportData(m, m_info, ground_truth));
+
+    std::printf(
+        "%s: %zu frames (%zu accepted, %zu egomotion failures", PROGRAM, m.frameCount(),
+        m.acceptedCount(), m.egomotionFailures());
+    if (m_info.ignored_observations > 0)
+    {
+        std::printf(", %zu other observations ignored", m_info.ignored_observations);
+    }
+    std::printf(
+        "), %zu rectifications, final energy %.4f, %.1f s\n", m.rectifications().size(),
+        m.finalEnergy(), m_info.seconds);
+    std::printf(
+        "loop gap (first to last pose): egomotion %.3f m, SLAM %.3f m\n",
+        loopGap(m.egomotionTrajectory()), loopGap(m.slamTrajectory()));
+    if (m_info.slam_vs_gt)
+    {
+        std::printf(
+            "ATE against the ground truth: egomotion %.3f m, SLAM %.3f m\n",
+            m_info.egomotion_vs_gt->ate_rmse_m, m_info.slam_vs_gt->ate_rmse_m);
+    }
+    std::printf(
+        "outputs in '%s' (report: %s)\n", m_out.c_str(), joinPath(m_out, "report.html").c_str());
+}
+
+}  // namespace emslam::apps

@@ -1,0 +1,341 @@
+// SPDX-License-Identifier: BSD-3-Clause
+#include <emslam/apps/Json.h>
+#include <emslam/apps/MapperOutputs.h>
+#include <emslam/maps/EntropyEnergy.h>
+
+#include <mrpt/io/CFileOutputStream.h>
+#include <mrpt/math/CMatrixFixed.h>
+#include <mrpt/opengl/CGridPlaneXY.h>
+#include <mrpt/opengl/COpenGLScene.h>
+#include <mrpt/opengl/CPointCloudColoured.h>
+#include <mrpt/opengl/CSetOfLines.h>
+#include <mrpt/opengl/CSetOfObjects.h>
+#include <mrpt/opengl/stock_objects.h>
+#include <mrpt/serialization/CArchive.h>
+
+#include <algorithm>
+#include <cstdio>
+#include <fstream>
+#include <sstream>
+#include <stdexcept>
+
+namespace emslam::apps
+{
+namespace
+{
+/** Opens `file` for writing through a `.partial` file; commit() renames it,
+ * so a crash never leaves a half-written output under the final name. */
+class AtomicTextFile
+{
+public:
+    explicit AtomicTextFile(std::string file) : m_file(std::move(file)), m_tmp(m_file + ".partial")
+    {
+        m_out.open(m_tmp, std::ios::out | std::ios::trunc);
+        if (!m_out)
+        {
+            throw std::runtime_error("cannot write '" + m_file + "'");
+        }
+    }
+    std::ofstream& stream() { return m_out; }
+    void commit()
+    {
+        m_out.flush();
+        if (!m_out)
+        {
+            throw std::runtime_error("cannot write '" + m_file + "' (disk full?)");
+        }
+        m_out.close();
+        if (std::rename(m_tmp.c_str(), m_file.c_str()) != 0)
+        {
+            throw std::runtime_error("cannot rename '" + m_tmp + "' to '" + m_file + "'");
+        }
+    }
+
+private:
+    std::string m_file, m_tmp;
+    std::ofstream m_out;
+};
+
+struct StageMeans
+{
+    double stereo{0}, egomotion{0}, rectification{0}, total{0}, max_total{0};
+};
+
+StageMeans stageMeans(const std::vector<MapperFrameRecord>& frames)
+{
+    StageMeans m;
+    for (const auto& f : frames)
+    {
+        m.stereo += f.ms_stereo;
+        m.egomotion += f.ms_egomotion;
+        m.rectification += f.ms_rectification;
+        m.total += f.ms_total;
+        m.max_total = std::max(m.max_total, f.ms_total);
+    }
+    const double n = frames.empty() ? 1.0 : static_cast<double>(frames.size());
+    m.stereo /= n;
+    m.egomotion /= n;
+    m.rectification /= n;
+    m.total /= n;
+    return m;
+}
+
+struct RectificationTotals
+{
+    std::size_t attempts{0}, successes{0}, failures{0}, accepted_worse{0};
+    double seconds{0}, median_ms{0}, max_ms{0};
+};
+
+RectificationTotals rectificationTotals(const std::vector<emslam::rectify::RectificationStats>& r)
+{
+    RectificationTotals t;
+    std::vector<double> ms;
+    for (const auto& s : r)
+    {
+        t.attempts += s.attempts;
+        t.successes += s.successes;
+        t.failures += s.failures;
+        t.accepted_worse += s.accepted_worse;
+        t.seconds += s.seconds;
+        ms.push_back(1e3 * s.seconds);
+    }
+    if (!ms.empty())
+    {
+        std::sort(ms.begin(), ms.end());
+        t.median_ms = ms[ms.size() / 2];
+        t.max_ms = ms.back();
+    }
+    return t;
+}
+
+std::string fixed(double v, int decimals)
+{
+    char buf[64];
+    std::snprintf(buf, sizeof(buf), "%.*f", decimals, v);
+    return buf;
+}
+
+/** Camera frame (x right, y down, z forward) → viewer frame (Z up). */
+mrpt::poses::CPose3D viewerFromCamera()
+{
+    mrpt::math::CMatrixDouble33 R;
+    R.setZero();
+    R(0, 2) = 1;   // forward → X
+    R(1, 0) = -1;  // right → −Y
+    R(2, 1) = -1;  // down → −Z
+    mrpt::poses::CPose3D T;
+    T.setRotationMatrix(R);
+    return T;
+}
+
+mrpt::opengl::CSetOfLines::Ptr trajectoryLines(
+    const emslam::stereo::TumTrajectory& t, float r, float g, float b)
+{
+    auto lines = mrpt::opengl::CSetOfLines::Create();
+    lines->setColor(r, g, b);
+    lines->setLineWidth(2.0f);
+    for (std::size_t i = 1; i < t.size(); ++i)
+    {
+        const auto& p = t.poses[i - 1].pose;
+        const auto& q = t.poses[i].pose;
+        lines->appendLine(p.x(), p.y(), p.z(), q.x(), q.y(), q.z());
+    }
+    return lines;
+}
+}  // namespace
+
+double loopGap(const emslam::stereo::TumTrajectory& t)
+{
+    if (t.size() < 2)
+    {
+        return 0.0;
+    }
+    return (t.poses.back().pose.asTPose().translation() -
+            t.poses.front().pose.asTPose().translation())
+        .norm();
+}
+
+void writeStatsCsv(const Mapper& m, const std::string& file)
+{
+    AtomicTextFile f(file);
+    auto& o = f.stream();
+    o << "type,index,timestamp,ms_stereo,ms_egomotion,ms_rectification,ms_total,points,"
+         "matches_before_lwo,matches_after_lwo,accepted,egomotion_ok,energy,"
+         "elements,frames,attempts,successes,accepted_worse,failures,energy_before,"
+         "energy_after,seconds,converged\n";
+    for (const auto& r : m.frames())
+    {
+        o << "frame," << r.index << ',' << fixed(r.timestamp, 6) << ',' << fixed(r.ms_stereo, 3)
+          << ',' << fixed(r.ms_egomotion, 3) << ',' << fixed(r.ms_rectification, 3) << ','
+          << fixed(r.ms_total, 3) << ',' << r.points << ',' << r.initial_matches << ','
+          << r.final_matches << ',' << (r.accepted ? 1 : 0) << ',' << (r.egomotion_ok ? 1 : 0)
+          << ',' << jsonNumber(r.energy) << ",,,,,,,,,,\n";
+    }
+    std::size_t k = 0;
+    for (const auto& s : m.rectifications())
+    {
+        o << "rectification," << k++ << ",,,,,,,,,,,," << s.elements << ',' << s.frames << ','
+          << s.attempts << ',' << s.successes << ',' << s.accepted_worse << ',' << s.failures << ','
+          << jsonNumber(s.energy_before) << ',' << jsonNumber(s.energy_after) << ','
+          << fixed(s.seconds, 6) << ',' << (s.converged ? 1 : 0) << '\n';
+    }
+    f.commit();
+}
+
+void writeSummaryJson(const Mapper& m, const MapperRunInfo& info, const std::string& file)
+{
+    const StageMeans ms = stageMeans(m.frames());
+    const RectificationTotals rt = rectificationTotals(m.rectifications());
+    const auto& p = m.parameters();
+    std::ostringstream j;
+    j << "{\n"
+      << "  \"rawlog\": " << jsonString(info.rawlog) << ",\n"
+      << "  \"config\": " << jsonString(info.config) << ",\n"
+      << "  \"energy\": " << jsonString(emslam::maps::toString(p.map.energy)) << ",\n"
+      << "  \"dof\": " << p.map.dof << ",\n"
+      << "  \"mode\": "
+      << jsonString(
+             p.mapper.egomotion_only ? std::string("egomotion_only")
+                                     : emslam::rectify::toString(p.rectifier.mode))
+      << ",\n"
+      << "  \"frames\": " << m.frameCount() << ",\n"
+      << "  \"accepted_frames\": " << m.acceptedCount() << ",\n"
+      << "  \"egomotion_failures\": " << m.egomotionFailures() << ",\n"
+      << "  \"ignored_observations\": " << info.ignored_observations << ",\n"
+      << "  \"interrupted\": " << (info.interrupted ? "true" : "false") << ",\n"
+      << "  \"input_ended_early\": "
+      << (info.input_ended_early.empty() ? "null" : jsonString(info.input_ended_early)) << ",\n"
+      << "  \"image_width\": " << m.imageWidth() << ",\n"
+      << "  \"image_height\": " << m.imageHeight() << ",\n"
+      << "  \"ms_per_frame\": {\"stereo\": " << jsonNumber(ms.stereo)
+      << ", \"egomotion\": " << jsonNumber(ms.egomotion)
+      << ", \"stereo_plus_egomotion\": " << jsonNumber(ms.stereo + ms.egomotion)
+      << ", \"rectification\": " << jsonNumber(ms.rectification)
+      << ", \"total\": " << jsonNumber(ms.total) << ", \"max_total\": " << jsonNumber(ms.max_total)
+      << "},\n"
+      << "  \"rectification\": {\"calls\": " << m.rectifications().size()
+      << ", \"attempts\": " << rt.attempts << ", \"successes\": " << rt.successes
+      << ", \"failures\": " << rt.failures << ", \"accepted_worse\": " << rt.accepted_worse
+      << ", \"seconds\": " << jsonNumber(rt.seconds)
+      << ", \"median_ms_per_call\": " << jsonNumber(rt.median_ms)
+      << ", \"max_ms_per_call\": " << jsonNumber(rt.max_ms) << "},\n"
+      << "  \"trajectory_elements\": " << m.trajectoryElements() << ",\n"
+      << "  \"compressions\": " << m.compressions() << ",\n"
+      << "  \"final_energy\": " << jsonNumber(m.finalEnergy()) << ",\n"
+      << "  \"map_points\": " << m.mapCloud().size() << ",\n"
+      << "  \"loop_gap_egomotion_m\": " << jsonNumber(loopGap(m.egomotionTrajectory())) << ",\n"
+      << "  \"loop_gap_slam_m\": " << jsonNumber(loopGap(m.slamTrajectory())) << ",\n"
+      << "  \"seconds\": " << jsonNumber(info.seconds);
+    if (info.egomotion_vs_gt)
+    {
+        j << ",\n  \"egomotion_vs_gt\": " << info.egomotion_vs_gt->toJson();
+    }
+    if (info.slam_vs_gt)
+    {
+        j << ",\n  \"slam_vs_gt\": " << info.slam_vs_gt->toJson();
+    }
+    j << "\n}\n";
+    AtomicTextFile f(file);
+    f.stream() << j.str();
+    f.commit();
+}
+
+void writeScene(const Mapper& m, const std::string& file)
+{
+    auto world = mrpt::opengl::CSetOfObjects::Create();
+    world->setPose(viewerFromCamera());
+
+    auto cloud = mrpt::opengl::CPointCloudColoured::Create();
+    const auto& map = m.mapCloud();
+    for (std::size_t i = 0; i < map.size(); ++i)
+    {
+        const float g = static_cast<float>(map.intensity[i]) / 255.0f;
+        cloud->push_back(map.points[i].x, map.points[i].y, map.points[i].z, g, g, g);
+    }
+    cloud->setPointSize(2.0f);
+    world->insert(cloud);
+    world->insert(trajectoryLines(m.egomotionTrajectory(), 0.9f, 0.1f, 0.1f));
+    world->insert(trajectoryLines(m.slamTrajectory(), 0.1f, 0.8f, 0.1f));
+    world->insert(mrpt::opengl::stock_objects::CornerXYZ(0.5f));
+
+    mrpt::opengl::COpenGLScene scene;
+    scene.insert(mrpt::opengl::CGridPlaneXY::Create(-50, 50, -50, 50, 0, 5));
+    scene.insert(world);
+    const std::string tmp = file + ".partial";
+    if (!scene.saveToFile(tmp) || std::rename(tmp.c_str(), file.c_str()) != 0)
+    {
+        throw std::runtime_error("cannot write '" + file + "'");
+    }
+}
+
+void writeEntropyMap(const Mapper& m, const std::string& file)
+{
+    const std::string tmp = file + ".partial";
+    {
+        mrpt::io::CFileOutputStream f;
+        if (!f.open(tmp))
+        {
+            throw std::runtime_error("cannot write '" + file + "'");
+        }
+        auto a = mrpt::serialization::archiveFrom(f);
+        a << m.entropyMap();
+    }
+    if (std::rename(tmp.c_str(), file.c_str()) != 0)
+    {
+        throw std::runtime_error("cannot rename '" + tmp + "' to '" + file + "'");
+    }
+}
+
+MapperReportData makeReportData(
+    const Mapper& m, const MapperRunInfo& info, const emslam::stereo::TumTrajectory& ground_truth)
+{
+    MapperReportData d;
+    d.title = info.rawlog;
+    d.egomotion = m.egomotionTrajectory();
+    d.slam = m.slamTrajectory();
+    d.ground_truth = ground_truth;
+    d.frames = m.frames();
+    d.rectifications = m.rectifications();
+    const StageMeans ms = stageMeans(m.frames());
+    const RectificationTotals rt = rectificationTotals(m.rectifications());
+    auto& s = d.summary;
+    s.emplace_back("rawlog", info.rawlog);
+    s.emplace_back("configuration", info.config);
+    s.emplace_back("energy", emslam::maps::toString(m.parameters().map.energy));
+    s.emplace_back(
+        "frames / accepted",
+        std::to_string(m.frameCount()) + " / " + std::to_string(m.acceptedCount()));
+    s.emplace_back("egomotion failures", std::to_string(m.egomotionFailures()));
+    s.emplace_back(
+        "ms per frame: stereo / egomotion / rectification / total",
+        fixed(ms.stereo, 1) + " / " + fixed(ms.egomotion, 1) + " / " + fixed(ms.rectification, 1) +
+            " / " + fixed(ms.total, 1));
+    s.emplace_back(
+        "rectifications: calls / attempts / successes", std::to_string(m.rectifications().size()) +
+                                                            " / " + std::to_string(rt.attempts) +
+                                                            " / " + std::to_string(rt.successes));
+    s.emplace_back(
+        "rectification ms per call: median / max",
+        fixed(rt.median_ms, 1) + " / " + fixed(rt.max_ms, 1));
+    s.emplace_back("final energy", fixed(m.finalEnergy(), 4));
+    s.emplace_back("loop gap egomotion [m]", fixed(loopGap(m.egomotionTrajectory()), 3));
+    s.emplace_back("loop gap SLAM [m]", fixed(loopGap(m.slamTrajectory()), 3));
+    if (info.egomotion_vs_gt && info.slam_vs_gt)
+    {
+        s.emplace_back(
+            "ATE egomotion / SLAM [m]", fixed(info.egomotion_vs_gt->ate_rmse_m, 3) + " / " +
+                                            fixed(info.slam_vs_gt->ate_rmse_m, 3));
+    }
+    if (!info.input_ended_early.empty())
+    {
+        s.emplace_back("input ended early", info.input_ended_early);
+    }
+    if (info.interrupted)
+    {
+        s.emplace_back("interrupted", "yes: outputs cover the frames processed until then");
+    }
+    s.emplace_back("wall time [s]", fixed(info.seconds, 1));
+    return d;
+}
+
+}  // namespace emslam::apps

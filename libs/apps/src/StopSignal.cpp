@@ -1,0 +1,63 @@
+// SPDX-License-Identifier: BSD-3-Clause
+#include <emslam/apps/StopSignal.h>
+
+#include <atomic>
+#include <csignal>
+
+namespace emslam::apps
+{
+namespace
+{
+std::atomic<bool> g_stop_requested{false};
+
+extern "C" void onStopSignal(int /*signum*/)
+{
+    g_stop_requested.store(true);
+}
+}  // namespace
+
+bool StopSignal::requested()
+{
+    return g_stop_requested.load();
+}
+
+void StopSignal::request()
+{
+    g_stop_requested.store(true);
+}
+
+void StopSignal::clear()
+{
+    g_stop_requested.store(false);
+}
+
+struct StopSignalGuard::Saved
+{
+    struct sigaction old_int
+    {
+    };
+    struct sigaction old_term
+    {
+    };
+};
+
+StopSignalGuard::StopSignalGuard() : m_saved(new Saved)
+{
+    struct sigaction sa
+    {
+    };
+    sa.sa_handler = onStopSignal;
+    sa.sa_flags = SA_RESTART;
+    sigemptyset(&sa.sa_mask);
+    sigaction(SIGINT, &sa, &m_saved->old_int);
+    sigaction(SIGTERM, &sa, &m_saved->old_term);
+}
+
+StopSignalGuard::~StopSignalGuard()
+{
+    sigaction(SIGINT, &m_saved->old_int, nullptr);
+    sigaction(SIGTERM, &m_saved->old_term, nullptr);
+    delete m_saved;
+}
+
+}  // namespace emslam::apps
