@@ -47,27 +47,18 @@ std::uint64_t cellKey(const mrpt::math::TPoint3Df& p, double inv_cell)
 }
 }  // namespace
 
-IntensityCloud downsampleFrame(const emslam::stereo::StereoFrame& frame, double cell_size)
+IntensityCloud voxelDownsample(const IntensityCloud& cloud, double cell_size)
 {
-    IntensityCloud out;
-    const auto grey = [&](std::size_t i)
-    { return frame.intensity.at<std::uint8_t>(frame.pixels[i].v, frame.pixels[i].u); };
     if (cell_size <= 0)
     {
-        out.points = frame.points;
-        out.intensity.reserve(frame.size());
-        for (std::size_t i = 0; i < frame.size(); ++i)
-        {
-            out.intensity.push_back(grey(i));
-        }
-        return out;
+        return cloud;
     }
     const double inv_cell = 1.0 / cell_size;
     std::unordered_map<std::uint64_t, CellSum> cells;
-    cells.reserve(frame.size() / 4 + 16);
-    for (std::size_t i = 0; i < frame.size(); ++i)
+    cells.reserve(cloud.size() / 4 + 16);
+    for (std::size_t i = 0; i < cloud.size(); ++i)
     {
-        const auto& p = frame.points[i];
+        const auto& p = cloud.points[i];
         if (!std::isfinite(p.x) || !std::isfinite(p.y) || !std::isfinite(p.z))
         {
             continue;
@@ -76,9 +67,10 @@ IntensityCloud downsampleFrame(const emslam::stereo::StereoFrame& frame, double 
         c.x += p.x;
         c.y += p.y;
         c.z += p.z;
-        c.grey += grey(i);
+        c.grey += cloud.intensity[i];
         ++c.n;
     }
+    IntensityCloud out;
     out.points.reserve(cells.size());
     out.intensity.reserve(cells.size());
     for (const auto& [key, c] : cells)
@@ -89,6 +81,19 @@ IntensityCloud downsampleFrame(const emslam::stereo::StereoFrame& frame, double 
         out.intensity.push_back(static_cast<std::uint8_t>(std::lround(c.grey / n)));
     }
     return out;
+}
+
+IntensityCloud downsampleFrame(const emslam::stereo::StereoFrame& frame, double cell_size)
+{
+    IntensityCloud all;
+    all.points = frame.points;
+    all.intensity.reserve(frame.size());
+    for (std::size_t i = 0; i < frame.size(); ++i)
+    {
+        all.intensity.push_back(
+            frame.intensity.at<std::uint8_t>(frame.pixels[i].v, frame.pixels[i].u));
+    }
+    return voxelDownsample(all, cell_size);
 }
 
 void savePly(const IntensityCloud& cloud, const std::string& file)

@@ -225,6 +225,8 @@ void Mapper::finish()
         }
     }
     m_frame_clouds.clear();
+    // Overlapping frames see the same surfaces: one point per cell in the end too.
+    m_map_cloud = voxelDownsample(m_map_cloud, m_p.mapper.map_cell_size);
 }
 
 const emslam::CEntropyVoxelMap& Mapper::entropyMap() const

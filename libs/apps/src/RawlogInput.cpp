@@ -21,11 +21,13 @@ class RawlogInput::CountingStream : public mrpt::io::CStream
 public:
     mrpt::io::CFileGZInputStream file;
     std::uint64_t consumed{0};
+    bool short_read{false};  //!< a read got fewer bytes than asked: the file ended
 
     size_t Read(void* buffer, size_t count) override
     {
         const size_t n = file.Read(buffer, count);
         consumed += n;
+        short_read = short_read || n < count;
         return n;
     }
     size_t Write(const void* /*buffer*/, size_t /*count*/) override
@@ -73,12 +75,13 @@ bool RawlogInput::next(std::vector<mrpt::obs::CObservation::Ptr>& batch)
     catch (const std::exception& e)
     {
         m_ended = true;
-        const bool clean_end = m_stream->consumed == start &&
-                               dynamic_cast<const mrpt::serialization::CExceptionEOF*>(&e);
+        // MRPT wraps an EOF met inside an object into a generic exception:
+        // whether the file ended is known from the stream itself.
+        const bool clean_end = m_stream->consumed == start && m_stream->short_read;
         if (!clean_end)
         {
             m_ended_early = true;
-            const bool cut = dynamic_cast<const mrpt::serialization::CExceptionEOF*>(&e);
+            const bool cut = m_stream->short_read;
             m_end_reason = "record " + std::to_string(m_records) + " (byte " +
                            std::to_string(start) + "): " +
                            (cut ? std::string("the file ends in the middle of the record")

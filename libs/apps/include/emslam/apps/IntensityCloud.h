@@ -29,6 +29,11 @@ struct IntensityCloud
     std::size_t memoryBytes() const;
 };
 
+/** One point per occupied cell of size `cell_size` [m] (centroid, mean grey
+ * level); `cell_size` ≤ 0 returns the cloud as is. Non-finite points are
+ * dropped. \ingroup emslam_apps_grp */
+IntensityCloud voxelDownsample(const IntensityCloud& cloud, double cell_size);
+
 /** The frame's 3D points reduced to one point per occupied cell of size
  * `cell_size` [m] (centroid, mean grey level of the points' pixels), in the
  * camera frame: bounds the memory a frame costs in the final map.

@@ -50,8 +50,9 @@ public:
          * (energy of the egomotion map) but never rectified. (Default: false) */
         bool egomotion_only{false};
         /** Cell size of the map.ply / map.3Dscene cloud [m]: each accepted
-         * frame keeps one point per cell (≤ 0: every point). (Default: 0.05) */
-        double map_cell_size{0.05};
+         * frame keeps one point per cell, and so does the final map (≤ 0:
+         * every point). Bounds the memory of the map cloud. (Default: 0.1) */
+        double map_cell_size{0.1};
     };
 
     /** Every parameter the mapper uses, one INI section each. */

@@ -1,0 +1,340 @@
+// SPDX-License-Identifier: BSD-3-Clause
+// emslam-mapper end to end: a small simulated rawlog through the app, every
+// output read back; truncated rawlogs; Ctrl-C; each bad input.
+#include "TestData.h"
+#include "TestHelpers.h"
+
+#include <emslam/apps/AppMain.h>
+#include <emslam/apps/MapperApp.h>
+#include <emslam/apps/SimApp.h>
+#include <emslam/maps/CEntropyVoxelMap.h>
+#include <emslam/stereo/TumTrajectory.h>
+
+#include <mrpt/io/CFileGZOutputStream.h>
+#include <mrpt/io/CFileInputStream.h>
+#include <mrpt/obs/CObservationOdometry.h>
+#include <mrpt/obs/CObservationStereoImages.h>
+#include <mrpt/opengl/COpenGLScene.h>
+#include <mrpt/serialization/CArchive.h>
+#include <mrpt/system/filesystem.h>
+
+#include <gtest/gtest.h>
+
+#include <sys/wait.h>
+#include <unistd.h>
+
+#include <chrono>
+#include <csignal>
+#include <filesystem>
+#include <fstream>
+#include <sstream>
+#include <string>
+#include <thread>
+#include <vector>
+
+namespace
+{
+using emslam::apps::MapperApp;
+
+std::vector<const char*> argvOf(const std::vector<std::string>& args)
+{
+    std::vector<const char*> argv;
+    for (const auto& a : args)
+    {
+        argv.push_back(a.c_str());
+    }
+    return argv;
+}
+
+void initApp(MapperApp& app, std::vector<std::string> args)
+{
+    args.insert(args.begin(), "emslam-mapper");
+    auto argv = argvOf(args);
+    app.initialize(static_cast<int>(argv.size()), argv.data());
+}
+
+std::string config(const std::string& name)
+{
+    return emslam::test::sourceDir() + "/config/mapper/" + name + ".ini";
+}
+
+std::string readText(const std::string& file)
+{
+    std::ifstream in(file, std::ios::binary);
+    std::stringstream s;
+    s << in.rdbuf();
+    return s.str();
+}
+
+/** The first `frames` frames of the simulated hall, rendered once per size. */
+std::string simulatedHall(std::size_t frames)
+{
+    static const std::string dir = emslam::test::makeTempDir("mapper_app");
+    const std::string file = dir + "/hall" + std::to_string(frames) + ".rawlog";
+    if (!mrpt::system::fileExists(file))
+    {
+        emslam::apps::SimApp sim;
+        const std::vector<std::string> args = {
+            "emslam-sim", emslam::test::sourceDir() + "/config/sim/hall_double_loop.ini",
+            "-o",         file,
+            "--gt-out",   dir + "/hall" + std::to_string(frames) + ".tum",
+            "--frames",   std::to_string(frames),
+            "--quiet"};
+        auto argv = argvOf(args);
+        sim.initialize(static_cast<int>(argv.size()), argv.data());
+        sim.run();
+    }
+    return file;
+}
+
+std::string groundTruthOf(const std::string& rawlog)
+{
+    return rawlog.substr(0, rawlog.size() - 7) + ".tum";
+}
+
+/** Runs the app in-process on `rawlog`; returns the output folder. */
+std::string mapRawlog(
+    const std::string& rawlog, const std::string& out_name, std::vector<std::string> extra = {})
+{
+    const std::string out = emslam::test::makeTempDir(out_name);
+    MapperApp app;
+    std::vector<std::string> args = {
+        config("3dof-low-structured"), rawlog, "--out", out, "-q", "--set",
+        "Rectifier.rectify_every=10"};
+    args.insert(args.end(), extra.begin(), extra.end());
+    initApp(app, args);
+    app.run();
+    return out;
+}
+
+std::size_t countLinesStartingWith(const std::string& text, const std::string& prefix)
+{
+    std::size_t n = 0;
+    std::istringstream in(text);
+    for (std::string line; std::getline(in, line);)
+    {
+        n += line.rfind(prefix, 0) == 0;
+    }
+    return n;
+}
+}  // namespace
+
+TEST(MapperApp, everyShippedConfigLoads)
+{
+    for (const auto& entry :
+         std::filesystem::directory_iterator(emslam::test::sourceDir() + "/config/mapper"))
+    {
+        SCOPED_TRACE(entry.path().string());
+        MapperApp app;
+        EXPECT_NO_THROW(initApp(app, {entry.path().string(), simulatedHall(8), "--out", "/tmp/x"}));
+    }
+}
+
+TEST(MapperApp, helpDoesNotRun)
+{
+    MapperApp app;
+    initApp(app, {"--help"});
+    EXPECT_TRUE(app.helpRequested());
+    EXPECT_NO_THROW(app.run());
+}
+
+TEST(MapperApp, mapsASimulatedRawlogAndWritesEveryOutput)
+{
+    const std::string rawlog = simulatedHall(60);
+    const std::string out = mapRawlog(rawlog, "mapper_outputs", {"--gt", groundTruthOf(rawlog)});
+
+    const auto ego = emslam::stereo::TumTrajectory::fromFile(out + "/trajectory_egomotion.tum");
+    const auto slam = emslam::stereo::TumTrajectory::fromFile(out + "/trajectory_slam.tum");
+    EXPECT_EQ(ego.size(), 60U);
+    EXPECT_GT(slam.size(), 20U);
+    EXPECT_LT(slam.size(), 60U);  // space sampling drops the on-the-spot slow frames
+
+    // The map: a binary PLY whose size matches its header.
+    const std::string ply = readText(out + "/map.ply");
+    const auto header_end = ply.find("end_header\n");
+    ASSERT_NE(header_end, std::string::npos);
+    const auto pos = ply.find("element vertex ");
+    const std::size_t vertices = std::stoul(ply.substr(pos + 15));
+    EXPECT_GT(vertices, 1000U);
+    EXPECT_EQ(ply.size() - header_end - 11, vertices * 15);
+
+    mrpt::opengl::COpenGLScene scene;
+    EXPECT_TRUE(scene.loadFromFile(out + "/map.3Dscene"));
+    EXPECT_GE(scene.getViewport()->size(), 2U);
+
+    mrpt::io::CFileInputStream f(out + "/entropy_map.bin");
+    auto obj = mrpt::serialization::archiveFrom(f).ReadObject();
+    const auto map = std::dynamic_pointer_cast<emslam::CEntropyVoxelMap>(obj);
+    ASSERT_TRUE(map);
+    EXPECT_GT(map->energy(), 0.0);
+
+    const std::string csv = readText(out + "/stats.csv");
+    EXPECT_EQ(countLinesStartingWith(csv, "frame,"), 60U);
+    EXPECT_GE(countLinesStartingWith(csv, "rectification,"), 2U);
+
+    const std::string json = readText(out + "/summary.json");
+    for (const char* key :
+         {"\"frames\": 60", "\"accepted_frames\"", "\"egomotion_failures\": 0", "\"ms_per_frame\"",
+          "\"loop_gap_egomotion_m\"", "\"loop_gap_slam_m\"", "\"final_energy\"", "\"slam_vs_gt\"",
+          "\"interrupted\": false", "\"input_ended_early\": null"})
+    {
+        EXPECT_NE(json.find(key), std::string::npos) << key << "\n" << json;
+    }
+    EXPECT_EQ(json.find("nan"), std::string::npos);
+
+    const std::string report = readText(out + "/report.html");
+    for (const char* id : {"plot-top", "plot-side", "plot-energy", "plot-time", "plot-attempts"})
+    {
+        EXPECT_NE(report.find(id), std::string::npos) << id;
+    }
+
+    // effective.ini runs again as a configuration, with the same values.
+    MapperApp again;
+    initApp(again, {out + "/effective.ini", rawlog, "--out", out + "/again", "-q"});
+    again.run();
+    EXPECT_EQ(again.mapper().slamTrajectory().size(), slam.size());
+    EXPECT_NEAR(again.mapper().finalEnergy(), map->energy(), 1e-9);
+}
+
+TEST(MapperApp, egomotionOnlyNeverRectifies)
+{
+    const std::string out = mapRawlog(simulatedHall(30), "mapper_ego", {"--egomotion-only"});
+    const std::string json = readText(out + "/summary.json");
+    EXPECT_NE(json.find("\"calls\": 0"), std::string::npos) << json;
+    EXPECT_NE(json.find("\"mode\": \"egomotion_only\""), std::string::npos);
+}
+
+TEST(MapperApp, truncatedRawlogMapsEveryCompleteFrame)
+{
+    const std::string full = simulatedHall(30);
+    const std::string cut = emslam::test::makeTempDir("mapper_cut") + "/cut.rawlog";
+    {
+        // Cut the (uncompressed) rawlog in the middle of a record.
+        const std::string text = readText(full);
+        ASSERT_GT(text.size(), 1000U);
+        std::ofstream(cut, std::ios::binary)
+            .write(text.data(), static_cast<long>(text.size() * 6 / 10));
+    }
+    const std::string out = emslam::test::makeTempDir("mapper_cut_out");
+    MapperApp app;
+    initApp(app, {config("3dof-low-structured"), cut, "--out", out, "-q"});
+    ASSERT_NO_THROW(app.run());
+    const std::size_t frames = app.mapper().frameCount();
+    EXPECT_GT(frames, 10U);
+    EXPECT_LT(frames, 30U);
+    EXPECT_FALSE(app.runInfo().input_ended_early.empty());
+    const std::string json = readText(out + "/summary.json");
+    EXPECT_NE(json.find("the file ends in the middle of the record"), std::string::npos) << json;
+    EXPECT_EQ(
+        emslam::stereo::TumTrajectory::fromFile(out + "/trajectory_egomotion.tum").size(), frames);
+}
+
+TEST(MapperApp, badInputsFailWithAClearMessage)
+{
+    const std::string dir = emslam::test::makeTempDir("mapper_bad");
+    const std::string rawlog = simulatedHall(8);
+    const std::string cfg = config("3dof-low-structured");
+    const auto initFails =
+        [&](std::vector<std::string> args, std::initializer_list<std::string> parts)
+    {
+        MapperApp app;
+        emslam::test::expectThrowContaining([&] { initApp(app, args); }, parts);
+    };
+    const auto runFails =
+        [&](std::vector<std::string> args, std::initializer_list<std::string> parts)
+    {
+        MapperApp app;
+        initApp(app, args);
+        emslam::test::expectThrowContaining([&] { app.run(); }, parts);
+    };
+    initFails({cfg, dir + "/none.rawlog", "--out", dir}, {"none.rawlog", "does not exist"});
+    initFails({dir + "/none.ini", rawlog, "--out", dir}, {"none.ini", "does not exist"});
+    initFails(
+        {cfg, rawlog, "--out", dir, "--set", "Rectifier.esp_xyz=0.1"},
+        {"esp_xyz", "did you mean 'eps_xyz'"});
+    initFails(
+        {cfg, rawlog, "--out", dir, "--set", "Rectifer.eps_xyz=0.1"},
+        {"Rectifer", "did you mean [Rectifier]"});
+    initFails({cfg, rawlog, "--out", dir, "--set", "Rectifier.nc_max=0"}, {"nc_max"});
+    initFails({cfg, rawlog, "--out", dir, "--set", "EntropyVoxelMap.energy=flat"}, {"flat"});
+
+    emslam::test::writeFile(dir + "/text.rawlog", "this is not a rawlog\n");
+    runFails(
+        {cfg, dir + "/text.rawlog", "--out", dir + "/o1"},
+        {"text.rawlog", "not a readable rawlog"});
+
+    {
+        // A valid rawlog with no stereo / RGB-D observation.
+        mrpt::io::CFileGZOutputStream f(dir + "/odometry.rawlog");
+        auto a = mrpt::serialization::archiveFrom(f);
+        for (int i = 0; i < 3; ++i)
+        {
+            mrpt::obs::CObservationOdometry o;
+            o.timestamp = mrpt::Clock::now();
+            a << o;
+        }
+    }
+    runFails(
+        {cfg, dir + "/odometry.rawlog", "--out", dir + "/o2"},
+        {"no stereo or RGB-D observation", "odometry.rawlog", "3 observations"});
+
+    {
+        // A stereo observation whose calibration is missing (all zero).
+        mrpt::io::CFileGZOutputStream f(dir + "/nocalib.rawlog");
+        auto a = mrpt::serialization::archiveFrom(f);
+        mrpt::obs::CObservationStereoImages o;
+        o.timestamp = mrpt::Clock::now();
+        o.imageLeft = mrpt::img::CImage(64, 48, mrpt::img::CH_GRAY);
+        o.imageRight = mrpt::img::CImage(64, 48, mrpt::img::CH_GRAY);
+        o.hasImageRight = true;
+        o.leftCamera.ncols = o.rightCamera.ncols = 0;
+        o.leftCamera.nrows = o.rightCamera.nrows = 0;
+        a << o;
+    }
+    runFails({cfg, dir + "/nocalib.rawlog", "--out", dir + "/o3"}, {"calibration"});
+}
+
+#ifdef EMSLAM_MAPPER_EXE
+// Ctrl-C: the real executable stops after the current frame and still writes
+// every output for the frames mapped so far, exit code 0.
+TEST(MapperApp, sigintStopsAndWritesTheOutputs)
+{
+    const std::string rawlog = simulatedHall(300);
+    const std::string out = emslam::test::makeTempDir("mapper_sigint");
+    const std::string err = out + "/stderr.txt";
+    const pid_t pid = ::fork();
+    ASSERT_GE(pid, 0);
+    if (pid == 0)
+    {
+        std::freopen(err.c_str(), "w", stderr);
+        std::freopen("/dev/null", "w", stdout);
+        ::execl(
+            EMSLAM_MAPPER_EXE, "emslam-mapper", config("3dof-low-structured").c_str(),
+            rawlog.c_str(), "--out", out.c_str(), static_cast<char*>(nullptr));
+        ::_exit(127);
+    }
+    // Non-TTY progress prints one line per 10 %: interrupt after the first.
+    const auto t0 = std::chrono::steady_clock::now();
+    while (readText(err).find("frame ") == std::string::npos &&
+           std::chrono::steady_clock::now() - t0 < std::chrono::seconds(60))
+    {
+        std::this_thread::sleep_for(std::chrono::milliseconds(20));
+    }
+    ::kill(pid, SIGINT);
+    int status = 0;
+    ::waitpid(pid, &status, 0);
+    ASSERT_TRUE(WIFEXITED(status)) << readText(err);
+    EXPECT_EQ(WEXITSTATUS(status), 0) << readText(err);
+    const std::string json = readText(out + "/summary.json");
+    EXPECT_NE(json.find("\"interrupted\": true"), std::string::npos) << json;
+    const auto ego = emslam::stereo::TumTrajectory::fromFile(out + "/trajectory_egomotion.tum");
+    EXPECT_GT(ego.size(), 0U);
+    EXPECT_LT(ego.size(), 300U);
+    for (const char* f :
+         {"trajectory_slam.tum", "map.ply", "map.3Dscene", "entropy_map.bin", "stats.csv",
+          "effective.ini", "report.html"})
+    {
+        EXPECT_TRUE(mrpt::system::fileExists(out + "/" + f)) << f;
+    }
+}
+#endif
