@@ -7,6 +7,7 @@
 
 #include <emslam/apps/GrabberApp.h>
 #include <emslam/apps/ImportApp.h>
+#include <emslam/apps/MapperApp.h>
 #include <emslam/hwdrivers/DeviceList.h>
 
 #include <mrpt/config/CConfigFileBase.h>
@@ -682,4 +683,46 @@ TEST(GrabberApp, badArgumentsAndConfigsThrow)
         expectThrowContaining([&] { app.run(); }, {"[SIM]", "missing_world.ini", "does not exist"});
     }
     EXPECT_FALSE(fs::exists(dir + "/o.rawlog"));
+}
+
+// Issue acceptance: the 30-frame file the shipped simulated config grabs is
+// mapped by emslam-mapper (every frame, every output).
+TEST(GrabberApp, grabbedSimulatedFileIsMappedByTheMapper)
+{
+    const std::string dir = emslam::test::makeTempDir("grab_map");
+    const std::string out = dir + "/sim.rawlog";
+    GrabberApp app;
+    {
+        const WorkingDir wd(emslam::test::sourceDir());
+        initApp(app, {"config/grabber/simulated.ini", "-o", out, "--frames", "30", "-q"});
+        app.params.write("SIM_STEREO", "process_rate", 50);
+        app.run();
+    }
+    ASSERT_EQ(app.frames_written, 30U);
+
+    emslam::apps::MapperApp mapper;
+    const std::vector<std::string> args = {
+        "emslam-mapper",
+        emslam::test::sourceDir() + "/config/mapper/3dof-low-structured.ini",
+        out,
+        "--out",
+        dir + "/map",
+        "-q"};
+    std::vector<const char*> argv;
+    for (const auto& a : args)
+    {
+        argv.push_back(a.c_str());
+    }
+    mapper.initialize(static_cast<int>(argv.size()), argv.data());
+    mapper.run();
+    EXPECT_EQ(mapper.mapper().frameCount(), 30U);
+    EXPECT_EQ(mapper.mapper().egomotionFailures(), 0U);
+    EXPECT_GT(mapper.mapper().slamTrajectory().size(), 5U);
+    EXPECT_GT(mapper.mapper().mapCloud().size(), 1000U);
+    for (const char* f :
+         {"trajectory_egomotion.tum", "trajectory_slam.tum", "map.ply", "map.3Dscene",
+          "entropy_map.bin", "stats.csv", "summary.json", "effective.ini", "report.html"})
+    {
+        EXPECT_TRUE(fs::exists(dir + "/map/" + f)) << f;
+    }
 }

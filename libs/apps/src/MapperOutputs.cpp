@@ -108,6 +108,25 @@ RectificationTotals rectificationTotals(const std::vector<emslam::rectify::Recti
     return t;
 }
 
+/** A JSON object nested one level: indented, without the final line end. */
+std::string nestedJson(const std::string& object)
+{
+    std::string out;
+    for (std::size_t i = 0; i < object.size(); ++i)
+    {
+        out += object[i];
+        if (object[i] == '\n' && i + 1 < object.size())
+        {
+            out += "  ";
+        }
+    }
+    while (!out.empty() && (out.back() == '\n' || out.back() == ' '))
+    {
+        out.pop_back();
+    }
+    return out;
+}
+
 std::string fixed(double v, int decimals)
 {
     char buf[64];
@@ -228,11 +247,11 @@ void writeSummaryJson(const Mapper& m, const MapperRunInfo& info, const std::str
       << "  \"seconds\": " << jsonNumber(info.seconds);
     if (info.egomotion_vs_gt)
     {
-        j << ",\n  \"egomotion_vs_gt\": " << info.egomotion_vs_gt->toJson();
+        j << ",\n  \"egomotion_vs_gt\": " << nestedJson(info.egomotion_vs_gt->toJson());
     }
     if (info.slam_vs_gt)
     {
-        j << ",\n  \"slam_vs_gt\": " << info.slam_vs_gt->toJson();
+        j << ",\n  \"slam_vs_gt\": " << nestedJson(info.slam_vs_gt->toJson());
     }
     j << "\n}\n";
     AtomicTextFile f(file);

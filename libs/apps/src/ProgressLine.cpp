@@ -29,7 +29,8 @@ void ProgressLine::updateFraction(std::size_t done, double fraction, const std::
     }
     fraction = std::clamp(fraction, 0.0, 1.0);
     const int pct = static_cast<int>(100.0 * fraction);
-    if (!m_tty && pct / 10 <= m_last_decile && fraction < 1.0)
+    // Off a terminal: one line per 10 %, the 100 % line once.
+    if (!m_tty && pct / 10 <= m_last_decile && (fraction < 1.0 || m_last_decile == 10))
     {
         return;
     }
