@@ -138,6 +138,7 @@ void OdometryApp::run()
             ignored += !handle(*o);
         }
     }
+    in.warnIfEndedEarly("emslam-odometry");
     if (frames_processed == 0)
     {
         throw std::runtime_error(

@@ -9,6 +9,7 @@
 #include <mrpt/system/filesystem.h>
 
 #include <algorithm>
+#include <cstdio>
 #include <stdexcept>
 
 namespace emslam::apps
@@ -42,7 +43,8 @@ public:
     uint64_t getPosition() const override { return file.getPosition(); }
 };
 
-RawlogInput::RawlogInput(const std::string& file) : m_stream(std::make_unique<CountingStream>())
+RawlogInput::RawlogInput(const std::string& file)
+    : m_file(file), m_stream(std::make_unique<CountingStream>())
 {
     if (!mrpt::system::fileExists(file))
     {
@@ -99,6 +101,16 @@ bool RawlogInput::next(std::vector<mrpt::obs::CObservation::Ptr>& batch)
         batch.assign(sf->begin(), sf->end());
     }
     return true;
+}
+
+void RawlogInput::warnIfEndedEarly(const std::string& program) const
+{
+    if (m_ended_early)
+    {
+        std::fprintf(
+            stderr, "%s: warning: rawlog '%s' ended early at %s; the records before it were used\n",
+            program.c_str(), m_file.c_str(), m_end_reason.c_str());
+    }
 }
 
 double RawlogInput::fractionRead() const

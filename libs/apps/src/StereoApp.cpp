@@ -298,6 +298,7 @@ void StereoApp::run()
                     handle(f, msSince(t0));
                 }
             }
+            in.warnIfEndedEarly("emslam-stereo");
             if (ignored > 0)
             {
                 std::printf("ignored %zu observations of other classes\n", ignored);

@@ -51,6 +51,9 @@ public:
     /** Why reading stopped early: the record number, the byte offset (of the
      * uncompressed stream) where that record starts, and the cause. */
     const std::string& endReason() const { return m_end_reason; }
+    /** If endedEarly(), prints one warning line on stderr, prefixed by
+     * `program`, naming the file and endReason(); otherwise nothing. */
+    void warnIfEndedEarly(const std::string& program) const;
     /** Records (serialized objects) read completely so far. */
     std::size_t recordsRead() const { return m_records; }
     /** Fraction of the file read so far, in [0, 1] (from the position in the
@@ -59,6 +62,7 @@ public:
 
 private:
     class CountingStream;
+    std::string m_file;
     std::unique_ptr<CountingStream> m_stream;
     std::unique_ptr<mrpt::serialization::CArchive> m_archive;
     std::size_t m_records{0};
