@@ -161,6 +161,9 @@ TEST(MapperApp, mapsASimulatedRawlogAndWritesEveryOutput)
     mrpt::opengl::COpenGLScene scene;
     EXPECT_TRUE(scene.loadFromFile(out + "/map.3Dscene"));
     EXPECT_GE(scene.getViewport()->size(), 2U);
+    // SceneViewer3D opens it with this camera: above the map, not inside it.
+    EXPECT_TRUE(scene.followCamera());
+    EXPECT_GT(scene.getViewport()->getCamera().getZoomDistance(), 5.0f);
 
     mrpt::io::CFileInputStream f(out + "/entropy_map.bin");
     auto obj = mrpt::serialization::archiveFrom(f).ReadObject();

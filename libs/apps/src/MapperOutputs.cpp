@@ -14,6 +14,7 @@
 #include <mrpt/serialization/CArchive.h>
 
 #include <algorithm>
+#include <cmath>
 #include <cstdio>
 #include <fstream>
 #include <sstream>
@@ -161,6 +162,33 @@ mrpt::opengl::CSetOfLines::Ptr trajectoryLines(
     }
     return lines;
 }
+/** Opens SceneViewer3D looking down at the whole trajectory (it takes the
+ * scene's camera when followCamera is set), not from inside the map. */
+void lookAtMap(
+    mrpt::opengl::COpenGLScene& scene, const Mapper& m, const mrpt::poses::CPose3D& T_viewer_world)
+{
+    const auto& t = m.slamTrajectory().empty() ? m.egomotionTrajectory() : m.slamTrajectory();
+    if (t.empty())
+    {
+        return;
+    }
+    mrpt::math::TPoint3D lo(HUGE_VAL, HUGE_VAL, HUGE_VAL), hi(-HUGE_VAL, -HUGE_VAL, -HUGE_VAL);
+    for (const auto& p : t.poses)
+    {
+        const auto q = (T_viewer_world + p.pose).asTPose().translation();
+        lo = {std::min(lo.x, q.x), std::min(lo.y, q.y), std::min(lo.z, q.z)};
+        hi = {std::max(hi.x, q.x), std::max(hi.y, q.y), std::max(hi.z, q.z)};
+    }
+    const double extent = std::max({hi.x - lo.x, hi.y - lo.y, 5.0});
+    auto& cam = scene.getViewport()->getCamera();
+    cam.setPointingAt(
+        static_cast<float>(0.5 * (lo.x + hi.x)), static_cast<float>(0.5 * (lo.y + hi.y)),
+        static_cast<float>(0.5 * (lo.z + hi.z)));
+    cam.setZoomDistance(static_cast<float>(1.5 * extent));
+    cam.setElevationDegrees(70.0f);
+    cam.setAzimuthDegrees(-90.0f);
+    scene.enableFollowCamera(true);
+}
 }  // namespace
 
 double loopGap(const emslam::stereo::TumTrajectory& t)
@@ -280,6 +308,7 @@ void writeScene(const Mapper& m, const std::string& file)
     mrpt::opengl::COpenGLScene scene;
     scene.insert(mrpt::opengl::CGridPlaneXY::Create(-50, 50, -50, 50, 0, 5));
     scene.insert(world);
+    lookAtMap(scene, m, viewerFromCamera());
     const std::string tmp = file + ".partial";
     if (!scene.saveToFile(tmp) || std::rename(tmp.c_str(), file.c_str()) != 0)
     {
