@@ -45,6 +45,7 @@ Result runMode(RectificationMode mode, const std::vector<test::DrivenFrame>& fra
             {
                 (void)runner->mapStable();
                 (void)runner->statistics();
+                (void)runner->progress();
                 (void)runner->framePoses();
                 std::this_thread::yield();
             }
@@ -78,6 +79,9 @@ Result runMode(RectificationMode mode, const std::vector<test::DrivenFrame>& fra
         EXPECT_LE(s.energy_after, s.energy_before + 1e-9);
     }
     r.records = runner->statistics().size();
+    const auto progress = runner->progress();
+    EXPECT_EQ(progress.rectifications, r.records);
+    EXPECT_EQ(progress.energy, runner->statistics().back().energy_after);
     EXPECT_TRUE(runner->mapStable());
     return r;
 }

@@ -32,6 +32,7 @@ TEST(AnyTimeUnderTsan, producerReaderAndRectificationThreadsDoNotRace)
             {
                 (void)runner.mapStable();
                 (void)runner.statistics();
+                (void)runner.progress();
                 (void)runner.framePoses();
             }
         });

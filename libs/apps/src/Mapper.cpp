@@ -191,11 +191,10 @@ void Mapper::addAccepted(const emslam::stereo::StereoFrame& f, std::size_t index
         m_sampler.accepted() == 1 ? mrpt::poses::CPose3D() : m_sampler.actionSinceAccepted();
     m_runner->addFrame(action, toWeightedCloud(f, m_p.insertion), t, index);
     m_frame_clouds.emplace(index, downsampleFrame(f, m_p.mapper.map_cell_size));
-    const auto stats = m_runner->statistics();
-    if (stats.size() > m_rectifications_seen)
+    const auto progress = m_runner->progress();
+    if (progress.rectifications > 0)
     {
-        m_rectifications_seen = stats.size();
-        m_energy = stats.back().energy_after;
+        m_energy = progress.energy;
     }
 }
 

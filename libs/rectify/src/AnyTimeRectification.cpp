@@ -174,6 +174,12 @@ std::vector<RectificationStats> AnyTimeRectification::statistics() const
     return m_stats;
 }
 
+RectificationRunner::Progress AnyTimeRectification::progress() const
+{
+    std::lock_guard<std::mutex> lock(m_mutex);
+    return {m_stats.size(), m_stats.empty() ? 0.0 : m_stats.back().energy_after};
+}
+
 std::vector<TimedPose> AnyTimeRectification::framePoses() const
 {
     std::lock_guard<std::mutex> lock(m_mutex);

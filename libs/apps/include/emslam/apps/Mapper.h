@@ -141,7 +141,6 @@ private:
     emslam::stereo::TumTrajectory m_egomotion, m_slam;
     std::vector<MapperFrameRecord> m_records;
     std::size_t m_failures{0};
-    std::size_t m_rectifications_seen{0};
     double m_energy{0.0};
     /** Per accepted frame (by frame index): its cloud in its camera frame. */
     std::map<std::size_t, IntensityCloud> m_frame_clouds;

@@ -42,6 +42,7 @@ public:
     void finish() override;
     bool mapStable() const override { return m_stable.load(); }
     std::vector<RectificationStats> statistics() const override;
+    Progress progress() const override;
     std::vector<TimedPose> framePoses() const override;
     const Trajectory& trajectory() const override;
 

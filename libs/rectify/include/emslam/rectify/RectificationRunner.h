@@ -53,6 +53,15 @@ public:
      * since (AnyTime: the thread's current view). Thread-safe. */
     virtual bool mapStable() const = 0;
 
+    /** How far rectification has got, without copying the statistics. */
+    struct Progress
+    {
+        std::size_t rectifications{0};  //!< records in statistics()
+        double energy{0.0};             //!< energy_after of the last one (0: none yet)
+    };
+    /** Cheap and thread-safe: for progress displays called every frame. */
+    virtual Progress progress() const = 0;
+
     /** Statistics of every rectification so far (a copy; thread-safe). */
     virtual std::vector<RectificationStats> statistics() const = 0;
 

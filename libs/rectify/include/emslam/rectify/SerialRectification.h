@@ -24,6 +24,10 @@ public:
     void finish() override;
     bool mapStable() const override;
     std::vector<RectificationStats> statistics() const override { return m_stats; }
+    Progress progress() const override
+    {
+        return {m_stats.size(), m_stats.empty() ? 0.0 : m_stats.back().energy_after};
+    }
     std::vector<TimedPose> framePoses() const override { return m_trajectory.framePoses(); }
     const Trajectory& trajectory() const override { return m_trajectory; }
 
