@@ -4,6 +4,7 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <random>
 #include <vector>
@@ -162,6 +163,73 @@ TEST(WeightedHistogram, incrementalUpdatesEqualFromScratch)
         EXPECT_EQ(h.occupiedCells(), 0u);
         EXPECT_NEAR(h.totalWeight(), 0.0, 1e-9);
     }
+}
+
+// A rejected rectification attempt is undone from the undo log: every path
+// that changes cells (immediate, bulk, integral bulk, batch) is recorded, and
+// rollback() restores the exact state; a table growth cancels the record.
+TEST(WeightedHistogram, rollbackRestoresTheExactState)
+{
+    std::mt19937 rng(99);
+    std::uniform_int_distribution<int> cell(-20, 20);
+    std::uniform_int_distribution<int> iw(1, 40);
+    WeightedHistogram h(4096);
+    std::vector<WeightedHistogram::Update> base;
+    for (int i = 0; i < 800; i++)
+    {
+        base.push_back({packCellKey(cell(rng), cell(rng), 0), double(iw(rng))});
+    }
+    h.addManyIntegral(base.data(), base.size());
+    const auto snapshot = [&h]()
+    {
+        std::vector<std::pair<std::uint64_t, double>> cells;
+        h.forEachCell([&](std::uint64_t k, double w) { cells.emplace_back(k, w); });
+        return cells;
+    };
+    const auto cells_before = snapshot();
+    const double entropy_before = h.entropy(), total_before = h.totalWeight(),
+                 sum_before = h.sumWLogW();
+    const std::size_t occupied_before = h.occupiedCells();
+
+    h.beginUndoRecord();
+    // Move some weight around (removals that empty cells, new cells), through
+    // every update path.
+    std::vector<WeightedHistogram::Update> moves;
+    for (int i = 0; i < 300; i++)
+    {
+        const auto& b = base[static_cast<std::size_t>(i)];
+        moves.push_back({b.key, -b.w});
+        moves.push_back({packCellKey(cell(rng), cell(rng), 1), b.w});
+    }
+    h.addManyIntegral(moves.data(), 200);
+    h.addMany(moves.data() + 200, 200);
+    h.add(moves[400].key, moves[400].w);
+    h.beginBatch(300);
+    h.addDeferredMany(moves.data() + 401, moves.size() - 401);
+    h.endBatch();
+    ASSERT_NE(h.entropy(), entropy_before);
+    ASSERT_TRUE(h.canRollback());
+    h.rollback();
+    EXPECT_FALSE(h.canRollback());
+    EXPECT_EQ(h.entropy(), entropy_before);
+    EXPECT_EQ(h.totalWeight(), total_before);
+    EXPECT_EQ(h.sumWLogW(), sum_before);
+    EXPECT_EQ(h.occupiedCells(), occupied_before);
+    auto cells_after = snapshot();
+    auto expected = cells_before;
+    std::sort(cells_after.begin(), cells_after.end());
+    std::sort(expected.begin(), expected.end());
+    EXPECT_EQ(cells_after, expected);
+    EXPECT_NEAR(h.entropy(), h.entropyFromScratch(), 1e-12);
+
+    // Growth moves the slots: the record is cancelled, not silently wrong.
+    h.beginUndoRecord();
+    for (int i = 0; i < 5000; i++)
+    {
+        h.add(packCellKey(1000 + i, 0, 0), 1.0);
+    }
+    EXPECT_FALSE(h.canRollback());
+    EXPECT_THROW(h.rollback(), std::exception);
 }
 
 TEST(WeightedHistogram, packAndUnpackCellKeys)

@@ -204,7 +204,7 @@ mrpt::poses::CPose3D CEntropyVoxelMap::opticalFromMrptSensor()
 void CEntropyVoxelMap::internal_clear()
 {
     m_obs.clear();
-    m_undo_count = 0;
+    commitMove();
     resetTracked();
 }
 
@@ -240,7 +240,7 @@ std::size_t CEntropyVoxelMap::insertWeightedCloud(
     ASSERTMSG_(
         cloud.weights.size() == cloud.points.size(),
         "CEntropyVoxelMap::insertWeightedCloud(): one weight per point is required");
-    m_undo_count = 0;
+    commitMove();
     Observation o;
     o.cloud = already_simplified ? cloud : emslam::maps::simplifyCloud(cloud, m_creation.cell_size);
     if (already_simplified)

@@ -432,6 +432,19 @@ bool CEntropyVoxelMap::applyMarginalDeltasDense(
     return true;
 }
 
+void CEntropyVoxelMap::flushPending3d()
+{
+    if (m_pending3d_count > 0)
+    {
+        // 3D cells are mostly touched once and hold small integer weights:
+        // immediate updates (table look-ups) beat deferral. All moved
+        // observations at once: a large batch is applied in table order.
+        addNetUpdates(
+            static_cast<std::size_t>(EntropyTerm::H3D), m_pending3d.data(), m_pending3d_count);
+        m_pending3d_count = 0;
+    }
+}
+
 void CEntropyVoxelMap::applyCellDelta(
     const WeightedPointCloud& cloud,
     const std::vector<CellIndex>& from,
@@ -496,12 +509,16 @@ void CEntropyVoxelMap::applyCellDelta(
         const std::uint64_t fill = zero_key & ~keep;
         // Branch-free collection: both updates are always written and kept
         // only if the projected cell changes (a data-dependent branch here
-        // mispredicts about half of the time).
-        if (m_updates.size() < 2 * n)
+        // mispredicts about half of the time). The 3D updates are only
+        // collected: flushPending3d() applies those of every moved
+        // observation together.
+        std::vector<WeightedHistogram::Update>& buffer = is3d ? m_pending3d : m_updates;
+        const std::size_t base = is3d ? m_pending3d_count : 0;
+        if (buffer.size() < base + 2 * n)
         {  // grow only: shrinking and regrowing value-initialised it every time
-            m_updates.resize(2 * n);
+            buffer.resize(std::max(base + 2 * n, 2 * buffer.size()));
         }
-        WeightedHistogram::Update* u = m_updates.data();
+        WeightedHistogram::Update* u = buffer.data() + base;
         const float* const wts = cloud.weights.data();
         std::size_t count = 0;
         for (std::size_t j = 0; j < n; j++)
@@ -517,9 +534,7 @@ void CEntropyVoxelMap::applyCellDelta(
         }
         if (is3d)
         {
-            // 3D cells are mostly touched once and hold small integer
-            // weights: immediate updates (table look-ups) beat deferral.
-            addNetUpdates(t, u, count);
+            m_pending3d_count += count;
         }
         else
         {
@@ -554,6 +569,11 @@ double CEntropyVoxelMap::moveObservations(const std::vector<ObservationMove>& mo
         m_undo.resize(moves.size());
     }
     m_undo_count = 0;
+    const TermList terms(m_tracked);
+    for (std::size_t k = 0; k < terms.n; k++)
+    {
+        m_hist[terms.idx[k]].beginUndoRecord();
+    }
     for (std::size_t k = 0; k < moves.size(); k++)
     {
         Observation& o = m_obs[moves[k].index];
@@ -566,6 +586,7 @@ double CEntropyVoxelMap::moveObservations(const std::vector<ObservationMove>& mo
         std::swap(o.box, e.box);
         o.pose = moves[k].pose;
     }
+    flushPending3d();
     m_undo_count = moves.size();
     return energy();
 }
@@ -573,17 +594,54 @@ double CEntropyVoxelMap::moveObservations(const std::vector<ObservationMove>& mo
 double CEntropyVoxelMap::revertLastMove()
 {
     ASSERTMSG_(m_undo_count > 0, "CEntropyVoxelMap::revertLastMove(): nothing to revert");
+    // The histograms restore their own cells from their undo logs, unless
+    // one of them grew meanwhile: then the cell changes are applied back.
+    const TermList terms(m_tracked);
+    bool rollback = true;
+    for (std::size_t k = 0; k < terms.n; k++)
+    {
+        rollback = rollback && m_hist[terms.idx[k]].canRollback();
+    }
+    if (rollback)
+    {
+        for (std::size_t k = 0; k < terms.n; k++)
+        {
+            m_hist[terms.idx[k]].rollback();
+        }
+    }
+    else
+    {
+        dropHistogramUndo();
+    }
     for (std::size_t k = m_undo_count; k-- > 0;)
     {
         UndoEntry& e = m_undo[k];
         Observation& o = m_obs[e.index];
-        applyCellDelta(o.cloud, o.cells, e.cells, o.box, e.box);
+        if (!rollback)
+        {
+            applyCellDelta(o.cloud, o.cells, e.cells, o.box, e.box);
+        }
         std::swap(o.cells, e.cells);
         std::swap(o.box, e.box);
         o.pose = e.old_pose;
     }
+    flushPending3d();
     m_undo_count = 0;
     return energy();
+}
+
+void CEntropyVoxelMap::commitMove()
+{
+    m_undo_count = 0;
+    dropHistogramUndo();
+}
+
+void CEntropyVoxelMap::dropHistogramUndo()
+{
+    for (auto& h : m_hist)
+    {
+        h.dropUndoRecord();
+    }
 }
 
 double CEntropyVoxelMap::energy() const
@@ -670,7 +728,7 @@ emslam::maps::EntropyTerms CEntropyVoxelMap::computeEntropiesFromScratch() const
 
 double CEntropyVoxelMap::recomputeFromScratch()
 {
-    m_undo_count = 0;
+    commitMove();
     resetTracked();
     std::size_t n = 0;
     for (auto& o : m_obs)

@@ -55,6 +55,7 @@ WeightedHistogram::WeightedHistogram(std::size_t expected_cells)
 void WeightedHistogram::clear()
 {
     ASSERTMSG_(!m_in_batch, "WeightedHistogram::clear() inside a batch");
+    cancelUndoRecord();
     std::fill(m_slots.begin(), m_slots.end(), Slot{});
     m_used = 0;
     m_occupied = 0;
@@ -73,11 +74,13 @@ void WeightedHistogram::reserve(std::size_t cells)
 
 std::size_t WeightedHistogram::memoryBytes() const
 {
-    return m_slots.capacity() * sizeof(Slot) + m_touched.size() * sizeof(Touched);
+    return m_slots.capacity() * sizeof(Slot) + m_touched.size() * sizeof(Touched) +
+           m_undo_log.capacity() * sizeof(UndoRecord);
 }
 
 void WeightedHistogram::rehash(std::size_t new_capacity)
 {
+    cancelUndoRecord();
     // Keep only cells with weight (growth is also the garbage collection of
     // zero-weight entries left by removals), plus, inside a batch, the cells
     // the batch touched: their stamps and Touched records must stay valid.
@@ -192,7 +195,9 @@ void WeightedHistogram::add(std::uint64_t key, double w)
     {
         rehash(2 * m_slots.size());
     }
-    Slot& s = m_slots[findOrInsert(key)];
+    const std::size_t i = findOrInsert(key);
+    logSlot(i);
+    Slot& s = m_slots[i];
     const double old_w = s.w;
     s.w = cleanResidue(old_w + w, old_w, w);
     m_total += w;
@@ -304,6 +309,11 @@ void WeightedHistogram::addManyImpl(const Update* updates, std::size_t n)
     std::size_t occupied = m_occupied;
     double total = m_total;
     double sum = m_sum_wlogw;
+    const bool record = m_undo_valid;
+    if (record)
+    {
+        m_undo_log.reserve(m_undo_log.size() + n);
+    }
     std::size_t i = 0;
     for (; i < n && 2 * (used + 1) <= capacity; i++)
     {
@@ -312,8 +322,13 @@ void WeightedHistogram::addManyImpl(const Update* updates, std::size_t n)
             __builtin_prefetch(&slots[hashSlot(updates[i + AHEAD].key, shift)], 1);
         }
         const double w = updates[i].w;
-        Slot& sl = slots[probeOrInsert(slots, mask, shift, updates[i].key, used)];
+        const std::size_t j = probeOrInsert(slots, mask, shift, updates[i].key, used);
+        Slot& sl = slots[j];
         const double old_w = sl.w;
+        if (record)
+        {
+            m_undo_log.push_back({j, old_w, sl.wlogw});
+        }
         double new_wlogw = 0;
         if constexpr (kIntegral)
         {
@@ -353,6 +368,7 @@ void WeightedHistogram::addManyIntegral(const Update* updates, std::size_t n)
 void WeightedHistogram::accumulateMany(const Update* updates, std::size_t n)
 {
     ASSERTMSG_(!m_in_batch, "WeightedHistogram::accumulateMany() inside a batch");
+    cancelUndoRecord();
     constexpr std::size_t AHEAD = 12;
     std::size_t i = 0;
     while (i < n)
@@ -386,6 +402,7 @@ void WeightedHistogram::accumulateMany(const Update* updates, std::size_t n)
 std::size_t WeightedHistogram::recomputeSums(Update* cells_out)
 {
     ASSERTMSG_(!m_in_batch, "WeightedHistogram::recomputeSums() inside a batch");
+    cancelUndoRecord();
     double sum = 0;
     std::size_t occupied = 0;
     for (auto& sl : m_slots)
@@ -415,6 +432,14 @@ void WeightedHistogram::endBatch()
     const std::size_t count = m_touched_count;
     double sum = m_sum_wlogw;
     std::size_t occupied = m_occupied;
+    if (m_undo_valid)
+    {  // the cells' states before the batch (the slot still holds the old w log w)
+        m_undo_log.reserve(m_undo_log.size() + count);
+        for (std::size_t k = 0; k < count; k++)
+        {
+            m_undo_log.push_back({touched[k].slot, touched[k].old_w, slots[touched[k].slot].wlogw});
+        }
+    }
     for (std::size_t k = 0; k < count; k++)
     {
         const Touched& t = touched[k];
@@ -431,6 +456,39 @@ void WeightedHistogram::endBatch()
     m_sum_wlogw = sum;
     m_occupied = occupied;
     m_in_batch = false;
+}
+
+void WeightedHistogram::beginUndoRecord()
+{
+    ASSERTMSG_(!m_in_batch, "WeightedHistogram::beginUndoRecord() inside a batch");
+    m_undo_log.clear();
+    m_undo_valid = true;
+    m_undo_total = m_total;
+    m_undo_sum = m_sum_wlogw;
+    m_undo_occupied = m_occupied;
+}
+
+void WeightedHistogram::rollback()
+{
+    ASSERTMSG_(!m_in_batch, "WeightedHistogram::rollback() inside a batch");
+    ASSERTMSG_(m_undo_valid, "WeightedHistogram::rollback(): no valid undo record");
+    // Newest first: a cell changed twice ends with its oldest state.
+    Slot* const slots = m_slots.data();
+    for (std::size_t k = m_undo_log.size(); k-- > 0;)
+    {
+        const UndoRecord& r = m_undo_log[k];
+        slots[r.slot].w = r.w;
+        slots[r.slot].wlogw = r.wlogw;
+    }
+    m_total = m_undo_total;
+    m_sum_wlogw = m_undo_sum;
+    m_occupied = m_undo_occupied;
+    cancelUndoRecord();
+}
+
+void WeightedHistogram::dropUndoRecord()
+{
+    cancelUndoRecord();
 }
 
 double WeightedHistogram::weight(std::uint64_t key) const

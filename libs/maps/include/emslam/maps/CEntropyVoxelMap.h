@@ -192,7 +192,7 @@ public:
      * energy. Throws if there is nothing to revert. */
     double revertLastMove();
     /** Forgets the undo record (called by insertions and clear()). */
-    void commitMove() { m_undo_count = 0; }
+    void commitMove();
     /** @} */
 
     /** @name Entropies and energy */
@@ -305,6 +305,8 @@ private:
         const std::vector<emslam::maps::CellIndex>& to,
         const CellBox& from_box,
         const CellBox& to_box);
+    /** Applies the 3D updates collected by applyCellDelta() calls. */
+    void flushPending3d();
     /** Applies updates to term `t` (addManyIntegral() if m_integral_weights). */
     void addNetUpdates(
         std::size_t t, const emslam::maps::WeightedHistogram::Update* u, std::size_t count);
@@ -321,6 +323,8 @@ private:
     /** Ends the batches started by beginBatches(). */
     void endBatches();
     void resetTracked();
+    /** Ends the histograms' undo records (see WeightedHistogram::rollback()). */
+    void dropHistogramUndo();
 
     TCreationOptions m_creation;
     emslam::maps::TermMask m_tracked{0};
@@ -329,7 +333,10 @@ private:
     std::vector<UndoEntry> m_undo;  //!< entries [0, m_undo_count) are live; buffers are reused
     std::size_t m_undo_count{0};
     std::vector<emslam::maps::WeightedHistogram::Update>
-        m_updates;                        //!< scratch of applyCellDelta()
+        m_updates;  //!< scratch of applyCellDelta()
+    std::vector<emslam::maps::WeightedHistogram::Update>
+        m_pending3d;  //!< 3D updates of applyCellDelta(), [0, m_pending3d_count) live
+    std::size_t m_pending3d_count{0};
     std::vector<std::uint64_t> m_keys3d;  //!< scratch of applyCellDelta(): packed from/to cells
     std::vector<double> m_dense;  //!< scratch of applyMarginalDeltasDense(): grids, kept zero
     std::vector<std::uint64_t> m_fields;  //!< scratch of applyMarginalDeltasDense(): key fields

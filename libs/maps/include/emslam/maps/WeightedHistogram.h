@@ -131,6 +131,28 @@ public:
     /** Ends a batch: updates S, W and the occupied-cell count. */
     void endBatch();
 
+    /** @name Undo record
+     * A move that is tried and then rejected (most rectification attempts)
+     * used to pay its updates twice: once to apply, once more to apply the
+     * opposite. Between beginUndoRecord() and rollback() every changed cell
+     * logs its previous weight and w log w (sequential writes), so rollback()
+     * restores cells, W, S and the occupied count exactly, without hashing
+     * or logarithms. A table growth, clear() or bulk rebuild in between
+     * cancels the record (slot positions change): canRollback() is then
+     * false and the caller undoes the updates itself. */
+    /** @{ */
+    /** Starts a new record (drops any previous one). */
+    void beginUndoRecord();
+    /** True if rollback() can restore the state of beginUndoRecord(). */
+    bool canRollback() const { return m_undo_valid; }
+    /** Restores the state of beginUndoRecord() exactly and ends the record.
+     * Cells first created since then stay in the table with zero weight.
+     * Throws if !canRollback(). */
+    void rollback();
+    /** Ends the record without restoring anything. */
+    void dropUndoRecord();
+    /** @} */
+
     /** Bulk build (outside a batch): adds positive weights `w` to cells
      * without updating S or the occupied count, prefetching ahead; call
      * recomputeSums() afterwards (entropy() is stale until then). Building
@@ -227,6 +249,27 @@ private:
         double wlogw{0};
         std::uint32_t stamp{0};  //!< batch epoch of the last touch (in the slot: one cache miss)
     };
+    /** A cell's state before its first change in an undo record. */
+    struct UndoRecord
+    {
+        std::size_t slot{0};
+        double w{0};
+        double wlogw{0};
+    };
+    /** Appends the state of slot `i` to the undo log (when recording). */
+    void logSlot(std::size_t i)
+    {
+        if (m_undo_valid)
+        {
+            m_undo_log.push_back({i, m_slots[i].w, m_slots[i].wlogw});
+        }
+    }
+    /** Cancels the undo record (slot positions are about to change). */
+    void cancelUndoRecord()
+    {
+        m_undo_valid = false;
+        m_undo_log.clear();
+    }
     struct Touched
     {
         std::size_t slot{0};
@@ -264,6 +307,11 @@ private:
     bool m_in_batch{false};
     double m_total{0};
     double m_sum_wlogw{0};
+    std::vector<UndoRecord> m_undo_log;  //!< in change order; capacity kept
+    bool m_undo_valid{false};            //!< recording, and rollback() possible
+    double m_undo_total{0};              //!< W at beginUndoRecord()
+    double m_undo_sum{0};                //!< S at beginUndoRecord()
+    std::size_t m_undo_occupied{0};      //!< occupied cells at beginUndoRecord()
 };
 
 }  // namespace emslam::maps
