@@ -74,8 +74,8 @@ void WeightedHistogram::reserve(std::size_t cells)
 
 std::size_t WeightedHistogram::memoryBytes() const
 {
-    return m_slots.capacity() * sizeof(Slot) + m_touched.size() * sizeof(Touched) +
-           m_undo_log.capacity() * sizeof(UndoRecord);
+    return m_slots.capacity() * sizeof(Slot) + m_stamps.capacity() * sizeof(std::uint32_t) +
+           m_touched.size() * sizeof(Touched) + m_undo_log.capacity() * sizeof(UndoRecord);
 }
 
 void WeightedHistogram::rehash(std::size_t new_capacity)
@@ -87,7 +87,7 @@ void WeightedHistogram::rehash(std::size_t new_capacity)
     const auto keep = [this](std::size_t i)
     {
         const Slot& s = m_slots[i];
-        return s.key != EMPTY_KEY && (s.w > 0 || (m_in_batch && s.stamp == m_epoch));
+        return s.key != EMPTY_KEY && (s.w > 0 || (m_in_batch && m_stamps[i] == m_epoch));
     };
     std::size_t live = 0;
     for (std::size_t i = 0; i < m_slots.size(); i++)
@@ -106,7 +106,10 @@ void WeightedHistogram::rehash(std::size_t new_capacity)
         }
     }
     old_slots.swap(m_slots);
+    std::vector<std::uint32_t> old_stamps;
+    old_stamps.swap(m_stamps);
     m_slots.assign(new_capacity, Slot{});
+    m_stamps.assign(new_capacity, 0);
     m_mask = new_capacity - 1;
     m_shift = 64;
     for (std::size_t c = new_capacity; c > 1; c >>= 1)
@@ -134,12 +137,9 @@ void WeightedHistogram::rehash(std::size_t new_capacity)
         m_used++;
         if (m_in_batch)
         {
-            remap[j] = i;  // stamps travel with the slots
-        }
-        else
-        {
-            m_slots[i].stamp = 0;  // the epoch restarts below
-        }
+            remap[j] = i;
+            m_stamps[i] = old_stamps[j];  // stamps travel with the slots
+        }                                 // else: stamps restart at 0 with the epoch below
     }
     if (m_in_batch)
     {
@@ -165,7 +165,6 @@ inline std::size_t WeightedHistogram::probeOrInsert(
         {
             slots[j].key = key;
             slots[j].w = 0;
-            slots[j].wlogw = 0;
             used++;
             break;
         }
@@ -181,10 +180,9 @@ std::size_t WeightedHistogram::findOrInsert(std::uint64_t key)
 
 inline void WeightedHistogram::accountChange(Slot& s, double old_w)
 {
-    // s.wlogw == wLogW(old_w) (bit-identical), so S matches recomputing both.
-    const double new_wlogw = wLogW(s.w);
-    m_sum_wlogw += new_wlogw - s.wlogw;
-    s.wlogw = new_wlogw;
+    // wLogW(old_w) is the value added to S when the cell got old_w (same
+    // function of the same weight), so S matches recomputing it.
+    m_sum_wlogw += wLogW(s.w) - wLogW(old_w);
     m_occupied = m_occupied + (s.w > 0 ? 1 : 0) - (old_w > 0 ? 1 : 0);
 }
 
@@ -218,10 +216,7 @@ void WeightedHistogram::beginBatch(std::size_t max_new_cells)
     m_epoch++;
     if (m_epoch == 0)
     {  // wrapped: reset every stamp once every 2^32 batches
-        for (auto& sl : m_slots)
-        {
-            sl.stamp = 0;
-        }
+        std::fill(m_stamps.begin(), m_stamps.end(), 0u);
         m_epoch = 1;
     }
     m_touched_count = 0;
@@ -243,8 +238,8 @@ void WeightedHistogram::addDeferred(std::uint64_t key, double w)
     // Branch-free first-touch record: always written, kept only on first touch
     // (whether a cell was touched before is unpredictable).
     m_touched[m_touched_count] = {i, s.w};
-    m_touched_count += (s.stamp != m_epoch) ? 1 : 0;
-    s.stamp = m_epoch;
+    m_touched_count += (m_stamps[i] != m_epoch) ? 1 : 0;
+    m_stamps[i] = m_epoch;
     s.w += w;  // rounding residue is cleaned once per cell in endBatch()
     m_total += w;
 }
@@ -261,6 +256,7 @@ void WeightedHistogram::addDeferredMany(const Update* updates, std::size_t n)
     // formed loop-carried store-forwarding chains. Same operations, same order.
     const std::size_t capacity = m_slots.size();
     Slot* const slots = m_slots.data();
+    std::uint32_t* const stamps = m_stamps.data();
     Touched* const touched = m_touched.data();
     const std::size_t mask = m_mask;
     const unsigned shift = m_shift;
@@ -279,8 +275,8 @@ void WeightedHistogram::addDeferredMany(const Update* updates, std::size_t n)
         const std::size_t j = probeOrInsert(slots, mask, shift, key, used);
         Slot& sl = slots[j];
         touched[count] = {j, sl.w};
-        count += (sl.stamp != epoch) ? 1 : 0;
-        sl.stamp = epoch;
+        count += (stamps[j] != epoch) ? 1 : 0;
+        stamps[j] = epoch;
         sl.w += updates[i].w;
         total += updates[i].w;
     }
@@ -297,7 +293,7 @@ template <bool kIntegral>
 void WeightedHistogram::addManyImpl(const Update* updates, std::size_t n)
 {
     ASSERTMSG_(!m_in_batch, "WeightedHistogram::addMany() inside a batch");
-    constexpr std::size_t AHEAD = 12;
+    constexpr std::size_t AHEAD = 32;
     // Until the table must grow, sums in locals (see addDeferredMany()); the
     // same operations in the same order as add(), so S and W are bit-identical.
     // Integer weights sum exactly: no residue clean-up, integer w log w.
@@ -310,10 +306,8 @@ void WeightedHistogram::addManyImpl(const Update* updates, std::size_t n)
     double total = m_total;
     double sum = m_sum_wlogw;
     const bool record = m_undo_valid;
-    if (record)
-    {
-        m_undo_log.reserve(m_undo_log.size() + n);
-    }
+    UndoRecord* const log_begin = record ? reserveUndo(n) : nullptr;
+    UndoRecord* log = log_begin;
     std::size_t i = 0;
     for (; i < n && 2 * (used + 1) <= capacity; i++)
     {
@@ -327,28 +321,28 @@ void WeightedHistogram::addManyImpl(const Update* updates, std::size_t n)
         const double old_w = sl.w;
         if (record)
         {
-            m_undo_log.push_back({j, old_w, sl.wlogw});
+            log->slot = j;
+            log->w = old_w;
+            ++log;
         }
-        double new_wlogw = 0;
         if constexpr (kIntegral)
         {
             sl.w = old_w + w;
-            new_wlogw = integralWLogW(sl.w);
+            sum += integralWLogW(sl.w) - integralWLogW(old_w);
         }
         else
         {
             sl.w = cleanResidue(old_w + w, old_w, w);
-            new_wlogw = wLogW(sl.w);
+            sum += wLogW(sl.w) - wLogW(old_w);
         }
         total += w;
-        sum += new_wlogw - sl.wlogw;
-        sl.wlogw = new_wlogw;
         occupied = occupied + (sl.w > 0 ? 1 : 0) - (old_w > 0 ? 1 : 0);
     }
     m_used = used;
     m_occupied = occupied;
     m_total = total;
     m_sum_wlogw = sum;
+    m_undo_count += static_cast<std::size_t>(log - log_begin);
     for (; i < n; i++)
     {  // the table may grow: the general per-update form
         add(updates[i].key, updates[i].w);
@@ -409,8 +403,7 @@ std::size_t WeightedHistogram::recomputeSums(Update* cells_out)
     {
         if (sl.key != EMPTY_KEY)
         {
-            sl.wlogw = wLogW(sl.w);
-            sum += sl.wlogw;
+            sum += wLogW(sl.w);
             if (cells_out && sl.w > 0)
             {
                 cells_out[occupied] = {sl.key, sl.w};
@@ -434,11 +427,12 @@ void WeightedHistogram::endBatch()
     std::size_t occupied = m_occupied;
     if (m_undo_valid)
     {  // the cells' states before the batch (the slot still holds the old w log w)
-        m_undo_log.reserve(m_undo_log.size() + count);
+        UndoRecord* const log = reserveUndo(count);
         for (std::size_t k = 0; k < count; k++)
         {
-            m_undo_log.push_back({touched[k].slot, touched[k].old_w, slots[touched[k].slot].wlogw});
+            log[k] = {touched[k].slot, touched[k].old_w};
         }
+        m_undo_count += count;
     }
     for (std::size_t k = 0; k < count; k++)
     {
@@ -447,9 +441,7 @@ void WeightedHistogram::endBatch()
         s.w = cleanResidue(s.w, t.old_w, s.w - t.old_w);
         if (s.w != t.old_w)
         {
-            const double new_wlogw = wLogW(s.w);
-            sum += new_wlogw - s.wlogw;
-            s.wlogw = new_wlogw;
+            sum += wLogW(s.w) - wLogW(t.old_w);
             occupied = occupied + (s.w > 0 ? 1 : 0) - (t.old_w > 0 ? 1 : 0);
         }
     }
@@ -461,7 +453,7 @@ void WeightedHistogram::endBatch()
 void WeightedHistogram::beginUndoRecord()
 {
     ASSERTMSG_(!m_in_batch, "WeightedHistogram::beginUndoRecord() inside a batch");
-    m_undo_log.clear();
+    m_undo_count = 0;
     m_undo_valid = true;
     m_undo_total = m_total;
     m_undo_sum = m_sum_wlogw;
@@ -474,11 +466,16 @@ void WeightedHistogram::rollback()
     ASSERTMSG_(m_undo_valid, "WeightedHistogram::rollback(): no valid undo record");
     // Newest first: a cell changed twice ends with its oldest state.
     Slot* const slots = m_slots.data();
-    for (std::size_t k = m_undo_log.size(); k-- > 0;)
+    const UndoRecord* const log = m_undo_log.data();
+    constexpr std::size_t AHEAD = 32;
+    for (std::size_t k = m_undo_count; k-- > 0;)
     {
-        const UndoRecord& r = m_undo_log[k];
+        if (k >= AHEAD)
+        {  // the slots are scattered over a table larger than the L2 cache
+            __builtin_prefetch(&slots[log[k - AHEAD].slot], 1);
+        }
+        const UndoRecord& r = log[k];
         slots[r.slot].w = r.w;
-        slots[r.slot].wlogw = r.wlogw;
     }
     m_total = m_undo_total;
     m_sum_wlogw = m_undo_sum;

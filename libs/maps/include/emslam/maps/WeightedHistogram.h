@@ -1,6 +1,7 @@
 // SPDX-License-Identifier: BSD-3-Clause
 #pragma once
 
+#include <algorithm>
 #include <cmath>
 #include <cstddef>
 #include <cstdint>
@@ -56,14 +57,15 @@ inline CellIndex unpackCellKey(std::uint64_t key)
  * to a cell only changes that cell's term, and entropy() is O(1).
  *
  * **Storage.** A flat open-addressing table (linear probing, power-of-two
- * capacity, load factor ≤ 1/2) of {key, weight, cached w log w, batch
- * stamp} slots (32 B); no heap allocation per cell. A cell whose weight drops to zero
+ * capacity, load factor ≤ 1/2) of {key, weight} slots (16 B); no heap
+ * allocation per cell. A cell whose weight drops to zero
  * stays in the table as a zero entry (it contributes nothing and is not
  * counted as occupied) until the next growth, which drops zero entries. This
  * avoids tombstones and keeps removals as cheap as insertions. Compared with
  * `std::unordered_map` (one node allocation per cell, pointer chasing, ~64 B
  * per cell) it avoids an allocation and a pointer chase per access; it uses
- * 32 B per slot, 64-128 B per occupied cell at load 1/2-1/4.
+ * 16 B per slot (plus a 4 B batch stamp), 40-80 B per occupied cell at load
+ * 1/2-1/4.
  *
  * **Batches.** Moving an observation removes its weights from some cells and
  * adds them to others; many cells receive several updates, and many net to
@@ -72,10 +74,12 @@ inline CellIndex unpackCellKey(std::uint64_t key)
  * then updates S once per touched cell. Both paths give the same S up to
  * rounding. The bulk forms (addMany(), addDeferredMany()) prefetch slots a
  * few updates ahead and keep their sums in locals while the table cannot
- * grow. Each slot caches the w log w last added to S, so an update
- * evaluates w log w once. Measured choices (bench_entropy_map): immediate
+ * grow. Measured choices (bench_entropy_map, bench_rectify): immediate
  * updates for the 3D histogram (cells mostly touched once); branch-free
- * first-touch records; the stamp inside the slot. (Moves of CEntropyVoxelMap
+ * first-touch records; 16-byte slots without a cached w log w (the old
+ * term is recomputed: a table look-up for point counts), because the
+ * table of a rectification's 3D histogram outgrows the L2 cache and its
+ * cache misses are what a move costs. (Moves of CEntropyVoxelMap
  * now net the marginal updates per cell in dense grids first, then use
  * immediate updates; batches serve insertions and large marginal moves.)
  *
@@ -244,31 +248,39 @@ private:
     {
         std::uint64_t key{EMPTY_KEY};
         double w{0};
-        /** wLogW() of the weight last accounted in S: an update then costs one
-         * w log w (the new one) instead of two; same value, so S is unchanged. */
-        double wlogw{0};
-        std::uint32_t stamp{0};  //!< batch epoch of the last touch (in the slot: one cache miss)
     };
     /** A cell's state before its first change in an undo record. */
     struct UndoRecord
     {
         std::size_t slot{0};
         double w{0};
-        double wlogw{0};
     };
+    /** Room for `n` more undo records; returns where the next one goes.
+     * The caller writes them through the pointer (plain stores: a
+     * push_back() per update went through memory for the vector's end) and
+     * then sets m_undo_count. */
+    UndoRecord* reserveUndo(std::size_t n)
+    {
+        if (m_undo_log.size() < m_undo_count + n)
+        {
+            m_undo_log.resize(std::max(m_undo_count + n, 2 * m_undo_log.size()));
+        }
+        return m_undo_log.data() + m_undo_count;
+    }
     /** Appends the state of slot `i` to the undo log (when recording). */
     void logSlot(std::size_t i)
     {
         if (m_undo_valid)
         {
-            m_undo_log.push_back({i, m_slots[i].w, m_slots[i].wlogw});
+            *reserveUndo(1) = {i, m_slots[i].w};
+            m_undo_count++;
         }
     }
     /** Cancels the undo record (slot positions are about to change). */
     void cancelUndoRecord()
     {
         m_undo_valid = false;
-        m_undo_log.clear();
+        m_undo_count = 0;
     }
     struct Touched
     {
@@ -297,6 +309,10 @@ private:
     void accountChange(Slot& s, double old_w);
 
     std::vector<Slot> m_slots;
+    /** Batch epoch of each slot's last touch (beside the slots: only batches
+     * read it, and 16-byte slots keep the table of a rectification's 3D
+     * histogram half as large). */
+    std::vector<std::uint32_t> m_stamps;
     std::vector<Touched> m_touched;  //!< first-touch records; [0, m_touched_count) live
     std::size_t m_touched_count{0};
     std::size_t m_mask{0};
@@ -307,11 +323,12 @@ private:
     bool m_in_batch{false};
     double m_total{0};
     double m_sum_wlogw{0};
-    std::vector<UndoRecord> m_undo_log;  //!< in change order; capacity kept
-    bool m_undo_valid{false};            //!< recording, and rollback() possible
-    double m_undo_total{0};              //!< W at beginUndoRecord()
-    double m_undo_sum{0};                //!< S at beginUndoRecord()
-    std::size_t m_undo_occupied{0};      //!< occupied cells at beginUndoRecord()
+    std::vector<UndoRecord> m_undo_log;  //!< [0, m_undo_count) live, in change order
+    std::size_t m_undo_count{0};
+    bool m_undo_valid{false};        //!< recording, and rollback() possible
+    double m_undo_total{0};          //!< W at beginUndoRecord()
+    double m_undo_sum{0};            //!< S at beginUndoRecord()
+    std::size_t m_undo_occupied{0};  //!< occupied cells at beginUndoRecord()
 };
 
 }  // namespace emslam::maps
