@@ -305,6 +305,9 @@ void WeightedHistogram::addManyImpl(const Update* updates, std::size_t n)
     std::size_t occupied = m_occupied;
     double total = m_total;
     double sum = m_sum_wlogw;
+    // The table pointer in a register: through the global, every look-up
+    // was two more dependent loads (the GOT, then the pointer).
+    const double* const table = s_wlogw_table;
     const bool record = m_undo_valid;
     UndoRecord* const log_begin = record ? reserveUndo(n) : nullptr;
     UndoRecord* log = log_begin;
@@ -328,7 +331,7 @@ void WeightedHistogram::addManyImpl(const Update* updates, std::size_t n)
         if constexpr (kIntegral)
         {
             sl.w = old_w + w;
-            sum += integralWLogW(sl.w) - integralWLogW(old_w);
+            sum += integralWLogW(sl.w, table) - integralWLogW(old_w, table);
         }
         else
         {

@@ -218,13 +218,14 @@ public:
         return w > 0 ? w * std::log(w) : 0.0;
     }
 
-    /** wLogW() of an integer weight ≥ 0. */
-    static double integralWLogW(double w)
+    /** wLogW() of an integer weight ≥ 0 (`table`: the w log w table, e.g.
+     * kept in a local by a loop). */
+    static double integralWLogW(double w, const double* table = s_wlogw_table)
     {
         const auto i = static_cast<std::int64_t>(w);
         if (static_cast<std::uint64_t>(i) < WLOGW_TABLE_SIZE)
         {
-            return s_wlogw_table[i];
+            return table[i];
         }
         return w > 0 ? w * std::log(w) : 0.0;
     }
