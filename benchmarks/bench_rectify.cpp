@@ -106,6 +106,7 @@ BENCHMARK(BM_RectifierAttempt)
     ->Arg(static_cast<int>(EnergyType::PlanarLowStructured))
     ->Arg(static_cast<int>(EnergyType::PlanarStructured))
     ->Arg(static_cast<int>(EnergyType::Unstructured))
+    ->Arg(static_cast<int>(EnergyType::LowStructured))
     ->Arg(static_cast<int>(EnergyType::Structured))
     ->Unit(benchmark::kMicrosecond);
 BENCHMARK(BM_RectifyToConvergence)
