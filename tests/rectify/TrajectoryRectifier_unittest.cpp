@@ -89,7 +89,9 @@ TEST(TrajectoryRectifier, paperRatioRuleKeepsTheBestStateSeen)
     const RectificationStats s = r.rectify(t);
     EXPECT_EQ(s.attempts, s.successes + s.failures);
     EXPECT_GT(s.accepted_worse, 0u);  // p = E_old / E_try is close to 1
-    EXPECT_LE(s.energy_after, s.energy_before);
+    // (Restoring the best state replays moves: the running sums then differ
+    // from the start's by rounding when no better state was found.)
+    EXPECT_LE(s.energy_after, s.energy_before + 1e-12);
     EXPECT_NEAR(t.recomputeEnergy(), s.energy_after, 1e-9);  // the best state is restored
 }
 

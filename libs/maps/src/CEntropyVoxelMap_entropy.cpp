@@ -300,10 +300,7 @@ void CEntropyVoxelMap::addNetUpdates(
 }
 
 bool CEntropyVoxelMap::applyMarginalDeltasDense(
-    const WeightedPointCloud& cloud,
-    const std::vector<CellIndex>& from,
-    const std::vector<CellIndex>& to,
-    const CellBox& box)
+    const CellChange* changes, std::size_t count, const CellBox& box)
 {
     const TermList terms(m_tracked);
     DenseGrids g;
@@ -320,7 +317,11 @@ bool CEntropyVoxelMap::applyMarginalDeltasDense(
     {
         return false;
     }
-    const std::size_t n = cloud.size();
+    std::size_t n = 0;
+    for (std::size_t c = 0; c < count; c++)
+    {
+        n += changes[c].cloud->size();
+    }
     std::size_t dim[3];
     for (int a = 0; a < 3; a++)
     {
@@ -354,30 +355,33 @@ bool CEntropyVoxelMap::applyMarginalDeltasDense(
     {
         grids[k] = m_dense.data() + g.offset[k];
     }
-    const ScatterArgs args{
-        from.data(),
-        to.data(),
-        cloud.weights.data(),
-        n,
-        {box.lo[0], box.lo[1], box.lo[2]},
-        {g.stride[0], g.stride[1], g.stride[2]},
-        grids};
-    switch (pattern)
+    for (std::size_t c = 0; c < count; c++)
     {
-        case DensePattern::XY_XZ_YZ:
-            scatterDeltas<GridAxes<0, 1>, GridAxes<0, 2>, GridAxes<1, 2>>(args);
-            break;
-        case DensePattern::XZ_X_Z:
-            scatterDeltas<GridAxes<0, 2>, GridAxes<0, 0>, GridAxes<2, 2>>(args);
-            break;
-        case DensePattern::XZ:
-            scatterDeltas<GridAxes<0, 2>>(args);
-            break;
-        case DensePattern::Y:
-            scatterDeltas<GridAxes<1, 1>>(args);
-            break;
-        case DensePattern::None:
-            break;
+        const ScatterArgs args{
+            changes[c].from->data(),
+            changes[c].to->data(),
+            changes[c].cloud->weights.data(),
+            changes[c].cloud->size(),
+            {box.lo[0], box.lo[1], box.lo[2]},
+            {g.stride[0], g.stride[1], g.stride[2]},
+            grids};
+        switch (pattern)
+        {
+            case DensePattern::XY_XZ_YZ:
+                scatterDeltas<GridAxes<0, 1>, GridAxes<0, 2>, GridAxes<1, 2>>(args);
+                break;
+            case DensePattern::XZ_X_Z:
+                scatterDeltas<GridAxes<0, 2>, GridAxes<0, 0>, GridAxes<2, 2>>(args);
+                break;
+            case DensePattern::XZ:
+                scatterDeltas<GridAxes<0, 2>>(args);
+                break;
+            case DensePattern::Y:
+                scatterDeltas<GridAxes<1, 1>>(args);
+                break;
+            case DensePattern::None:
+                break;
+        }
     }
 
     // Packed key fields of each box coordinate, per axis.
@@ -414,20 +418,20 @@ bool CEntropyVoxelMap::applyMarginalDeltasDense(
         WeightedHistogram::Update* const u = m_updates.data();
         const std::uint64_t* const fb = field[b];
         double* row = grids[k];
-        std::size_t count = 0;
+        std::size_t net = 0;
         for (std::size_t ia = 0; ia < rows; ia++, row += dim[b])
         {
             const std::uint64_t ka = (a == b ? 0 : field[a][ia]) | fill;
             for (std::size_t ib = 0; ib < dim[b]; ib++)
             {
                 const double v = row[ib];
-                u[count].key = ka | fb[ib];
-                u[count].w = v;
-                count += v != 0 ? 1 : 0;
+                u[net].key = ka | fb[ib];
+                u[net].w = v;
+                net += v != 0 ? 1 : 0;
                 row[ib] = 0;
             }
         }
-        addNetUpdates(t, u, count);
+        addNetUpdates(t, u, net);
     }
     return true;
 }
@@ -445,24 +449,53 @@ void CEntropyVoxelMap::flushPending3d()
     }
 }
 
-void CEntropyVoxelMap::applyCellDelta(
-    const WeightedPointCloud& cloud,
-    const std::vector<CellIndex>& from,
-    const std::vector<CellIndex>& to,
-    const CellBox& from_box,
-    const CellBox& to_box)
+void CEntropyVoxelMap::applyCellDeltas(const CellChange* changes, std::size_t count)
+{
+    // Marginal cells are shared by many observations: when one set of dense
+    // grids covers every change, the net change of each cell is taken over
+    // all of them (one sweep, and the updates of overlapping observations
+    // cancel before reaching the histogram).
+    CellBox box;
+    std::size_t points = 0;
+    for (std::size_t c = 0; c < count; c++)
+    {
+        if (changes[c].cloud->size() == 0)
+        {
+            continue;  // its boxes are empty
+        }
+        const CellBox b = unionOf(changes[c].from_box, changes[c].to_box);
+        box = points == 0 ? b : unionOf(box, b);
+        points += changes[c].cloud->size();
+    }
+    const bool marginals_done = points > 0 && applyMarginalDeltasDense(changes, count, box);
+    for (std::size_t c = 0; c < count; c++)
+    {
+        applyCellDelta(changes[c], marginals_done);
+    }
+    flushPending3d();
+}
+
+CEntropyVoxelMap::CellBox CEntropyVoxelMap::unionOf(const CellBox& a, const CellBox& b)
+{
+    CellBox u;
+    for (int k = 0; k < 3; k++)
+    {
+        u.lo[k] = std::min(a.lo[k], b.lo[k]);
+        u.hi[k] = std::max(a.hi[k], b.hi[k]);
+    }
+    return u;
+}
+
+void CEntropyVoxelMap::applyCellDelta(const CellChange& change, bool marginals_applied)
 {
     const TermList terms(m_tracked);
+    const WeightedPointCloud& cloud = *change.cloud;
+    const std::vector<CellIndex>& from = *change.from;
+    const std::vector<CellIndex>& to = *change.to;
     const std::size_t n = cloud.size();
     if (n == 0)
     {
         return;
-    }
-    CellBox box;  // from_box ∪ to_box
-    for (int a = 0; a < 3; a++)
-    {
-        box.lo[a] = std::min(from_box.lo[a], to_box.lo[a]);
-        box.hi[a] = std::max(from_box.hi[a], to_box.hi[a]);
     }
     // Pack each point's from/to 3D cell once (lazily: only the 3D term and
     // the hash path of large marginals use them); a term's key is then the
@@ -487,7 +520,9 @@ void CEntropyVoxelMap::applyCellDelta(
     // Marginal cells collect many updates each: accumulate the net change
     // per cell in dense grids over the observation's box (no hashing per
     // update), then touch each changed cell once.
-    const bool marginals_done = applyMarginalDeltasDense(cloud, from, to, box);
+    const bool marginals_done =
+        marginals_applied ||
+        applyMarginalDeltasDense(&change, 1, unionOf(change.from_box, change.to_box));
     for (std::size_t k = 0; k < terms.n; k++)
     {
         const std::size_t t = terms.idx[k];
@@ -574,19 +609,45 @@ double CEntropyVoxelMap::moveObservations(const std::vector<ObservationMove>& mo
     {
         m_hist[terms.idx[k]].beginUndoRecord();
     }
-    for (std::size_t k = 0; k < moves.size(); k++)
+    if (distinctIndices(moves.size(), [&](std::size_t k) { return moves[k].index; }))
     {
-        Observation& o = m_obs[moves[k].index];
-        UndoEntry& e = m_undo[k];
-        e.index = moves[k].index;
-        e.old_pose = o.pose;
-        computeCells(o.cloud, moves[k].pose, e.cells, &e.box);
-        applyCellDelta(o.cloud, o.cells, e.cells, o.box, e.box);
-        std::swap(o.cells, e.cells);  // e.cells now keeps the old cells
-        std::swap(o.box, e.box);
-        o.pose = moves[k].pose;
+        // All new cells first, then every change at once (see applyCellDeltas()).
+        m_changes.clear();
+        for (std::size_t k = 0; k < moves.size(); k++)
+        {
+            Observation& o = m_obs[moves[k].index];
+            UndoEntry& e = m_undo[k];
+            e.index = moves[k].index;
+            e.old_pose = o.pose;
+            computeCells(o.cloud, moves[k].pose, e.cells, &e.box);
+            m_changes.push_back({&o.cloud, &o.cells, &e.cells, o.box, e.box});
+        }
+        applyCellDeltas(m_changes.data(), m_changes.size());
+        for (std::size_t k = 0; k < moves.size(); k++)
+        {
+            Observation& o = m_obs[moves[k].index];
+            UndoEntry& e = m_undo[k];
+            std::swap(o.cells, e.cells);  // e.cells now keeps the old cells
+            std::swap(o.box, e.box);
+            o.pose = moves[k].pose;
+        }
     }
-    flushPending3d();
+    else
+    {  // an observation moved twice: each move starts where the last ended
+        for (std::size_t k = 0; k < moves.size(); k++)
+        {
+            Observation& o = m_obs[moves[k].index];
+            UndoEntry& e = m_undo[k];
+            e.index = moves[k].index;
+            e.old_pose = o.pose;
+            computeCells(o.cloud, moves[k].pose, e.cells, &e.box);
+            const CellChange change{&o.cloud, &o.cells, &e.cells, o.box, e.box};
+            applyCellDeltas(&change, 1);
+            std::swap(o.cells, e.cells);
+            std::swap(o.box, e.box);
+            o.pose = moves[k].pose;
+        }
+    }
     m_undo_count = moves.size();
     return energy();
 }
@@ -613,19 +674,32 @@ double CEntropyVoxelMap::revertLastMove()
     {
         dropHistogramUndo();
     }
+    const bool together =
+        !rollback && distinctIndices(m_undo_count, [&](std::size_t k) { return m_undo[k].index; });
+    if (together)
+    {
+        m_changes.clear();
+        for (std::size_t k = 0; k < m_undo_count; k++)
+        {
+            const UndoEntry& e = m_undo[k];
+            const Observation& o = m_obs[e.index];
+            m_changes.push_back({&o.cloud, &o.cells, &e.cells, o.box, e.box});
+        }
+        applyCellDeltas(m_changes.data(), m_changes.size());
+    }
     for (std::size_t k = m_undo_count; k-- > 0;)
     {
         UndoEntry& e = m_undo[k];
         Observation& o = m_obs[e.index];
-        if (!rollback)
+        if (!rollback && !together)
         {
-            applyCellDelta(o.cloud, o.cells, e.cells, o.box, e.box);
+            const CellChange change{&o.cloud, &o.cells, &e.cells, o.box, e.box};
+            applyCellDeltas(&change, 1);
         }
         std::swap(o.cells, e.cells);
         std::swap(o.box, e.box);
         o.pose = e.old_pose;
     }
-    flushPending3d();
     m_undo_count = 0;
     return energy();
 }

@@ -297,27 +297,46 @@ private:
         CellBox* box = nullptr) const;
     /** Adds (sign +1) or removes (−1) an observation's weights to/from the tracked histograms. */
     void addToTracked(const Observation& o, double sign);
-    /** Applies the difference between two cell assignments of one observation
-     * (`from_box`, `to_box`: their bounding boxes). */
-    void applyCellDelta(
-        const emslam::maps::WeightedPointCloud& cloud,
-        const std::vector<emslam::maps::CellIndex>& from,
-        const std::vector<emslam::maps::CellIndex>& to,
-        const CellBox& from_box,
-        const CellBox& to_box);
+    /** One observation going from one cell assignment to another. */
+    struct CellChange
+    {
+        const emslam::maps::WeightedPointCloud* cloud{nullptr};
+        const std::vector<emslam::maps::CellIndex>* from{nullptr};
+        const std::vector<emslam::maps::CellIndex>* to{nullptr};
+        CellBox from_box;  //!< bounding box of *from
+        CellBox to_box;    //!< bounding box of *to
+    };
+    /** Applies the changes of distinct observations to every tracked term. */
+    void applyCellDeltas(const CellChange* changes, std::size_t count);
+    /** Applies one observation's change; the marginal terms only if not
+     * `marginals_applied`; 3D updates are left for flushPending3d(). */
+    void applyCellDelta(const CellChange& change, bool marginals_applied);
+    static CellBox unionOf(const CellBox& a, const CellBox& b);
+    /** True if index(0..count-1) has no repeated value. */
+    template <typename INDEX>
+    bool distinctIndices(std::size_t count, INDEX&& index)
+    {
+        m_seen.assign(m_obs.size(), 0);
+        for (std::size_t k = 0; k < count; k++)
+        {
+            auto& seen = m_seen[index(k)];
+            if (seen)
+            {
+                return false;
+            }
+            seen = 1;
+        }
+        return true;
+    }
     /** Applies the 3D updates collected by applyCellDelta() calls. */
     void flushPending3d();
     /** Applies updates to term `t` (addManyIntegral() if m_integral_weights). */
     void addNetUpdates(
         std::size_t t, const emslam::maps::WeightedHistogram::Update* u, std::size_t count);
-    /** The marginal terms of applyCellDelta() through dense grids of weight
-     * deltas over `box` (the union of both boxes); false (nothing done) if
-     * a grid would be too large or the terms have no dense path. */
-    bool applyMarginalDeltasDense(
-        const emslam::maps::WeightedPointCloud& cloud,
-        const std::vector<emslam::maps::CellIndex>& from,
-        const std::vector<emslam::maps::CellIndex>& to,
-        const CellBox& box);
+    /** The marginal terms of `changes` through dense grids of weight deltas
+     * over `box` (which contains every from and to cell); false (nothing
+     * done) if a grid would be too large or the terms have no dense path. */
+    bool applyMarginalDeltasDense(const CellChange* changes, std::size_t count, const CellBox& box);
     /** Starts deferred batches on the tracked histograms. */
     void beginBatches(std::size_t max_new_cells);
     /** Ends the batches started by beginBatches(). */
@@ -339,7 +358,10 @@ private:
     std::size_t m_pending3d_count{0};
     std::vector<std::uint64_t> m_keys3d;  //!< scratch of applyCellDelta(): packed from/to cells
     std::vector<double> m_dense;  //!< scratch of applyMarginalDeltasDense(): grids, kept zero
-    std::vector<std::uint64_t> m_fields;  //!< scratch of applyMarginalDeltasDense(): key fields
+    std::vector<std::uint64_t> m_fields;
+    std::vector<CellChange> m_changes;  //!< scratch of moves and reverts
+    std::vector<std::uint8_t> m_seen;   //!< scratch of distinctIndices()  //!< scratch of
+                                        //!< applyMarginalDeltasDense(): key fields
     double m_total_weight{0};
     /** Every observation weight is an integer ≤ 2^24 (point counts): cell
      * weights are then exact integer sums and moves use
