@@ -163,7 +163,7 @@ public:
      * from scratch this way evaluates w log w once per cell instead of once
      * per update. */
     void accumulateMany(const Update* updates, std::size_t n);
-    /** Recomputes S, the cached w log w of every slot and the occupied count
+    /** Recomputes S and the occupied count
      * from the weights (one sweep over the table); W is kept. If `cells_out`
      * is given (room for usedSlots() entries), the sweep also writes the
      * cells with positive weight there. Returns the number of such cells. */
