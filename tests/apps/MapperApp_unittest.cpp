@@ -199,9 +199,15 @@ TEST(MapperApp, mapsASimulatedRawlogAndWritesEveryOutput)
     EXPECT_NEAR(again.mapper().finalEnergy(), map->energy(), 1e-9);
 }
 
-TEST(MapperApp, egomotionOnlyNeverRectifies)
+TEST(MapperApp, egomotionOnlyNeverRectifiesAndCreatesMissingParentFolders)
 {
-    const std::string out = mapRawlog(simulatedHall(30), "mapper_ego", {"--egomotion-only"});
+    // --out names a folder whose parents do not exist yet (mkdir -p).
+    const std::string out = emslam::test::makeTempDir("mapper_ego") + "/runs/ego";
+    MapperApp app;
+    initApp(
+        app,
+        {config("3dof-low-structured"), simulatedHall(30), "--out", out, "-q", "--egomotion-only"});
+    app.run();
     const std::string json = readText(out + "/summary.json");
     EXPECT_NE(json.find("\"calls\": 0"), std::string::npos) << json;
     EXPECT_NE(json.find("\"mode\": \"egomotion_only\""), std::string::npos);

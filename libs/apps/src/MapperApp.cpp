@@ -11,6 +11,7 @@
 
 #include <chrono>
 #include <cstdio>
+#include <filesystem>
 #include <fstream>
 #include <stdexcept>
 #include <vector>
@@ -122,9 +123,13 @@ void MapperApp::run()
         m_gt.empty() ? emslam::stereo::TumTrajectory{}
                      : emslam::stereo::TumTrajectory::fromFile(m_gt);
     RawlogInput in(m_rawlog);
-    if (!mrpt::system::directoryExists(m_out) && !mrpt::system::createDirectory(m_out))
+    // Like mkdir -p: `--out runs/hall/seed1` creates the missing parents.
+    std::error_code ec;
+    std::filesystem::create_directories(m_out, ec);
+    if (ec || !std::filesystem::is_directory(m_out))
     {
-        throw std::runtime_error("cannot create output folder '" + m_out + "'");
+        throw std::runtime_error(
+            "cannot create output folder '" + m_out + "'" + (ec ? ": " + ec.message() : ""));
     }
     m_mapper = std::make_unique<Mapper>(p);
     m_info = {};
