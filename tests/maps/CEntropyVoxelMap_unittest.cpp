@@ -217,6 +217,40 @@ TEST(CEntropyVoxelMap, incrementalMovesEqualFromScratchForEveryEnergy)
     }
 }
 
+// Two paths the random moves above reach only by chance: a move into empty
+// space makes every histogram grow (their undo records are then cancelled
+// and the map undoes the move by re-applying it), and a move list naming
+// an observation twice (applied one move at a time, the last pose wins).
+TEST(CEntropyVoxelMap, growingMovesAndRepeatedIndicesAreHandled)
+{
+    for (int e = 0; e <= static_cast<int>(EnergyType::PlanarStructured); e++)
+    {
+        const auto energy = static_cast<EnergyType>(e);
+        const std::string name = emslam::maps::toString(energy);
+        CEntropyVoxelMap m(creation(energy));
+        const auto room = makeRoom(5, 0.1);
+        m.insertWeightedCloud(room, CPose3D());
+        m.insertWeightedCloud(room, CPose3D(0.1, 0, 0.2, 0, 0, 0));
+        const double before = m.energy();
+
+        // Far away: all of its cells are new.
+        m.moveObservation(1, CPose3D(500, 40, -300, 0.3, 0.2, 0.1));
+        expectTrackedEqualsScratch(m, "far move, " + name);
+        EXPECT_NEAR(m.revertLastMove(), before, 1e-9) << name;
+        expectTrackedEqualsScratch(m, "far move reverted, " + name);
+        EXPECT_EQ(m.observationPose(1), CPose3D(0.1, 0, 0.2, 0, 0, 0));
+
+        const CPose3D last(0.3, 0.05, 0.1, 0.05, 0, 0);
+        m.moveObservations(
+            {{1, CPose3D(2, 0, 0, 0, 0, 0)}, {0, CPose3D(0, 0, 0.1, 0, 0, 0)}, {1, last}});
+        EXPECT_EQ(m.observationPose(1), last) << name;
+        expectTrackedEqualsScratch(m, "repeated index, " + name);
+        EXPECT_NEAR(m.revertLastMove(), before, 1e-9) << name;
+        EXPECT_EQ(m.observationPose(0), CPose3D());
+        expectTrackedEqualsScratch(m, "repeated index reverted, " + name);
+    }
+}
+
 TEST(CEntropyVoxelMap, createdFromIniThroughMultiMetricMap)
 {
     mrpt::config::CConfigFileMemory ini(INI_TEXT);

@@ -609,43 +609,40 @@ double CEntropyVoxelMap::moveObservations(const std::vector<ObservationMove>& mo
     {
         m_hist[terms.idx[k]].beginUndoRecord();
     }
-    if (distinctIndices(moves.size(), [&](std::size_t k) { return moves[k].index; }))
+    // Distinct observations: all new cells first, then every change at once
+    // (see applyCellDeltas()). An observation moved twice: one move at a
+    // time, each starting where the last ended.
+    const bool together =
+        distinctIndices(moves.size(), [&](std::size_t k) { return moves[k].index; });
+    const auto finishMove = [&](std::size_t k)
     {
-        // All new cells first, then every change at once (see applyCellDeltas()).
-        m_changes.clear();
-        for (std::size_t k = 0; k < moves.size(); k++)
+        Observation& o = m_obs[moves[k].index];
+        UndoEntry& e = m_undo[k];
+        std::swap(o.cells, e.cells);  // e.cells now keeps the old cells
+        std::swap(o.box, e.box);
+        o.pose = moves[k].pose;
+    };
+    m_changes.clear();
+    for (std::size_t k = 0; k < moves.size(); k++)
+    {
+        Observation& o = m_obs[moves[k].index];
+        UndoEntry& e = m_undo[k];
+        e.index = moves[k].index;
+        e.old_pose = o.pose;
+        computeCells(o.cloud, moves[k].pose, e.cells, &e.box);
+        m_changes.push_back({&o.cloud, &o.cells, &e.cells, o.box, e.box});
+        if (!together)
         {
-            Observation& o = m_obs[moves[k].index];
-            UndoEntry& e = m_undo[k];
-            e.index = moves[k].index;
-            e.old_pose = o.pose;
-            computeCells(o.cloud, moves[k].pose, e.cells, &e.box);
-            m_changes.push_back({&o.cloud, &o.cells, &e.cells, o.box, e.box});
+            applyCellDeltas(&m_changes.back(), 1);
+            finishMove(k);
         }
+    }
+    if (together)
+    {
         applyCellDeltas(m_changes.data(), m_changes.size());
         for (std::size_t k = 0; k < moves.size(); k++)
         {
-            Observation& o = m_obs[moves[k].index];
-            UndoEntry& e = m_undo[k];
-            std::swap(o.cells, e.cells);  // e.cells now keeps the old cells
-            std::swap(o.box, e.box);
-            o.pose = moves[k].pose;
-        }
-    }
-    else
-    {  // an observation moved twice: each move starts where the last ended
-        for (std::size_t k = 0; k < moves.size(); k++)
-        {
-            Observation& o = m_obs[moves[k].index];
-            UndoEntry& e = m_undo[k];
-            e.index = moves[k].index;
-            e.old_pose = o.pose;
-            computeCells(o.cloud, moves[k].pose, e.cells, &e.box);
-            const CellChange change{&o.cloud, &o.cells, &e.cells, o.box, e.box};
-            applyCellDeltas(&change, 1);
-            std::swap(o.cells, e.cells);
-            std::swap(o.box, e.box);
-            o.pose = moves[k].pose;
+            finishMove(k);
         }
     }
     m_undo_count = moves.size();
