@@ -8,7 +8,6 @@
 
 #include <mrpt/core/bits_math.h>
 #include <mrpt/math/wrap2pi.h>
-#include <mrpt/poses/Lie/SO.h>
 
 #include <gtest/gtest.h>
 
