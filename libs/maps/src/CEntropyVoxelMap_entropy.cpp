@@ -442,7 +442,7 @@ void CEntropyVoxelMap::flushPending3d()
     {
         // 3D cells are mostly touched once and hold small integer weights:
         // immediate updates (table look-ups) beat deferral. All moved
-        // observations at once: a large batch is applied in table order.
+        // observations at once: one call, one prefetching loop.
         addNetUpdates(
             static_cast<std::size_t>(EntropyTerm::H3D), m_pending3d.data(), m_pending3d_count);
         m_pending3d_count = 0;

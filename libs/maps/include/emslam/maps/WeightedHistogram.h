@@ -139,7 +139,7 @@ public:
      * A move that is tried and then rejected (most rectification attempts)
      * used to pay its updates twice: once to apply, once more to apply the
      * opposite. Between beginUndoRecord() and rollback() every changed cell
-     * logs its previous weight and w log w (sequential writes), so rollback()
+     * logs its previous weight (sequential writes), so rollback()
      * restores cells, W, S and the occupied count exactly, without hashing
      * or logarithms. A table growth, clear() or bulk rebuild in between
      * cancels the record (slot positions change): canRollback() is then
