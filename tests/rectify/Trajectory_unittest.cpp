@@ -136,3 +136,36 @@ TEST(Trajectory, actionsAfterCompressionStartAtTheLastFrame)
     ASSERT_EQ(poses.size(), 6u);
     EXPECT_LT(maxPoseDiff(poses[5].T_world_frame, expected), 1e-9);
 }
+
+TEST(Trajectory, odometryPriorFollowsChangesRevertsAndCompression)
+{
+    Trajectory t(mapOptions(maps::EnergyType::PlanarLowStructured));
+    t.setOdometryPrior({0.01, 0.02, 0.5});
+    const CPose3D step(0.1, 0, 0.3, 0, mrpt::DEG2RAD(5.0), 0);
+    for (int i = 0; i < 8; ++i)
+    {
+        t.append(i == 0 ? CPose3D() : step, blob(40 + i), i, i);
+    }
+    EXPECT_EQ(t.priorEnergy(), 0.0);  // the actions are the egomotion's
+    const double e0 = t.energy();
+    EXPECT_DOUBLE_EQ(e0, t.entropy());
+
+    const CPose3D moved = perturbAction(t.action(3), {0.02, 0, 0, 0, 0, 0});
+    const double e1 = t.changeActions({{3, moved}});
+    // (0.02 / 0.02)^2 / 1 step, times weight / 2.
+    EXPECT_NEAR(t.priorEnergy(), 0.005, 1e-12);
+    EXPECT_NEAR(e1, t.entropy() + 0.005, 1e-12);
+    EXPECT_NEAR(t.revertLastChange(), e0, 1e-9);
+    EXPECT_NEAR(t.priorEnergy(), 0.0, 1e-20);
+
+    // Compression composes the references as it composes the actions, and the
+    // fused action spans two steps.
+    t.changeActions({{3, moved}});
+    t.commitChange();
+    t.compress();
+    ASSERT_EQ(t.size(), 4u);
+    EXPECT_LT(maxPoseDiff(t.referenceAction(1), step + step), 1e-12);
+    const OdometryPrior p{0.01, 0.02, 0.5};
+    EXPECT_NEAR(t.priorEnergy(), p.cost(t.action(2), t.referenceAction(2), 2), 1e-12);
+    EXPECT_NEAR(t.priorEnergy(), 0.0025, 1e-9);
+}

@@ -12,6 +12,7 @@ AnyTimeRectification::AnyTimeRectification(
     const emslam::CEntropyVoxelMap::TInsertionOptions& insertion_options)
     : m_options(options), m_trajectory(map_options, insertion_options), m_rectifier(options)
 {
+    m_trajectory.setOdometryPrior(options.odometryPrior());
     m_thread = std::thread([this] { run(); });
 }
 

@@ -72,6 +72,9 @@ void TRectifierOptions::loadFromConfigFile(
     MRPT_LOAD_CONFIG_VAR(vertical_band, bool, c, s);
     MRPT_LOAD_CONFIG_VAR(band_min_y, double, c, s);
     MRPT_LOAD_CONFIG_VAR(band_max_y, double, c, s);
+    MRPT_LOAD_CONFIG_VAR(prior_weight, double, c, s);
+    MRPT_LOAD_CONFIG_VAR(prior_sigma_xyz, double, c, s);
+    MRPT_LOAD_CONFIG_VAR(prior_sigma_rot_deg, double, c, s);
     validate();
 }
 
@@ -94,6 +97,9 @@ void TRectifierOptions::saveToConfigFile(
     MRPT_SAVE_CONFIG_VAR_COMMENT(vertical_band, "keep only points in [band_min_y, band_max_y]");
     MRPT_SAVE_CONFIG_VAR_COMMENT(band_min_y, "camera-frame y, down [m]");
     MRPT_SAVE_CONFIG_VAR_COMMENT(band_max_y, "camera-frame y, down [m]");
+    MRPT_SAVE_CONFIG_VAR_COMMENT(prior_weight, "odometry prior weight (0: off, the paper)");
+    MRPT_SAVE_CONFIG_VAR_COMMENT(prior_sigma_xyz, "odometry prior, one step [m]");
+    MRPT_SAVE_CONFIG_VAR_COMMENT(prior_sigma_rot_deg, "odometry prior, one step [deg]");
 }
 
 void TRectifierOptions::validate() const
@@ -119,6 +125,12 @@ void TRectifierOptions::validate() const
         !vertical_band ||
             (std::isfinite(band_min_y) && std::isfinite(band_max_y) && band_min_y < band_max_y),
         "band_min_y", "must be < band_max_y");
+    require(std::isfinite(prior_weight) && prior_weight >= 0, "prior_weight", "must be >= 0");
+    require(
+        std::isfinite(prior_sigma_xyz) && prior_sigma_xyz > 0, "prior_sigma_xyz", "must be > 0");
+    require(
+        std::isfinite(prior_sigma_rot_deg) && prior_sigma_rot_deg > 0, "prior_sigma_rot_deg",
+        "must be > 0");
 }
 
 }  // namespace emslam::rectify

@@ -12,6 +12,7 @@ SerialRectification::SerialRectification(
     const emslam::CEntropyVoxelMap::TInsertionOptions& insertion_options)
     : m_options(options), m_trajectory(map_options, insertion_options), m_rectifier(options)
 {
+    m_trajectory.setOdometryPrior(options.odometryPrior());
 }
 
 void SerialRectification::addFrame(

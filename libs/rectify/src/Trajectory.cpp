@@ -3,6 +3,7 @@
 #include <emslam/rectify/Trajectory.h>
 
 #include <algorithm>
+#include <numeric>
 #include <stdexcept>
 #include <string>
 
@@ -44,8 +45,56 @@ void Trajectory::append(
     const mrpt::poses::CPose3D pose = m_actions.empty() ? a : this->pose(m_actions.size() - 1) + a;
     m_map.insertWeightedCloud(cloud, pose);
     m_actions.push_back(a);
+    m_reference.push_back(a);
     m_frames.push_back({ElementFrame{timestamp, frame_index, mrpt::poses::CPose3D()}});
+    m_prior_terms.push_back(0.0);  // the action equals its reference
     m_undo_valid = false;
+}
+
+void Trajectory::setOdometryPrior(const OdometryPrior& prior)
+{
+    m_prior = prior;
+    recomputePrior();
+}
+
+double Trajectory::priorTerm(std::size_t i) const
+{
+    if (i == 0 || !m_prior.enabled())
+    {
+        return 0.0;
+    }
+    // a_i spans the frames of element i-1 (from its first frame to element i's).
+    return m_prior.cost(m_actions[i], m_reference[i], m_frames[i - 1].size());
+}
+
+void Trajectory::recomputePrior()
+{
+    m_prior_terms.resize(m_actions.size());
+    for (std::size_t i = 0; i < m_actions.size(); ++i)
+    {
+        m_prior_terms[i] = priorTerm(i);
+    }
+    m_prior_sum = std::accumulate(m_prior_terms.begin(), m_prior_terms.end(), 0.0);
+}
+
+void Trajectory::updatePrior(const std::vector<ActionChange>& changed)
+{
+    if (!m_prior.enabled())
+    {
+        return;
+    }
+    for (const ActionChange& c : changed)
+    {
+        m_prior_terms[c.index] = priorTerm(c.index);
+    }
+    // Summed afresh (N is small): no drift, and the same value for the same state.
+    m_prior_sum = std::accumulate(m_prior_terms.begin(), m_prior_terms.end(), 0.0);
+}
+
+double Trajectory::recomputeEnergy()
+{
+    recomputePrior();
+    return m_map.recomputeFromScratch() + m_prior_sum;
 }
 
 double Trajectory::movePosesFrom(std::size_t first)
@@ -81,7 +130,8 @@ double Trajectory::changeActions(const std::vector<ActionChange>& changes)
         first = std::min(first, c.index);
     }
     m_undo_valid = true;
-    return movePosesFrom(first);
+    updatePrior(changes);
+    return movePosesFrom(first) + m_prior_sum;
 }
 
 double Trajectory::setActions(const std::vector<mrpt::poses::CPose3D>& actions)
@@ -112,7 +162,8 @@ double Trajectory::revertLastChange()
         m_actions[it->index] = it->action;
     }
     m_undo_valid = false;
-    return m_map.canRevert() ? m_map.revertLastMove() : energy();
+    updatePrior(m_undo);
+    return (m_map.canRevert() ? m_map.revertLastMove() : m_map.energy()) + m_prior_sum;
 }
 
 void Trajectory::commitChange()

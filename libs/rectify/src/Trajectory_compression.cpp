@@ -6,30 +6,22 @@
 
 namespace emslam::rectify
 {
-void Trajectory::compress()
+namespace
 {
-    const std::size_t n = m_actions.size();
-    if (n < 2)
-    {
-        return;
-    }
-    emslam::CEntropyVoxelMap fused_map(m_map.creationOptions(), m_map.insertionOptions);
-    std::vector<mrpt::poses::CPose3D> actions;
-    std::vector<std::vector<ElementFrame>> frames;
-    actions.reserve((n + 1) / 2);
-    frames.reserve((n + 1) / 2);
-
+/** Eq. 13 on one map: observation 2k+1 brought into 2k's frame by a_{2k+1},
+ * the union re-simplified at the map's cell size (§2.2.2) by the insertion. */
+emslam::CEntropyVoxelMap fuseObservationPairs(
+    const emslam::CEntropyVoxelMap& map, const std::vector<mrpt::poses::CPose3D>& actions)
+{
+    emslam::CEntropyVoxelMap fused(map.creationOptions(), map.insertionOptions);
+    const std::size_t n = actions.size();
     for (std::size_t i = 0; i < n; i += 2)
     {
-        // Eq. 14: a'_0 = a_0, a'_k = a_{2k-1} ⊕ a_{2k}.
-        actions.push_back(i == 0 ? m_actions[0] : m_actions[i - 1] + m_actions[i]);
-        std::vector<ElementFrame> members = m_frames[i];
-        emslam::maps::WeightedPointCloud cloud = m_map.observationCloud(i);
+        emslam::maps::WeightedPointCloud cloud = map.observationCloud(i);
         if (i + 1 < n)
         {
-            // Eq. 13: O' = O_2i ∪ (R_{2i+1} O_{2i+1} + t_{2i+1}).
-            const mrpt::poses::CPose3D& a = m_actions[i + 1];
-            const auto& second = m_map.observationCloud(i + 1);
+            const mrpt::poses::CPose3D& a = actions[i + 1];
+            const auto& second = map.observationCloud(i + 1);
             cloud.points.reserve(cloud.size() + second.size());
             cloud.weights.reserve(cloud.size() + second.size());
             for (std::size_t k = 0; k < second.size(); ++k)
@@ -41,19 +33,52 @@ void Trajectory::compress()
                     {static_cast<float>(gx), static_cast<float>(gy), static_cast<float>(gz)},
                     second.weights[k]);
             }
+        }
+        fused.insertWeightedCloud(cloud, map.observationPose(i));
+    }
+    return fused;
+}
+
+/** Eq. 14: a'_0 = a_0, a'_k = a_{2k-1} ⊕ a_{2k}. */
+std::vector<mrpt::poses::CPose3D> composeActionPairs(const std::vector<mrpt::poses::CPose3D>& a)
+{
+    std::vector<mrpt::poses::CPose3D> out;
+    out.reserve((a.size() + 1) / 2);
+    for (std::size_t i = 0; i < a.size(); i += 2)
+    {
+        out.push_back(i == 0 ? a[0] : a[i - 1] + a[i]);
+    }
+    return out;
+}
+}  // namespace
+
+void Trajectory::compress()
+{
+    const std::size_t n = m_actions.size();
+    if (n < 2)
+    {
+        return;
+    }
+    std::vector<std::vector<ElementFrame>> frames;
+    frames.reserve((n + 1) / 2);
+    for (std::size_t i = 0; i < n; i += 2)
+    {
+        std::vector<ElementFrame> members = m_frames[i];
+        if (i + 1 < n)
+        {
             for (ElementFrame f : m_frames[i + 1])
             {
-                f.T_element_frame = a + f.T_element_frame;
+                f.T_element_frame = m_actions[i + 1] + f.T_element_frame;
                 members.push_back(f);
             }
         }
-        // Re-simplified at l_d by the insertion (§2.2.2).
-        fused_map.insertWeightedCloud(cloud, m_map.observationPose(i));
         frames.push_back(std::move(members));
     }
-    m_map = std::move(fused_map);
-    m_actions = std::move(actions);
+    m_map = fuseObservationPairs(m_map, m_actions);
+    m_actions = composeActionPairs(m_actions);
+    m_reference = composeActionPairs(m_reference);
     m_frames = std::move(frames);
+    recomputePrior();
     m_undo_valid = false;
     ++m_compressions;
 }

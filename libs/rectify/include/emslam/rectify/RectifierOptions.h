@@ -1,6 +1,8 @@
 // SPDX-License-Identifier: BSD-3-Clause
 #pragma once
 
+#include <emslam/rectify/OdometryPrior.h>
+
 #include <mrpt/config/CLoadableOptions.h>
 
 #include <cstdint>
@@ -47,12 +49,16 @@ enum class RectificationMode : std::uint8_t
  * repeats exactly) vertical_band    = false   ; keep only points with band_min_y <= y <= band_max_y
  * band_min_y       = -1.5    ; [m] camera frame, y down (above the camera is < 0)
  * band_max_y       = 0.8     ; [m]
+ * prior_weight     = 0       ; odometry prior (0: off, the paper's energy)
+ * prior_sigma_xyz  = 0.02    ; [m] per accepted step
+ * prior_sigma_rot_deg = 0.5  ; [deg] per accepted step
  * \endcode
  *
  * `vertical_band` is an option beside the paper: for a 3DOF robot (fixed
  * camera height) it drops floor and ceiling points, whose projection on the
  * XZ plane carries no alignment information but rewards folding corridors
  * onto each other (Exp. 11-12 on dense clouds; see doc/rectify.md).
+ * `prior_weight` > 0 adds an OdometryPrior to the entropy, also beside the paper.
  * \ingroup emslam_rectify_grp */
 struct TRectifierOptions : public mrpt::config::CLoadableOptions
 {
@@ -82,6 +88,16 @@ struct TRectifierOptions : public mrpt::config::CLoadableOptions
     bool vertical_band{false};  //!< filter points by camera-frame y (Default: false)
     double band_min_y{-1.5};    //!< [m] (Default: -1.5)
     double band_max_y{0.8};     //!< [m] (Default: 0.8)
+    /** OdometryPrior weight [nats]; 0: off, the paper's energy (Default: 0) */
+    double prior_weight{0.0};
+    double prior_sigma_xyz{0.02};     //!< [m] one accepted step (Default: 0.02)
+    double prior_sigma_rot_deg{0.5};  //!< [deg] one accepted step (Default: 0.5)
+
+    /** The prior these options describe. */
+    OdometryPrior odometryPrior() const
+    {
+        return OdometryPrior{prior_weight, prior_sigma_xyz, prior_sigma_rot_deg};
+    }
 };
 
 /** INI names: `ratio`, `greedy`. */

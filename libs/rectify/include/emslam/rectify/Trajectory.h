@@ -3,6 +3,7 @@
 
 #include <emslam/maps/CEntropyVoxelMap.h>
 #include <emslam/maps/WeightedPointCloud.h>
+#include <emslam/rectify/OdometryPrior.h>
 
 #include <mrpt/poses/CPose3D.h>
 
@@ -80,11 +81,23 @@ public:
     /** Pose of element i in the world. */
     const mrpt::poses::CPose3D& pose(std::size_t i) const { return m_map.observationPose(i); }
 
-    /** Current energy (O(1)). */
-    double energy() const { return m_map.energy(); }
+    /** Current energy (O(1)): the map's entropy plus the odometry prior's
+     * cost (0 unless enabled). */
+    double energy() const { return m_map.energy() + m_prior_sum; }
+    /** The map's entropy alone (the paper's energy). */
+    double entropy() const { return m_map.energy(); }
+    /** The odometry prior's part of energy(). */
+    double priorEnergy() const { return m_prior_sum; }
     /** Recomputes the map's histograms from scratch (drops rounding drift of
      * long runs of incremental updates); returns the energy. */
-    double recomputeEnergy() { return m_map.recomputeFromScratch(); }
+    double recomputeEnergy();
+
+    /** Enables (weight > 0) or disables the odometry prior: the actions as
+     * appended (composed by compress()) are its references. */
+    void setOdometryPrior(const OdometryPrior& prior);
+    const OdometryPrior& odometryPrior() const { return m_prior; }
+    /** The egomotion's estimate of action i (the prior's reference). */
+    const mrpt::poses::CPose3D& referenceAction(std::size_t i) const { return m_reference.at(i); }
 
     /** Sets some actions (3DOF-projected if needed), moves the affected
      * segment in the map and returns the new energy. One undo record. */
@@ -120,10 +133,20 @@ public:
 private:
     /** Re-poses elements from `first` on from the actions. */
     double movePosesFrom(std::size_t first);
+    /** Prior cost of action i (0 for a_0 or when the prior is off). */
+    double priorTerm(std::size_t i) const;
+    /** Recomputes every prior term and their sum. */
+    void recomputePrior();
+    /** Updates the terms of these actions and the sum. */
+    void updatePrior(const std::vector<ActionChange>& changed);
 
     emslam::CEntropyVoxelMap m_map;
     std::vector<mrpt::poses::CPose3D> m_actions;
     std::vector<std::vector<ElementFrame>> m_frames;
+    OdometryPrior m_prior;
+    std::vector<mrpt::poses::CPose3D> m_reference;  //!< egomotion actions (prior references)
+    std::vector<double> m_prior_terms;              //!< prior cost of each action
+    double m_prior_sum{0.0};
     std::vector<emslam::CEntropyVoxelMap::ObservationMove> m_moves;  //!< scratch
     std::vector<ActionChange> m_undo;  //!< old values of the last change's actions
     bool m_undo_valid{false};
