@@ -178,8 +178,9 @@ TEST(MapperApp, mapsASimulatedRawlogAndWritesEveryOutput)
     const std::string json = readText(out + "/summary.json");
     for (const char* key :
          {"\"frames\": 60", "\"accepted_frames\"", "\"egomotion_failures\": 0", "\"ms_per_frame\"",
-          "\"loop_gap_egomotion_m\"", "\"loop_gap_slam_m\"", "\"final_energy\"", "\"slam_vs_gt\"",
-          "\"interrupted\": false", "\"input_ended_early\": null"})
+          "\"loop_gap_egomotion_m\"", "\"loop_gap_slam_m\"", "\"final_energy\"",
+          "\"final_entropy\"", "\"slam_vs_gt\"", "\"interrupted\": false",
+          "\"input_ended_early\": null"})
     {
         EXPECT_NE(json.find(key), std::string::npos) << key << "\n" << json;
     }
@@ -196,7 +197,9 @@ TEST(MapperApp, mapsASimulatedRawlogAndWritesEveryOutput)
     initApp(again, {out + "/effective.ini", rawlog, "--out", out + "/again", "-q"});
     again.run();
     EXPECT_EQ(again.mapper().slamTrajectory().size(), slam.size());
-    EXPECT_NEAR(again.mapper().finalEnergy(), map->energy(), 1e-9);
+    // The serialized map holds the entropy; the energy adds the odometry prior.
+    EXPECT_NEAR(again.mapper().finalEntropy(), map->energy(), 1e-9);
+    EXPECT_GT(again.mapper().finalEnergy(), again.mapper().finalEntropy());
 }
 
 TEST(MapperApp, egomotionOnlyNeverRectifiesAndCreatesMissingParentFolders)
@@ -349,10 +352,10 @@ TEST(MapperApp, sigintStopsAndWritesTheOutputs)
 #endif
 
 // The simulator's whole 3DOF hall double loop (104 m) with the shipped
-// 3dof-low-structured configuration: rectification must shrink both the loop
-// gap and the ATE of the egomotion. (Measured, seed 1: gap 2.42 -> 0.81 m,
-// ATE 0.55 -> 0.21 m; the target of gap <= 1/5 is met by 2 seeds of 4,
-// see doc/apps/emslam-mapper.md.)
+// 3dof-low-structured configuration (rectifier seed 1, deterministic): the
+// loop gap must fall to 1/5 of the egomotion's and to 0.5 % of the path, and
+// the ATE must halve. Measured: gap 2.42 -> 0.37 m, ATE 0.55 -> 0.21 m. Other
+// rectifier seeds meet the gap target 18 times in 24 (doc/apps/emslam-mapper.md).
 TEST(MapperApp, hallDoubleLoopRectificationShrinksGapAndAte)
 {
     const std::string dir = emslam::test::makeTempDir("mapper_hall");
@@ -383,6 +386,7 @@ TEST(MapperApp, hallDoubleLoopRectificationShrinksGapAndAte)
         "hall: loop gap egomotion %.3f m, SLAM %.3f m; ATE egomotion %.3f m, SLAM %.3f m\n",
         ego_gap, slam_gap, ego_ate, slam_ate);
     EXPECT_GT(ego_gap, 1.0);  // the egomotion drifts: there is a loop to close
-    EXPECT_LT(slam_gap, 0.5 * ego_gap);
+    EXPECT_LE(slam_gap, 0.2 * ego_gap);
+    EXPECT_LE(slam_gap, 0.005 * info.slam_vs_gt->path_length_m);
     EXPECT_LT(slam_ate, 0.5 * ego_ate);
 }

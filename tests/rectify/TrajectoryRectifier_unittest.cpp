@@ -136,6 +136,8 @@ TEST(TrajectoryRectifier, optionsRoundTripAndRejectBadValues)
     o.mode = RectificationMode::AnyTime;
     o.acceptance = Acceptance::Greedy;
     o.seed = 1234567890123ULL;
+    o.prior_weight = 3e-7;
+    o.prior_sigma_rot_deg = 0.25;
     mrpt::config::CConfigFileMemory out;
     o.saveToConfigFile(out, "Rectifier");
     mrpt::config::CConfigFileMemory in(out.getContent());
@@ -146,6 +148,9 @@ TEST(TrajectoryRectifier, optionsRoundTripAndRejectBadValues)
     EXPECT_EQ(back.acceptance, Acceptance::Greedy);
     EXPECT_EQ(back.seed, 1234567890123ULL);
     EXPECT_EQ(back.nc_max, 50);
+    EXPECT_DOUBLE_EQ(back.prior_weight, 3e-7);  // not rounded to 0
+    EXPECT_DOUBLE_EQ(back.prior_sigma_rot_deg, 0.25);
+    EXPECT_DOUBLE_EQ(back.odometryPrior().sigma_xyz, 0.02);
 
     const auto load = [](const std::string& kv)
     {
@@ -160,6 +165,10 @@ TEST(TrajectoryRectifier, optionsRoundTripAndRejectBadValues)
     test::expectThrowContaining([&] { load("n_max = 2"); }, {"n_max"});
     test::expectThrowContaining([&] { load("eps_rot_deg = -1"); }, {"eps_rot_deg"});
     test::expectThrowContaining([&] { load("seed = -3"); }, {"seed"});
+    test::expectThrowContaining([&] { load("prior_weight = -1"); }, {"prior_weight"});
+    test::expectThrowContaining([&] { load("prior_sigma_xyz = 0"); }, {"prior_sigma_xyz"});
+    test::expectThrowContaining(
+        [&] { load("prior_sigma_rot_deg = nan"); }, {"prior_sigma_rot_deg"});
 }
 
 TEST(TrajectoryRectifier, shippedConfigLoadsWithThePaperDefaults)
@@ -176,6 +185,7 @@ TEST(TrajectoryRectifier, shippedConfigLoadsWithThePaperDefaults)
     EXPECT_EQ(o.buffer_size, 10);
     EXPECT_EQ(o.n_max, 60);
     EXPECT_EQ(o.mode, RectificationMode::Serial);
+    EXPECT_FALSE(o.odometryPrior().enabled());  // the paper's energy
     SpaceSampler::TParameters sp;
     sp.loadFromConfigFile(c, "SpaceSampling");
     EXPECT_DOUBLE_EQ(sp.t_min, 0.15);

@@ -212,6 +212,7 @@ void Mapper::finish()
         return;
     }
     m_energy = m_runner->trajectory().energy();
+    m_entropy = m_runner->trajectory().entropy();
     m_slam = {};
     m_map_cloud = {};
     for (const auto& fp : m_runner->framePoses())

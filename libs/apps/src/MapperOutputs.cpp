@@ -269,6 +269,7 @@ void writeSummaryJson(const Mapper& m, const MapperRunInfo& info, const std::str
       << "  \"trajectory_elements\": " << m.trajectoryElements() << ",\n"
       << "  \"compressions\": " << m.compressions() << ",\n"
       << "  \"final_energy\": " << jsonNumber(m.finalEnergy()) << ",\n"
+      << "  \"final_entropy\": " << jsonNumber(m.finalEntropy()) << ",\n"
       << "  \"map_points\": " << m.mapCloud().size() << ",\n"
       << "  \"loop_gap_egomotion_m\": " << jsonNumber(loopGap(m.egomotionTrajectory())) << ",\n"
       << "  \"loop_gap_slam_m\": " << jsonNumber(loopGap(m.slamTrajectory())) << ",\n"

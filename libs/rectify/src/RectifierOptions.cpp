@@ -2,6 +2,7 @@
 #include <emslam/rectify/RectifierOptions.h>
 
 #include <mrpt/config/CConfigFileBase.h>
+#include <mrpt/core/format.h>
 
 #include <cmath>
 #include <stdexcept>
@@ -97,7 +98,10 @@ void TRectifierOptions::saveToConfigFile(
     MRPT_SAVE_CONFIG_VAR_COMMENT(vertical_band, "keep only points in [band_min_y, band_max_y]");
     MRPT_SAVE_CONFIG_VAR_COMMENT(band_min_y, "camera-frame y, down [m]");
     MRPT_SAVE_CONFIG_VAR_COMMENT(band_max_y, "camera-frame y, down [m]");
-    MRPT_SAVE_CONFIG_VAR_COMMENT(prior_weight, "odometry prior weight (0: off, the paper)");
+    // %g: small weights must survive the round trip through effective.ini.
+    c.write(
+        s, "prior_weight", mrpt::format("%.10g", prior_weight), -1, -1,
+        "odometry prior weight (0: off, the paper)");
     MRPT_SAVE_CONFIG_VAR_COMMENT(prior_sigma_xyz, "odometry prior, one step [m]");
     MRPT_SAVE_CONFIG_VAR_COMMENT(prior_sigma_rot_deg, "odometry prior, one step [deg]");
 }

@@ -122,8 +122,12 @@ public:
     const emslam::CEntropyVoxelMap& entropyMap() const;
     /** The map cloud (with grey levels) at the final poses, world frame. */
     const IntensityCloud& mapCloud() const { return m_map_cloud; }
-    /** Final energy (recomputed from scratch). */
+    /** Final energy (recomputed from scratch): the entropy plus the odometry
+     * prior's cost, if `[Rectifier] prior_weight` > 0. */
     double finalEnergy() const { return m_energy; }
+    /** The entropy part of finalEnergy() (the paper's energy; what
+     * entropyMap().energy() gives). */
+    double finalEntropy() const { return m_entropy; }
     /** Elements N and trajectory compressions at the end. */
     std::size_t trajectoryElements() const;
     std::size_t compressions() const;
@@ -142,6 +146,7 @@ private:
     std::vector<MapperFrameRecord> m_records;
     std::size_t m_failures{0};
     double m_energy{0.0};
+    double m_entropy{0.0};
     /** Per accepted frame (by frame index): its cloud in its camera frame. */
     std::map<std::size_t, IntensityCloud> m_frame_clouds;
     IntensityCloud m_map_cloud;
