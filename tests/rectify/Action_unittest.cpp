@@ -49,3 +49,18 @@ TEST(Action, planarProjectionKeepsXZAndTheTurnAboutY)
     EXPECT_NEAR(
         mrpt::poses::Lie::SO<3>::log(p.getRotationMatrix())[1], mrpt::DEG2RAD(170.0), 1e-12);
 }
+
+TEST(Action, rotationAngleIsTheAngleOfTheRotation)
+{
+    const mrpt::poses::CPose3D T(
+        1.0, -2.0, 0.5, mrpt::DEG2RAD(20.0), mrpt::DEG2RAD(-10.0), mrpt::DEG2RAD(5.0));
+    EXPECT_NEAR(
+        emslam::rectify::rotationAngle(T),
+        mrpt::poses::Lie::SO<3>::log(T.getRotationMatrix()).norm(), 1e-12);
+    EXPECT_NEAR(
+        emslam::rectify::rotationAngle(mrpt::poses::CPose3D(0, 0, 0, mrpt::DEG2RAD(179.0), 0, 0)),
+        mrpt::DEG2RAD(179.0), 1e-12);
+    // acos((trace - 1) / 2) would be off by ~1e-8 here.
+    EXPECT_NEAR(
+        emslam::rectify::rotationAngle(mrpt::poses::CPose3D(0, 0, 0, 1e-9, 0, 0)), 1e-9, 1e-15);
+}

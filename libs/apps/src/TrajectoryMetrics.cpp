@@ -1,6 +1,7 @@
 // SPDX-License-Identifier: BSD-3-Clause
 #include <emslam/apps/Json.h>
 #include <emslam/apps/TrajectoryMetrics.h>
+#include <emslam/rectify/Action.h>
 
 #include <mrpt/math/CMatrixFixed.h>
 
@@ -33,17 +34,6 @@ std::vector<std::size_t> timeOrder(const emslam::stereo::TumTrajectory& traj)
         idx.begin(), idx.end(),
         [&](std::size_t a, std::size_t b) { return traj.poses[a].t < traj.poses[b].t; });
     return idx;
-}
-
-/** Rotation angle of `T` [rad]; atan2 keeps precision at small angles, where
- * the devkit's acos((trace - 1) / 2) loses half the digits. */
-double rotationAngle(const mrpt::poses::CPose3D& T)
-{
-    const auto R = T.getRotationMatrix();
-    const double c = 0.5 * (R(0, 0) + R(1, 1) + R(2, 2) - 1.0);
-    const double sx = R(2, 1) - R(1, 2), sy = R(0, 2) - R(2, 0), sz = R(1, 0) - R(0, 1);
-    const double s = 0.5 * std::sqrt(sx * sx + sy * sy + sz * sz);
-    return std::atan2(s, c);
 }
 
 }  // namespace
@@ -253,7 +243,7 @@ RelativeErrors relativeErrors(
             const mrpt::poses::CPose3D d_est = est[last] - est[first];
             const mrpt::poses::CPose3D err = d_gt - d_est;  // inv(d_est) * d_gt
             sum_t += err.norm() / len;
-            sum_r += rotationAngle(err) / len;
+            sum_r += emslam::rectify::rotationAngle(err) / len;
             ++out.segments;
         }
     }

@@ -23,6 +23,15 @@ mrpt::poses::CPose3D planarAction(const mrpt::poses::CPose3D& action)
     return mrpt::poses::CPose3D::FromRotationAndTranslation(mrpt::poses::Lie::SO<3>::exp(w), t);
 }
 
+double rotationAngle(const mrpt::poses::CPose3D& T)
+{
+    const auto& R = T.getRotationMatrix();
+    const double c = 0.5 * (R(0, 0) + R(1, 1) + R(2, 2) - 1.0);
+    const double sx = R(2, 1) - R(1, 2), sy = R(0, 2) - R(2, 0), sz = R(1, 0) - R(0, 1);
+    const double s = 0.5 * std::sqrt(sx * sx + sy * sy + sz * sz);
+    return std::atan2(s, c);
+}
+
 mrpt::poses::CPose3D perturbAction(const mrpt::poses::CPose3D& action, const ActionDelta& delta)
 {
     mrpt::math::CVectorFixedDouble<3> w;

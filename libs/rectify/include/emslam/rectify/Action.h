@@ -27,4 +27,9 @@ mrpt::poses::CPose3D planarAction(const mrpt::poses::CPose3D& action);
  * \ingroup emslam_rectify_grp */
 mrpt::poses::CPose3D perturbAction(const mrpt::poses::CPose3D& action, const ActionDelta& delta);
 
+/** Rotation angle of `T` [rad], in [0, π]. From sin and cos (atan2): acos of
+ * (trace − 1) / 2 loses half the digits at the small angles of drift.
+ * \ingroup emslam_rectify_grp */
+double rotationAngle(const mrpt::poses::CPose3D& T);
+
 }  // namespace emslam::rectify
