@@ -3,6 +3,8 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
+#include <cmath>
 #include <exception>
 #include <fstream>
 
@@ -30,6 +32,21 @@ void expectThrowContaining(
             EXPECT_NE(msg.find(p), std::string::npos) << "message lacks '" << p << "': " << msg;
         }
     }
+}
+
+double maxPoseDifference(const mrpt::poses::CPose3D& a, const mrpt::poses::CPose3D& b)
+{
+    double d = (a.translation() - b.translation()).norm();
+    const auto& A = a.getRotationMatrix();
+    const auto& B = b.getRotationMatrix();
+    for (int r = 0; r < 3; ++r)
+    {
+        for (int c = 0; c < 3; ++c)
+        {
+            d = std::max(d, std::abs(A(r, c) - B(r, c)));
+        }
+    }
+    return d;
 }
 
 }  // namespace emslam::test

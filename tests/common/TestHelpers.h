@@ -1,6 +1,8 @@
 // SPDX-License-Identifier: BSD-3-Clause
 #pragma once
 
+#include <mrpt/poses/CPose3D.h>
+
 #include <functional>
 #include <initializer_list>
 #include <string>
@@ -16,5 +18,9 @@ void writeFile(const std::string& path, const std::string& text);
  * message) otherwise, or if `fn` does not throw at all. */
 void expectThrowContaining(
     const std::function<void()>& fn, std::initializer_list<std::string> parts);
+
+/** The largest difference between two poses: the distance between their
+ * positions or the largest difference of a rotation matrix entry. */
+double maxPoseDifference(const mrpt::poses::CPose3D& a, const mrpt::poses::CPose3D& b);
 
 }  // namespace emslam::test

@@ -1,4 +1,6 @@
 // SPDX-License-Identifier: BSD-3-Clause
+#include "TestHelpers.h"
+
 #include <emslam/rectify/Action.h>
 #include <emslam/rectify/Trajectory.h>
 
@@ -35,16 +37,6 @@ CEntropyVoxelMap::TCreationOptions mapOptions(maps::EnergyType e)
     return o;
 }
 
-double maxPoseDiff(const CPose3D& a, const CPose3D& b)
-{
-    double d = (a.translation() - b.translation()).norm();
-    const auto& A = a.getRotationMatrix();
-    const auto& B = b.getRotationMatrix();
-    for (int r = 0; r < 3; ++r)
-        for (int c = 0; c < 3; ++c)
-            d = std::max(d, std::abs(A(r, c) - B(r, c)));
-    return d;
-}
 }  // namespace
 
 TEST(Trajectory, posesAreTheCompositionOfTheActions)
@@ -56,8 +48,8 @@ TEST(Trajectory, posesAreTheCompositionOfTheActions)
     t.append(a1, blob(2), 0.1, 1);
     t.append(a2, blob(3), 0.2, 2);
     ASSERT_EQ(t.size(), 3u);
-    EXPECT_LT(maxPoseDiff(t.pose(2), a1 + a2), 1e-12);
-    EXPECT_LT(maxPoseDiff(t.map().observationPose(1), a1), 1e-12);
+    EXPECT_LT(test::maxPoseDifference(t.pose(2), a1 + a2), 1e-12);
+    EXPECT_LT(test::maxPoseDifference(t.map().observationPose(1), a1), 1e-12);
     EXPECT_EQ(t.frameCount(), 3u);
     EXPECT_EQ(t.framePoses()[2].frame_index, 2u);
     EXPECT_DOUBLE_EQ(t.framePoses()[1].timestamp, 0.1);
@@ -75,16 +67,19 @@ TEST(Trajectory, changingAnActionMovesOnlyTheLaterSegment)
     const double e = t.changeActions({{3, new_a3}});
     for (int i = 0; i < 3; ++i)
     {
-        EXPECT_LT(maxPoseDiff(t.pose(i), before[i]), 1e-15) << i;
+        EXPECT_LT(test::maxPoseDifference(t.pose(i), before[i]), 1e-15) << i;
     }
-    EXPECT_LT(maxPoseDiff(t.pose(5), t.pose(2) + new_a3 + t.action(4) + t.action(5)), 1e-12);
+    EXPECT_LT(
+        test::maxPoseDifference(t.pose(5), t.pose(2) + new_a3 + t.action(4) + t.action(5)), 1e-12);
     // The incremental energy equals a from-scratch evaluation at the new poses.
     const auto scratch = t.map().computeEntropiesFromScratch();
     EXPECT_NEAR(e, maps::energyFromTerms(maps::EnergyType::Structured, scratch), 1e-9);
 
     // Reverting restores the actions, poses and energy.
     const double e_back = t.revertLastChange();
-    EXPECT_LT(maxPoseDiff(t.pose(5), before[2] + t.action(3) + t.action(4) + t.action(5)), 1e-12);
+    EXPECT_LT(
+        test::maxPoseDifference(t.pose(5), before[2] + t.action(3) + t.action(4) + t.action(5)),
+        1e-12);
     EXPECT_NEAR(e_back, t.recomputeEnergy(), 1e-9);
     EXPECT_FALSE(t.canRevert());
     EXPECT_THROW(t.revertLastChange(), std::logic_error);
@@ -134,7 +129,7 @@ TEST(Trajectory, actionsAfterCompressionStartAtTheLastFrame)
         expected = expected + step;
     const auto poses = t.framePoses();
     ASSERT_EQ(poses.size(), 6u);
-    EXPECT_LT(maxPoseDiff(poses[5].T_world_frame, expected), 1e-9);
+    EXPECT_LT(test::maxPoseDifference(poses[5].T_world_frame, expected), 1e-9);
 }
 
 TEST(Trajectory, odometryPriorFollowsChangesRevertsAndCompression)
@@ -164,7 +159,7 @@ TEST(Trajectory, odometryPriorFollowsChangesRevertsAndCompression)
     t.commitChange();
     t.compress();
     ASSERT_EQ(t.size(), 4u);
-    EXPECT_LT(maxPoseDiff(t.referenceAction(1), step + step), 1e-12);
+    EXPECT_LT(test::maxPoseDifference(t.referenceAction(1), step + step), 1e-12);
     const OdometryPrior p{0.01, 0.02, 0.5};
     EXPECT_NEAR(t.priorEnergy(), p.cost(t.action(2), t.referenceAction(2), 2), 1e-12);
     EXPECT_NEAR(t.priorEnergy(), 0.0025, 1e-9);

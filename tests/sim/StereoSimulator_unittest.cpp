@@ -9,6 +9,8 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
+#include <cmath>
 #include <filesystem>
 #include <opencv2/imgproc.hpp>
 
@@ -43,6 +45,31 @@ TEST(StereoSimulator, everyShippedWorldLoadsAndRenders)
             EXPECT_LE(d.norm(), 0.5);
         }
     }
+}
+
+TEST(StereoSimulator, everyShippedLoopEndsWhereItStarts)
+{
+    // The loop worlds of the paper's experiments: the ground truth's first and
+    // last poses coincide (within 5 cm and 1 deg), whatever the frame rate.
+    std::size_t loops = 0;
+    for (const auto& w : emslam::test::shippedSimWorlds())
+    {
+        StereoSimulator sim;
+        sim.loadFile(w);
+        if (!sim.trajectory().params().closed)
+        {
+            continue;
+        }
+        SCOPED_TRACE(w);
+        ++loops;
+        const auto last = sim.groundTruth(sim.frameCount() - 1);
+        EXPECT_LT(last.norm(), 0.05);
+        const auto R = last.getRotationMatrix();
+        EXPECT_LT(
+            std::acos(std::clamp((R(0, 0) + R(1, 1) + R(2, 2) - 1) / 2, -1.0, 1.0)),
+            1.0 * M_PI / 180);
+    }
+    EXPECT_GE(loops, 6U);  // the hall, outdoor_ground and the four loops of section 3
 }
 
 TEST(StereoSimulator, groundTruthStartsAtIdentityAndTimestampsFollowFps)

@@ -96,6 +96,32 @@ TEST(Trajectory, walkerBobsAndClimbs)
     EXPECT_NEAR(t.cameraPose(t.duration()).y(), 3 + 1.6, 0.06);
 }
 
+TEST(Trajectory, closedWalkStartsAndEndsStandingStill)
+{
+    // A square walked from the middle of a side: the last segment has the
+    // first one's heading, and the gait fades in and out, so the last pose is
+    // the first one (bobbing, roll and pitch included).
+    const Trajectory t = make(
+        "type = walker6dof\nwaypoints = 2 0; 4 0; 4 4; 0 4; 0 0\nclosed = true\n"
+        "camera_height = 1.6\nbob_amplitude = 0.05\nsway_roll_deg = 3\nsway_pitch_deg = 2\n");
+    const auto first = t.cameraPose(0);
+    EXPECT_NEAR(first.y(), 1.6, 1e-12);
+    EXPECT_NEAR(first.roll(), 0.0, 1e-12);
+    const auto d = t.cameraPose(t.duration()) - first;
+    EXPECT_NEAR(d.norm(), 0.0, 1e-9);
+    const auto R = d.getRotationMatrix();
+    EXPECT_NEAR(R(0, 0) + R(1, 1) + R(2, 2), 3.0, 1e-9);
+    // In the middle it walks with the full gait.
+    double ymin = 1e9;
+    double ymax = -1e9;
+    for (double s = 0.4 * t.duration(); s < 0.6 * t.duration(); s += 0.02)
+    {
+        ymin = std::min(ymin, t.cameraPose(s).y());
+        ymax = std::max(ymax, t.cameraPose(s).y());
+    }
+    EXPECT_NEAR(ymax - ymin, 0.10, 0.01);
+}
+
 TEST(Trajectory, badParametersNameTheKey)
 {
     using emslam::test::expectThrowContaining;

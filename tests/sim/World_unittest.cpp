@@ -8,7 +8,9 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <string>
+#include <vector>
 
 using emslam::sim::Element;
 using emslam::sim::World;
@@ -70,6 +72,53 @@ TEST(World, twoLevelBuildingHasStairs)
     }
     EXPECT_GT(boxes, 10);
     EXPECT_DOUBLE_EQ(top, 3.0);
+}
+
+TEST(World, eachGroupOfStairCellsIsAStaircaseWithItsOwnDirection)
+{
+    // Two 2-cell staircases (rows 1 and 3), the first rising along +x, the
+    // second along -x: each spans only its own cells.
+    const std::string plan = "######/#.SS.#/######/#.SS.#/######";
+    const World w = loadWorld(
+        "[World]\ntype = building\n[Building]\nlevels = 2\nlevel_height = 3.0\n"
+        "cell_size = 2\nstairs_dir = +x -x\nmap_0 = " +
+        plan + "\nmap_1 = " + plan + "\n");
+    std::vector<const Element*> row1, row3;
+    for (const Element& e : w.elements())
+    {
+        if (e.kind == Element::Kind::Box)
+        {
+            ASSERT_TRUE(e.lo[2] == 2.0 || e.lo[2] == 6.0) << e.lo[2];
+            (e.lo[2] == 2.0 ? row1 : row3).push_back(&e);
+            EXPECT_DOUBLE_EQ(e.hi[2] - e.lo[2], 2.0);
+            EXPECT_GE(e.lo[0], 4.0);
+            EXPECT_LE(e.hi[0], 8.0);
+        }
+    }
+    ASSERT_EQ(row1.size(), row3.size());
+    ASSERT_GT(row1.size(), 10U);
+    // The highest step is at the +x end of the first and the -x end of the second.
+    auto highest = [](const std::vector<const Element*>& v)
+    {
+        return *std::max_element(
+            v.begin(), v.end(), [](auto a, auto b) { return a->hi[1] < b->hi[1]; });
+    };
+    EXPECT_DOUBLE_EQ(highest(row1)->hi[1], 3.0);
+    EXPECT_DOUBLE_EQ(highest(row1)->hi[0], 8.0);
+    EXPECT_DOUBLE_EQ(highest(row3)->hi[1], 3.0);
+    EXPECT_DOUBLE_EQ(highest(row3)->lo[0], 4.0);
+
+    const auto withDirections = [&](const std::string& dirs)
+    {
+        loadWorld(
+            "[World]\ntype = building\n[Building]\nlevels = 2\nstairs_dir = " + dirs +
+            "\nmap_0 = " + plan + "\nmap_1 = " + plan + "\n");
+    };
+    emslam::test::expectThrowContaining(
+        [&] { withDirections("+x -x +z"); },
+        {"[Building] stairs_dir", "3 directions given for 2 staircases"});
+    emslam::test::expectThrowContaining(
+        [&] { withDirections("+x up"); }, {"[Building] stairs_dir", "+x up"});
 }
 
 TEST(World, terrainHeightFieldAndGroundObjectsKeepThePathFree)

@@ -238,6 +238,15 @@ const emslam::CEntropyVoxelMap& Mapper::entropyMap() const
     return m_runner->trajectory().map();
 }
 
+const emslam::rectify::Trajectory& Mapper::trajectory() const
+{
+    if (!m_finished)
+    {
+        throw std::logic_error("Mapper::trajectory before finish()");
+    }
+    return m_runner->trajectory();
+}
+
 std::size_t Mapper::trajectoryElements() const
 {
     return m_finished ? m_runner->trajectory().size() : 0;

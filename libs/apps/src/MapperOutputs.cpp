@@ -1,4 +1,5 @@
 // SPDX-License-Identifier: BSD-3-Clause
+#include <emslam/apps/AtomicTextFile.h>
 #include <emslam/apps/Json.h>
 #include <emslam/apps/MapperOutputs.h>
 #include <emslam/maps/EntropyEnergy.h>
@@ -24,91 +25,6 @@ namespace emslam::apps
 {
 namespace
 {
-/** Opens `file` for writing through a `.partial` file; commit() renames it,
- * so a crash never leaves a half-written output under the final name. */
-class AtomicTextFile
-{
-public:
-    explicit AtomicTextFile(std::string file) : m_file(std::move(file)), m_tmp(m_file + ".partial")
-    {
-        m_out.open(m_tmp, std::ios::out | std::ios::trunc);
-        if (!m_out)
-        {
-            throw std::runtime_error("cannot write '" + m_file + "'");
-        }
-    }
-    std::ofstream& stream() { return m_out; }
-    void commit()
-    {
-        m_out.flush();
-        if (!m_out)
-        {
-            throw std::runtime_error("cannot write '" + m_file + "' (disk full?)");
-        }
-        m_out.close();
-        if (std::rename(m_tmp.c_str(), m_file.c_str()) != 0)
-        {
-            throw std::runtime_error("cannot rename '" + m_tmp + "' to '" + m_file + "'");
-        }
-    }
-
-private:
-    std::string m_file, m_tmp;
-    std::ofstream m_out;
-};
-
-struct StageMeans
-{
-    double stereo{0}, egomotion{0}, rectification{0}, total{0}, max_total{0};
-};
-
-StageMeans stageMeans(const std::vector<MapperFrameRecord>& frames)
-{
-    StageMeans m;
-    for (const auto& f : frames)
-    {
-        m.stereo += f.ms_stereo;
-        m.egomotion += f.ms_egomotion;
-        m.rectification += f.ms_rectification;
-        m.total += f.ms_total;
-        m.max_total = std::max(m.max_total, f.ms_total);
-    }
-    const double n = frames.empty() ? 1.0 : static_cast<double>(frames.size());
-    m.stereo /= n;
-    m.egomotion /= n;
-    m.rectification /= n;
-    m.total /= n;
-    return m;
-}
-
-struct RectificationTotals
-{
-    std::size_t attempts{0}, successes{0}, failures{0}, accepted_worse{0};
-    double seconds{0}, median_ms{0}, max_ms{0};
-};
-
-RectificationTotals rectificationTotals(const std::vector<emslam::rectify::RectificationStats>& r)
-{
-    RectificationTotals t;
-    std::vector<double> ms;
-    for (const auto& s : r)
-    {
-        t.attempts += s.attempts;
-        t.successes += s.successes;
-        t.failures += s.failures;
-        t.accepted_worse += s.accepted_worse;
-        t.seconds += s.seconds;
-        ms.push_back(1e3 * s.seconds);
-    }
-    if (!ms.empty())
-    {
-        std::sort(ms.begin(), ms.end());
-        t.median_ms = ms[ms.size() / 2];
-        t.max_ms = ms.back();
-    }
-    return t;
-}
-
 /** A JSON object nested one level: indented, without the final line end. */
 std::string nestedJson(const std::string& object)
 {
@@ -200,6 +116,47 @@ double loopGap(const emslam::stereo::TumTrajectory& t)
     return (t.poses.back().pose.asTPose().translation() -
             t.poses.front().pose.asTPose().translation())
         .norm();
+}
+
+StageMeans stageMeans(const std::vector<MapperFrameRecord>& frames)
+{
+    StageMeans m;
+    for (const auto& f : frames)
+    {
+        m.stereo += f.ms_stereo;
+        m.egomotion += f.ms_egomotion;
+        m.rectification += f.ms_rectification;
+        m.total += f.ms_total;
+        m.max_total = std::max(m.max_total, f.ms_total);
+    }
+    const double n = frames.empty() ? 1.0 : static_cast<double>(frames.size());
+    m.stereo /= n;
+    m.egomotion /= n;
+    m.rectification /= n;
+    m.total /= n;
+    return m;
+}
+
+RectificationTotals rectificationTotals(const std::vector<emslam::rectify::RectificationStats>& r)
+{
+    RectificationTotals t;
+    std::vector<double> ms;
+    for (const auto& s : r)
+    {
+        t.attempts += s.attempts;
+        t.successes += s.successes;
+        t.failures += s.failures;
+        t.accepted_worse += s.accepted_worse;
+        t.seconds += s.seconds;
+        ms.push_back(1e3 * s.seconds);
+    }
+    if (!ms.empty())
+    {
+        std::sort(ms.begin(), ms.end());
+        t.median_ms = ms[ms.size() / 2];
+        t.max_ms = ms.back();
+    }
+    return t;
 }
 
 void writeStatsCsv(const Mapper& m, const std::string& file)

@@ -114,7 +114,12 @@ void StereoSimulator::load(const mrpt::config::CConfigFileBase& cfg)
     m_traj = traj;
     m_world = std::move(world);
     m_seed = cfg.read_int("World", "seed", 1);
-    m_frames = static_cast<std::size_t>(std::floor(m_traj.duration() * p.fps + 1e-9)) + 1;
+    // A closed path ends with a frame at its very end (the camera waits there
+    // for it), so the last frame is back at the first one's pose.
+    const double frames = m_traj.duration() * p.fps;
+    m_frames = static_cast<std::size_t>(
+                   traj.params().closed ? std::ceil(frames - 1e-9) : std::floor(frames + 1e-9)) +
+               1;
     m_T_scene_first = scenePose(0);
 }
 

@@ -295,10 +295,19 @@ mrpt::poses::CPose3D Trajectory::cameraPose(double t, const World* world) const
     double roll = 0;
     if (m_p.type == "walker6dof")
     {
+        // A closed walk starts and ends standing still: the gait fades in over
+        // the first second and out over the last, so the first and last poses
+        // coincide (what loop-closure measures need).
+        double gait = 1.0;
+        if (m_p.closed)
+        {
+            const double x = std::clamp(std::min(t, duration() - t), 0.0, 1.0);
+            gait = x * x * (3 - 2 * x);
+        }
         const double ph = 2 * M_PI * m_p.step_frequency * t;
-        height += m_p.bob_amplitude * std::cos(ph);
-        roll = m_p.sway_roll_deg * M_PI / 180.0 * std::sin(ph / 2);
-        pitch = m_p.sway_pitch_deg * M_PI / 180.0 * std::sin(ph + 0.7);
+        height += gait * m_p.bob_amplitude * std::cos(ph);
+        roll = gait * m_p.sway_roll_deg * M_PI / 180.0 * std::sin(ph / 2);
+        pitch = gait * m_p.sway_pitch_deg * M_PI / 180.0 * std::sin(ph + 0.7);
     }
     // Camera axes in the scene: x right, y down, z forward (yaw about scene +Y).
     const double cy = std::cos(yaw);

@@ -162,9 +162,18 @@ void World::TBuildingParams::loadFromConfigFile(
     {
         badKey(s, "map_1", "levels = 2 needs a level-1 floor plan");
     }
-    if (stairs_dir != "+x" && stairs_dir != "-x" && stairs_dir != "+z" && stairs_dir != "-z")
+    if (stairsDirections().empty())
     {
-        badKey(s, "stairs_dir", "expected +x, -x, +z or -z, got '" + stairs_dir + "'");
+        badKey(s, "stairs_dir", "expected +x, -x, +z or -z (one per staircase), got ''");
+    }
+    for (const auto& d : stairsDirections())
+    {
+        if (d != "+x" && d != "-x" && d != "+z" && d != "-z")
+        {
+            badKey(
+                s, "stairs_dir",
+                "expected +x, -x, +z or -z (one per staircase), got '" + stairs_dir + "'");
+        }
     }
     requireTexture(wall_texture, s, "wall_texture");
     requireTexture(floor_texture, s, "floor_texture");
@@ -187,6 +196,17 @@ void World::TBuildingParams::saveToConfigFile(
     MRPT_SAVE_CONFIG_VAR(floor_texture, c, s);
     MRPT_SAVE_CONFIG_VAR(ceiling_texture, c, s);
     MRPT_SAVE_CONFIG_VAR(texel_size, c, s);
+}
+
+std::vector<std::string> World::TBuildingParams::stairsDirections() const
+{
+    std::vector<std::string> dirs;
+    std::istringstream in(stairs_dir);
+    for (std::string d; in >> d;)
+    {
+        dirs.push_back(d);
+    }
+    return dirs;
 }
 
 void World::TGroundParams::loadFromConfigFile(
@@ -587,48 +607,97 @@ void World::buildBuilding(const mrpt::config::CConfigFileBase&, std::uint64_t se
             }
         }
     }
-    // Stairs: the 'S' cells of level 0 rise to level 1 along stairs_dir.
-    int r0 = 1 << 30;
-    int r1 = -1;
-    int c0 = 1 << 30;
-    int c1 = -1;
+    // Stairs: each 4-connected group of level-0 'S' cells is a staircase
+    // rising to level 1 along its direction.
+    if (maps.size() < 2)
+    {
+        return;
+    }
+    const std::vector<std::string> dirs = p.stairsDirections();
+    std::vector<std::vector<bool>> seen(maps[0].size());
+    for (std::size_t r = 0; r < maps[0].size(); ++r)
+    {
+        seen[r].assign(maps[0][r].size(), false);
+    }
+    std::size_t staircase = 0;
     for (int r = 0; r < static_cast<int>(maps[0].size()); ++r)
     {
         for (int c = 0; c < static_cast<int>(maps[0][static_cast<std::size_t>(r)].size()); ++c)
         {
-            if (cellAt(0, r, c) == 'S')
+            if (cellAt(0, r, c) != 'S' ||
+                seen[static_cast<std::size_t>(r)][static_cast<std::size_t>(c)])
             {
-                r0 = std::min(r0, r);
-                r1 = std::max(r1, r);
-                c0 = std::min(c0, c);
-                c1 = std::max(c1, c);
+                continue;
             }
+            // Flood fill: the bounding box of the group is the staircase.
+            int r0 = r, r1 = r, c0 = c, c1 = c;
+            std::vector<std::array<int, 2>> stack{{r, c}};
+            seen[static_cast<std::size_t>(r)][static_cast<std::size_t>(c)] = true;
+            while (!stack.empty())
+            {
+                const auto [cr, cc] = stack.back();
+                stack.pop_back();
+                r0 = std::min(r0, cr);
+                r1 = std::max(r1, cr);
+                c0 = std::min(c0, cc);
+                c1 = std::max(c1, cc);
+                const int nb[4][2] = {{cr + 1, cc}, {cr - 1, cc}, {cr, cc + 1}, {cr, cc - 1}};
+                for (const auto& n : nb)
+                {
+                    if (cellAt(0, n[0], n[1]) == 'S' &&
+                        !seen[static_cast<std::size_t>(n[0])][static_cast<std::size_t>(n[1])])
+                    {
+                        seen[static_cast<std::size_t>(n[0])][static_cast<std::size_t>(n[1])] = true;
+                        stack.push_back({n[0], n[1]});
+                    }
+                }
+            }
+            if (dirs.size() > 1 && staircase >= dirs.size())
+            {
+                badKey(
+                    "Building", "stairs_dir",
+                    "map_0 has more staircases than the " + std::to_string(dirs.size()) +
+                        " directions given");
+            }
+            const std::string& dir = dirs.size() == 1 ? dirs[0] : dirs[staircase];
+            ++staircase;
+            addStaircase(r0, r1, c0, c1, dir, stairs_tex);
         }
     }
-    if (r1 >= 0 && maps.size() > 1)
+    if (dirs.size() > 1 && staircase != dirs.size())
     {
-        const double xa = c0 * cs;
-        const double xb = (c1 + 1) * cs;
-        const double za = r0 * cs;
-        const double zb = (r1 + 1) * cs;
-        const int n = std::max(2, static_cast<int>(std::lround(p.level_height / 0.18)));
-        const bool along_x = p.stairs_dir[1] == 'x';
-        const bool positive = p.stairs_dir[0] == '+';
-        const double len = along_x ? xb - xa : zb - za;
-        for (int k = 0; k < n; ++k)
+        badKey(
+            "Building", "stairs_dir",
+            std::to_string(dirs.size()) + " directions given for " + std::to_string(staircase) +
+                " staircases in map_0");
+    }
+}
+
+void World::addStaircase(int r0, int r1, int c0, int c1, const std::string& dir, int texture)
+{
+    const auto& p = building;
+    const double cs = p.cell_size;
+    const double xa = c0 * cs;
+    const double xb = (c1 + 1) * cs;
+    const double za = r0 * cs;
+    const double zb = (r1 + 1) * cs;
+    const int n = std::max(2, static_cast<int>(std::lround(p.level_height / 0.18)));
+    const bool along_x = dir[1] == 'x';
+    const bool positive = dir[0] == '+';
+    const double len = along_x ? xb - xa : zb - za;
+    for (int k = 0; k < n; ++k)
+    {
+        const int kk = positive ? k : n - 1 - k;
+        const double s0 = (along_x ? xa : za) + len * kk / n;
+        const double s1 = s0 + len / n;
+        const double top = p.level_height * (k + 1) / n;
+        if (along_x)
         {
-            const int kk = positive ? k : n - 1 - k;
-            const double s0 = (along_x ? xa : za) + len * kk / n;
-            const double s1 = s0 + len / n;
-            const double top = p.level_height * (k + 1) / n;
-            if (along_x)
-            {
-                addElement(makeBox({s0, 0, za}, {s1, top, zb}, stairs_tex, tx));
-            }
-            else
-            {
-                addElement(makeBox({xa, 0, s0}, {xb, top, s1}, stairs_tex, tx));
-            }
+            addElement(makeBox({s0, 0, za}, {s1, top, zb}, texture, p.texel_size));
+        }
+        else
+        {
+            addElement(makeBox({xa, 0, s0}, {xb, top, s1}, texture, p.texel_size));
         }
     }
 }

@@ -120,6 +120,8 @@ public:
     }
     /** The entropy map of the final trajectory. */
     const emslam::CEntropyVoxelMap& entropyMap() const;
+    /** The final (compressed) trajectory: actions, elements and their frames. */
+    const emslam::rectify::Trajectory& trajectory() const;
     /** The map cloud (with grey levels) at the final poses, world frame. */
     const IntensityCloud& mapCloud() const { return m_map_cloud; }
     /** Final energy (recomputed from scratch): the entropy plus the odometry

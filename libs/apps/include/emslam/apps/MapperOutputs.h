@@ -26,6 +26,21 @@ struct MapperRunInfo
 /** Distance between the first and last poses of a trajectory [m] (0 if < 2). */
 double loopGap(const emslam::stereo::TumTrajectory& t);
 
+/** Mean time per frame of each stage [ms] (and the slowest frame's total). */
+struct StageMeans
+{
+    double stereo{0}, egomotion{0}, rectification{0}, total{0}, max_total{0};
+};
+StageMeans stageMeans(const std::vector<MapperFrameRecord>& frames);
+
+/** Sums over every rectification, and the median / max time per call [ms]. */
+struct RectificationTotals
+{
+    std::size_t attempts{0}, successes{0}, failures{0}, accepted_worse{0};
+    double seconds{0}, median_ms{0}, max_ms{0};
+};
+RectificationTotals rectificationTotals(const std::vector<emslam::rectify::RectificationStats>& r);
+
 /** stats.csv: one `frame` row per processed frame (times per stage, points,
  * matches before / after LWO, accepted, egomotion ok, energy) and one
  * `rectification` row per rectification (attempts, successes, failures,

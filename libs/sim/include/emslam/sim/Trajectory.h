@@ -34,6 +34,8 @@ namespace emslam::sim
  * sway_roll_deg = 1.5      ; walker6dof: roll amplitude
  * sway_pitch_deg = 1.0     ; walker6dof: pitch amplitude
  * \endcode
+ * A closed walk starts and ends standing still: the gait fades in over the
+ * first second and out over the last, so its last pose is its first one.
  * Scene frame: X, Z horizontal, Y up. The camera looks along the heading
  * (yaw 0: +Z), x right, y down.
  * \ingroup emslam_sim_grp \sa StereoSimulator */

@@ -101,7 +101,9 @@ struct HeightField
  * levels = 1               ; 1 or 2
  * map_0 = #####/#...#/#####  ; rows separated by '/': '#' solid, '.' free, 'S' stairs
  * map_1 =                  ; level 1 plan (levels = 2)
- * stairs_dir = +x          ; stairs ascend along +x, -x, +z or -z
+ * stairs_dir = +x          ; stairs ascend along +x, -x, +z or -z; one value for
+ *                          ; every staircase, or one per staircase (a 4-connected
+ *                          ; group of level-0 'S' cells), in row-major order
  * door_probability = 0.15  ; per wall cell face
  * poster_probability = 0.25
  * wall_texture = noise     ; ProceduralTexture kind
@@ -165,19 +167,24 @@ public:
             const mrpt::config::CConfigFileBase& c, const std::string& s) override;
         void saveToConfigFile(
             mrpt::config::CConfigFileBase& c, const std::string& s) const override;
-        double cell_size{2.0};                 //!< [m] edge of a map cell (Default: 2.0)
-        double wall_height{2.8};               //!< [m] (Default: 2.8)
-        double level_height{3.2};              //!< [m] floor-to-floor height (Default: 3.2)
-        int levels{1};                         //!< 1 or 2 (Default: 1)
-        std::string map_0;                     //!< level 0 plan, rows separated by '/'
-        std::string map_1;                     //!< level 1 plan (levels = 2)
-        std::string stairs_dir{"+x"};          //!< +x, -x, +z, -z (Default: +x)
+        double cell_size{2.0};     //!< [m] edge of a map cell (Default: 2.0)
+        double wall_height{2.8};   //!< [m] (Default: 2.8)
+        double level_height{3.2};  //!< [m] floor-to-floor height (Default: 3.2)
+        int levels{1};             //!< 1 or 2 (Default: 1)
+        std::string map_0;         //!< level 0 plan, rows separated by '/'
+        std::string map_1;         //!< level 1 plan (levels = 2)
+        /** +x, -x, +z, -z: one for every staircase, or a space-separated list
+         * with one per staircase in row-major order of their first cell. (Default: +x) */
+        std::string stairs_dir{"+x"};
         double door_probability{0.15};         //!< per wall cell face (Default: 0.15)
         double poster_probability{0.25};       //!< per wall cell face (Default: 0.25)
         std::string wall_texture{"noise"};     //!< (Default: noise)
         std::string floor_texture{"tiles"};    //!< (Default: tiles)
         std::string ceiling_texture{"noise"};  //!< (Default: noise)
         double texel_size{0.01};               //!< [m] (Default: 0.01)
+
+        /** stairs_dir split at spaces. */
+        std::vector<std::string> stairsDirections() const;
     };
 
     /** [Ground] parameters (type = ground). */
@@ -223,6 +230,8 @@ public:
 
 private:
     void buildBuilding(const mrpt::config::CConfigFileBase& cfg, std::uint64_t seed);
+    /** Steps of one staircase over the level-0 cells rows r0..r1, columns c0..c1. */
+    void addStaircase(int r0, int r1, int c0, int c1, const std::string& dir, int texture);
     void buildGround(
         const mrpt::config::CConfigFileBase& cfg,
         std::uint64_t seed,

@@ -1,0 +1,80 @@
+// SPDX-License-Identifier: BSD-3-Clause
+#pragma once
+
+#include <emslam/apps/ExperimentSuite.h>
+#include <emslam/stereo/TumTrajectory.h>
+
+#include <cstddef>
+#include <functional>
+#include <string>
+
+namespace emslam::apps
+{
+/** What one run (experiment × mapper × seed) measured: one row of the
+ * experiments table. Gaps are the end-point errors of the trajectory once
+ * anchored to the ground truth at its first pose: on a loop whose ground
+ * truth closes this is the paper's loop gap, the distance between the first
+ * and last poses. \ingroup emslam_apps_grp \sa runExperiment() */
+struct ExperimentResult
+{
+    std::string experiment, title, figure;
+    std::string mapper;  //!< the mapper INI's file name
+    std::string energy;  //!< e.g. "planar_low_structured"
+    std::string label;   //!< the paper's name of the energy, e.g. "Exp. 11"
+    int seed{1};
+    bool loop{true};
+    bool interrupted{false};  //!< stopped by Ctrl-C: a partial run
+
+    std::size_t frames{0}, observations{0}, egomotion_failures{0};
+    double path_m{0};           //!< ground-truth path length [m]
+    double egomotion_gap_m{0};  //!< end-point error of the egomotion [m]
+    double slam_gap_m{0};       //!< end-point error of SLAM (last accepted frame) [m]
+    double egomotion_ate_m{0};  //!< ATE RMSE after SE(3) alignment [m]
+    double slam_ate_m{0};
+    double ms_stereo{0}, ms_egomotion{0};  //!< mean per frame [ms]
+    std::size_t rectifications{0}, attempts{0}, successes{0};
+    double rect_median_ms{0}, rect_max_ms{0};  //!< per call [ms]
+    /** The paper's entropy (no prior) of the final map's elements placed by
+     * the ground truth, by the egomotion and by SLAM: is the minimum at the
+     * truth, and did the search reach it? */
+    double entropy_truth{0}, entropy_egomotion{0}, entropy_slam{0};
+    double seconds{0};  //!< wall time of the run (rendering included) [s]
+
+    /** The paper's figures for this experiment and energy (NaN: not given). */
+    double paper_path_m, paper_observations, paper_egomotion_gap_m, paper_slam_gap_m;
+
+    /** For the pictures: every frame's ground truth and egomotion, SLAM's accepted frames. */
+    emslam::stereo::TumTrajectory ground_truth, egomotion, slam;
+
+    double egomotionGapPercent() const { return 100.0 * egomotion_gap_m / path_m; }
+    double slamGapPercent() const { return 100.0 * slam_gap_m / path_m; }
+};
+
+/** The paper's name of an energy: "Exp. 8" (unstructured) ... "Exp. 12"
+ * (planar_structured). \ingroup emslam_apps_grp */
+std::string paperEnergyLabel(const std::string& energy);
+
+/** How runExperiment() runs. */
+struct ExperimentRunOptions
+{
+    /** Frames rendered and mapped (0: the whole trajectory). */
+    std::size_t max_frames{0};
+    /** Folder for this run's trajectories, summary.json and report.html
+     * (empty: none written). */
+    std::string out_dir;
+    /** Called after every frame with (frames done, frames in all); return
+     * false to stop the run early (Ctrl-C). */
+    std::function<bool(std::size_t, std::size_t)> on_frame;
+};
+
+/** Renders the world of `spec` with world seed `seed`, maps it with mapper
+ * INI `mapper_index` (plus the spec's `set` overrides) and measures the
+ * result against the exact ground truth. Throws naming the file on bad
+ * configuration. \ingroup emslam_apps_grp */
+ExperimentResult runExperiment(
+    const ExperimentSpec& spec,
+    std::size_t mapper_index,
+    int seed,
+    const ExperimentRunOptions& options);
+
+}  // namespace emslam::apps

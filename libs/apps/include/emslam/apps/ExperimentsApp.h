@@ -1,0 +1,54 @@
+// SPDX-License-Identifier: BSD-3-Clause
+#pragma once
+
+#include <emslam/apps/ExperimentRunner.h>
+#include <emslam/apps/ExperimentSuite.h>
+
+#include <string>
+#include <vector>
+
+namespace emslam::apps
+{
+/** `emslam-experiments`: every experiment of the paper in one command. For
+ * each experiment of the suite INI, each mapper configuration (energy) and
+ * each world seed: render the simulated world, map it, measure it against
+ * the exact ground truth; then write `experiments.md`, `experiments.json`
+ * and `experiments.html` (rewritten after every run), and per run its
+ * trajectories, `summary.json` and `report.html` under `runs/`.
+ *
+ * \code
+ * emslam-experiments SUITE.ini --out DIR [--only NAME[,NAME...]] [--seeds 1,2,3]
+ *                    [--quick] [--quiet]
+ * \endcode
+ * - `--quick`: only the suite's `quick_frames` first frames of each run and,
+ *   unless `--seeds` is given, only the first seed (a smoke test of the
+ *   whole chain, a minute).
+ * - Ctrl-C (SIGINT) or SIGTERM: the running run stops, and the tables are
+ *   written for the runs that finished.
+ * \ingroup emslam_apps_grp \sa ExperimentSuite, runExperiment() */
+class ExperimentsApp
+{
+public:
+    /** Parses the command line and loads and checks the suite (every world
+     * and mapper INI included). Throws on bad arguments or configuration. */
+    void initialize(int argc, const char** argv);
+    void initialize(int argc, char** argv) { initialize(argc, const_cast<const char**>(argv)); }
+    /** Runs every selected experiment and writes the outputs. */
+    void run();
+
+    bool helpRequested() const { return m_help_requested; }
+    /** The finished runs of the last run(). */
+    const std::vector<ExperimentResult>& results() const { return m_results; }
+
+private:
+    bool m_help_requested{false};
+    bool m_quick{false};
+    bool m_quiet{false};
+    std::string m_suite_file, m_out, m_command;
+    std::vector<ExperimentSpec> m_experiments;
+    std::vector<int> m_seeds;
+    std::size_t m_quick_frames{0};
+    std::vector<ExperimentResult> m_results;
+};
+
+}  // namespace emslam::apps

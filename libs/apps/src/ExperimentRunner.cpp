@@ -1,0 +1,201 @@
+// SPDX-License-Identifier: BSD-3-Clause
+#include <emslam/apps/CommandLine.h>
+#include <emslam/apps/ConfigValidation.h>
+#include <emslam/apps/ExperimentRunner.h>
+#include <emslam/apps/Mapper.h>
+#include <emslam/apps/MapperOutputs.h>
+#include <emslam/apps/MapperReport.h>
+#include <emslam/apps/TrajectoryMetrics.h>
+#include <emslam/maps/EntropyEnergy.h>
+#include <emslam/rectify/EnergyAtPoses.h>
+#include <emslam/sim/StereoSimulator.h>
+#include <emslam/stereo/ExceptionMessage.h>
+
+#include <mrpt/config/CConfigFileMemory.h>
+
+#include <algorithm>
+#include <chrono>
+#include <filesystem>
+#include <limits>
+#include <stdexcept>
+
+namespace emslam::apps
+{
+namespace
+{
+/** The entropy of the final trajectory's elements placed by `lookup`. */
+double entropyAt(
+    const emslam::rectify::Trajectory& t, const emslam::rectify::FramePoseLookup& lookup)
+{
+    return emslam::rectify::entropyAtElementPoses(t, emslam::rectify::elementPosesAt(t, lookup));
+}
+
+emslam::sim::StereoSimulator loadWorld(const std::string& file, int seed)
+{
+    try
+    {
+        mrpt::config::CConfigFileMemory cfg;
+        loadConfig(cfg, file, {});
+        cfg.write("World", "seed", seed);
+        emslam::sim::StereoSimulator sim;
+        sim.load(cfg);
+        return sim;
+    }
+    catch (const std::exception& e)
+    {
+        throw std::runtime_error(
+            "world '" + file + "': " + emslam::stereo::shortExceptionMessage(e));
+    }
+}
+
+Mapper::TParameters loadMapper(const std::string& file, const std::vector<std::string>& sets)
+{
+    try
+    {
+        mrpt::config::CConfigFileMemory cfg;
+        loadConfig(cfg, file, sets);
+        Mapper::TParameters reference;
+        mrpt::config::CConfigFileMemory known;
+        reference.saveToConfigFile(known);
+        requireKnownConfigEntries(cfg, known);
+        Mapper::TParameters p;
+        p.loadFromConfigFile(cfg);
+        return p;
+    }
+    catch (const std::exception& e)
+    {
+        throw std::runtime_error(
+            "mapper config '" + file + "': " + emslam::stereo::shortExceptionMessage(e));
+    }
+}
+
+void writeRunOutputs(
+    const std::string& dir,
+    const Mapper& m,
+    const MapperRunInfo& info,
+    const emslam::stereo::TumTrajectory& ground_truth)
+{
+    std::error_code ec;
+    std::filesystem::create_directories(dir, ec);
+    if (ec || !std::filesystem::is_directory(dir))
+    {
+        throw std::runtime_error("cannot create folder '" + dir + "'");
+    }
+    ground_truth.saveToFile(dir + "/groundtruth.tum");
+    m.egomotionTrajectory().saveToFile(dir + "/trajectory_egomotion.tum");
+    m.slamTrajectory().saveToFile(dir + "/trajectory_slam.tum");
+    writeSummaryJson(m, info, dir + "/summary.json");
+    writeMapperReport(dir + "/report.html", makeReportData(m, info, ground_truth));
+}
+}  // namespace
+
+std::string paperEnergyLabel(const std::string& energy)
+{
+    const auto e = emslam::maps::energyTypeFromString(energy);
+    return "Exp. " + std::to_string(8 + static_cast<int>(e));
+}
+
+ExperimentResult runExperiment(
+    const ExperimentSpec& spec,
+    std::size_t mapper_index,
+    int seed,
+    const ExperimentRunOptions& options)
+{
+    const auto t_start = std::chrono::steady_clock::now();
+    if (mapper_index >= spec.mappers.size())
+    {
+        throw std::out_of_range("runExperiment: no mapper " + std::to_string(mapper_index));
+    }
+    const std::string& mapper_file = spec.mappers[mapper_index];
+    const emslam::sim::StereoSimulator sim = loadWorld(spec.world, seed);
+    const Mapper::TParameters p = loadMapper(mapper_file, spec.sets);
+
+    ExperimentResult r;
+    r.experiment = spec.name;
+    r.title = spec.title;
+    r.figure = spec.figure;
+    r.mapper = std::filesystem::path(mapper_file).filename().string();
+    r.energy = emslam::maps::toString(p.map.energy);
+    r.label = paperEnergyLabel(r.energy);
+    r.seed = seed;
+    r.loop = spec.loop;
+    r.paper_path_m = spec.paper_path_m;
+    r.paper_observations = spec.paper_observations;
+    r.paper_egomotion_gap_m = spec.paper_egomotion_gap_m;
+    r.paper_slam_gap_m = spec.paper_slam_gap_m.at(mapper_index);
+
+    Mapper mapper(p);
+    const std::size_t n =
+        options.max_frames == 0 ? sim.frameCount() : std::min(options.max_frames, sim.frameCount());
+    std::vector<mrpt::poses::CPose3D> truth;
+    for (std::size_t i = 0; i < n; ++i)
+    {
+        const auto f = sim.renderFrame(i);
+        r.ground_truth.add(f.t, f.T_first_left);
+        truth.push_back(f.T_first_left);
+        mapper.process(*f.obs);
+        if (options.on_frame && !options.on_frame(i + 1, n))
+        {
+            r.interrupted = i + 1 < n;
+            break;
+        }
+    }
+    mapper.finish();
+
+    r.frames = mapper.frameCount();
+    r.observations = mapper.acceptedCount();
+    r.egomotion_failures = mapper.egomotionFailures();
+    r.egomotion = mapper.egomotionTrajectory();
+    r.slam = mapper.slamTrajectory();
+
+    const TrajectoryMetrics::Options metric_options;
+    MapperRunInfo info;
+    info.rawlog = "simulated: " + spec.world + " (seed " + std::to_string(seed) + ")";
+    info.config = mapper_file;
+    info.interrupted = r.interrupted;
+    info.egomotion_vs_gt = TrajectoryMetrics::compute(r.ground_truth, r.egomotion, metric_options);
+    info.slam_vs_gt = TrajectoryMetrics::compute(r.ground_truth, r.slam, metric_options);
+    std::vector<mrpt::poses::CPose3D> gt_poses;
+    for (const auto& tp : r.ground_truth.poses)
+    {
+        gt_poses.push_back(tp.pose);
+    }
+    r.path_m = pathLength(gt_poses);
+    r.egomotion_gap_m = info.egomotion_vs_gt->end_error_m;
+    r.slam_gap_m = info.slam_vs_gt->end_error_m;
+    r.egomotion_ate_m = info.egomotion_vs_gt->ate_rmse_m;
+    r.slam_ate_m = info.slam_vs_gt->ate_rmse_m;
+
+    const StageMeans ms = stageMeans(mapper.frames());
+    r.ms_stereo = ms.stereo;
+    r.ms_egomotion = ms.egomotion;
+    const RectificationTotals rt = rectificationTotals(mapper.rectifications());
+    r.rectifications = mapper.rectifications().size();
+    r.attempts = rt.attempts;
+    r.successes = rt.successes;
+    r.rect_median_ms = rt.median_ms;
+    r.rect_max_ms = rt.max_ms;
+
+    const auto& traj = mapper.trajectory();
+    if (!traj.empty())
+    {
+        const auto& ego = r.egomotion.poses;
+        r.entropy_truth = entropyAt(traj, [&](std::size_t i) { return truth.at(i); });
+        r.entropy_egomotion = entropyAt(traj, [&](std::size_t i) { return ego.at(i).pose; });
+        std::vector<mrpt::poses::CPose3D> slam_elements;
+        for (std::size_t i = 0; i < traj.size(); ++i)
+        {
+            slam_elements.push_back(traj.pose(i));
+        }
+        r.entropy_slam = emslam::rectify::entropyAtElementPoses(traj, slam_elements);
+    }
+    r.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t_start).count();
+    info.seconds = r.seconds;
+    if (!options.out_dir.empty())
+    {
+        writeRunOutputs(options.out_dir, mapper, info, r.ground_truth);
+    }
+    return r;
+}
+
+}  // namespace emslam::apps

@@ -1,0 +1,303 @@
+// SPDX-License-Identifier: BSD-3-Clause
+#include <emslam/apps/ConfigValidation.h>
+#include <emslam/apps/ExperimentSuite.h>
+
+#include <mrpt/config/CConfigFile.h>
+#include <mrpt/config/CConfigFileMemory.h>
+
+#include <cerrno>
+#include <cmath>
+#include <cstdlib>
+#include <filesystem>
+#include <limits>
+#include <sstream>
+#include <stdexcept>
+
+namespace emslam::apps
+{
+namespace
+{
+constexpr const char* SUITE_SECTION = "Experiments";
+const std::vector<std::string> SUITE_KEYS{"experiments", "seeds", "quick_frames"};
+const std::vector<std::string> EXPERIMENT_KEYS{
+    "title",
+    "figure",
+    "world",
+    "loop",
+    "mappers",
+    "set",
+    "paper_path_m",
+    "paper_observations",
+    "paper_egomotion_gap_m",
+    "paper_slam_gap_m"};
+
+std::vector<std::string> words(const std::string& s)
+{
+    std::vector<std::string> w;
+    std::istringstream in(s);
+    for (std::string x; in >> x;)
+    {
+        w.push_back(x);
+    }
+    return w;
+}
+
+class SuiteReader
+{
+public:
+    SuiteReader(const std::string& file, const mrpt::config::CConfigFileBase& cfg)
+        : m_file(file), m_cfg(cfg), m_dir(std::filesystem::path(file).parent_path())
+    {
+    }
+
+    [[noreturn]] void fail(
+        const std::string& section, const std::string& key, const std::string& what) const
+    {
+        throw std::invalid_argument(
+            "'" + m_file + "': [" + section + "] " + key + (key.empty() ? "" : ": ") + what);
+    }
+
+    std::string text(const std::string& section, const std::string& key, bool required) const
+    {
+        const std::string v = m_cfg.read_string(section, key, "", false);
+        if (required && v.empty())
+        {
+            fail(section, key, "missing");
+        }
+        return v;
+    }
+
+    /** A finite number; "-" or an empty value is NaN (not given). */
+    double number(const std::string& section, const std::string& key, const std::string& v) const
+    {
+        if (v.empty() || v == "-")
+        {
+            return std::numeric_limits<double>::quiet_NaN();
+        }
+        char* end = nullptr;
+        errno = 0;
+        const double d = std::strtod(v.c_str(), &end);
+        if (end == v.c_str() || *end != '\0' || errno == ERANGE || !std::isfinite(d) || d < 0)
+        {
+            fail(section, key, "expected a number >= 0 or '-', got '" + v + "'");
+        }
+        return d;
+    }
+
+    /** A path relative to the suite file's folder, which must exist. */
+    std::string path(const std::string& section, const std::string& key, const std::string& v) const
+    {
+        const std::filesystem::path p =
+            std::filesystem::path(v).is_absolute() ? std::filesystem::path(v) : m_dir / v;
+        if (!std::filesystem::is_regular_file(p))
+        {
+            fail(section, key, "'" + p.string() + "' is not a file");
+        }
+        return p.lexically_normal().string();
+    }
+
+    ExperimentSpec experiment(const std::string& name) const
+    {
+        ExperimentSpec e;
+        e.name = name;
+        e.title = text(name, "title", false);
+        if (e.title.empty())
+        {
+            e.title = name;
+        }
+        e.figure = text(name, "figure", false);
+        e.world = path(name, "world", text(name, "world", true));
+        const std::string loop = text(name, "loop", false);
+        if (loop == "true" || loop == "1" || loop.empty())
+        {
+            e.loop = true;
+        }
+        else if (loop == "false" || loop == "0")
+        {
+            e.loop = false;
+        }
+        else
+        {
+            fail(name, "loop", "expected true or false, got '" + loop + "'");
+        }
+        for (const auto& m : words(text(name, "mappers", true)))
+        {
+            e.mappers.push_back(path(name, "mappers", m));
+        }
+        e.sets = words(text(name, "set", false));
+        e.paper_path_m = number(name, "paper_path_m", text(name, "paper_path_m", false));
+        e.paper_observations =
+            number(name, "paper_observations", text(name, "paper_observations", false));
+        e.paper_egomotion_gap_m =
+            number(name, "paper_egomotion_gap_m", text(name, "paper_egomotion_gap_m", false));
+        const auto gaps = words(text(name, "paper_slam_gap_m", false));
+        if (!gaps.empty() && gaps.size() != e.mappers.size())
+        {
+            fail(
+                name, "paper_slam_gap_m",
+                "needs one value per mapper (" + std::to_string(e.mappers.size()) + "), got " +
+                    std::to_string(gaps.size()));
+        }
+        for (std::size_t i = 0; i < e.mappers.size(); ++i)
+        {
+            e.paper_slam_gap_m.push_back(
+                gaps.empty() ? std::numeric_limits<double>::quiet_NaN()
+                             : number(name, "paper_slam_gap_m", gaps[i]));
+        }
+        return e;
+    }
+
+private:
+    std::string m_file;
+    const mrpt::config::CConfigFileBase& m_cfg;
+    std::filesystem::path m_dir;
+};
+}  // namespace
+
+std::vector<int> parseSeedList(const std::string& text)
+{
+    std::string s = text;
+    for (char& c : s)
+    {
+        if (c == ',')
+        {
+            c = ' ';
+        }
+    }
+    std::vector<int> seeds;
+    for (const auto& w : words(s))
+    {
+        char* end = nullptr;
+        errno = 0;
+        const long v = std::strtol(w.c_str(), &end, 10);
+        if (end == w.c_str() || *end != '\0' || errno == ERANGE || v < 0 ||
+            v > std::numeric_limits<int>::max())
+        {
+            throw std::invalid_argument(
+                "seeds: expected integers >= 0 separated by commas, got '" + text + "'");
+        }
+        seeds.push_back(static_cast<int>(v));
+    }
+    if (seeds.empty())
+    {
+        throw std::invalid_argument("seeds: the list is empty");
+    }
+    return seeds;
+}
+
+ExperimentSuite ExperimentSuite::load(const std::string& file)
+{
+    if (!std::filesystem::is_regular_file(file))
+    {
+        throw std::invalid_argument("experiment set '" + file + "' is not a file");
+    }
+    const mrpt::config::CConfigFile cfg(file);
+    SuiteReader r(file, cfg);
+    const auto names = words(r.text(SUITE_SECTION, "experiments", true));
+
+    // Every section and key must be one we read: a typo must not go unnoticed.
+    mrpt::config::CConfigFileMemory reference;
+    for (const auto& k : SUITE_KEYS)
+    {
+        reference.write(SUITE_SECTION, k, "x");
+    }
+    for (const auto& n : names)
+    {
+        if (!cfg.sectionExists(n))
+        {
+            r.fail(SUITE_SECTION, "experiments", "no section [" + n + "]");
+        }
+        for (const auto& k : EXPERIMENT_KEYS)
+        {
+            reference.write(n, k, "x");
+        }
+    }
+    const auto problems = findUnknownConfigEntries(cfg, reference);
+    if (!problems.empty())
+    {
+        throw std::invalid_argument("'" + file + "': " + problems.front().message());
+    }
+
+    ExperimentSuite suite;
+    const std::string seeds = r.text(SUITE_SECTION, "seeds", false);
+    if (!seeds.empty())
+    {
+        try
+        {
+            suite.seeds = parseSeedList(seeds);
+        }
+        catch (const std::exception& e)
+        {
+            r.fail(SUITE_SECTION, "seeds", e.what());
+        }
+    }
+    const std::string quick = r.text(SUITE_SECTION, "quick_frames", false);
+    if (!quick.empty())
+    {
+        const double q = r.number(SUITE_SECTION, "quick_frames", quick);
+        if (!(q >= 2) || q != std::floor(q) || q > 1e6)
+        {
+            r.fail(
+                SUITE_SECTION, "quick_frames", "expected a whole number >= 2, got '" + quick + "'");
+        }
+        suite.quick_frames = static_cast<std::size_t>(q);
+    }
+    for (const auto& n : names)
+    {
+        suite.experiments.push_back(r.experiment(n));
+    }
+    if (suite.experiments.empty())
+    {
+        r.fail(SUITE_SECTION, "experiments", "the list is empty");
+    }
+    return suite;
+}
+
+std::vector<ExperimentSpec> ExperimentSuite::select(const std::string& only) const
+{
+    if (only.empty())
+    {
+        return experiments;
+    }
+    std::string s = only;
+    for (char& c : s)
+    {
+        if (c == ',')
+        {
+            c = ' ';
+        }
+    }
+    const auto wanted = words(s);
+    for (const auto& w : wanted)
+    {
+        bool known = false;
+        for (const auto& e : experiments)
+        {
+            known = known || e.name == w;
+        }
+        if (!known)
+        {
+            std::string valid;
+            for (const auto& e : experiments)
+            {
+                valid += (valid.empty() ? "" : ", ") + e.name;
+            }
+            throw std::invalid_argument("--only: no experiment '" + w + "' (valid: " + valid + ")");
+        }
+    }
+    std::vector<ExperimentSpec> out;
+    for (const auto& e : experiments)
+    {
+        for (const auto& w : wanted)
+        {
+            if (e.name == w)
+            {
+                out.push_back(e);
+                break;
+            }
+        }
+    }
+    return out;
+}
+
+}  // namespace emslam::apps

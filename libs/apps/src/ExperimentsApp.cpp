@@ -1,0 +1,163 @@
+// SPDX-License-Identifier: BSD-3-Clause
+#include <emslam/apps/CommandLine.h>
+#include <emslam/apps/ExperimentReport.h>
+#include <emslam/apps/ExperimentsApp.h>
+#include <emslam/apps/ProgressLine.h>
+#include <emslam/apps/StopSignal.h>
+
+#include <chrono>
+#include <cstdio>
+#include <filesystem>
+#include <stdexcept>
+
+namespace emslam::apps
+{
+namespace
+{
+constexpr const char* PROGRAM = "emslam-experiments";
+}  // namespace
+
+void ExperimentsApp::initialize(int argc, const char** argv)
+{
+    TCLAP::CmdLine cmd(
+        "emslam-experiments: the paper's experiments (section 3) in one command. Each "
+        "experiment of SUITE.ini names a simulated world and the mapper configurations "
+        "(energies) the paper compares on it; every one is rendered, mapped and measured "
+        "against the exact ground truth for each seed, and the results are tabulated in "
+        "DIR/experiments.md, .json and .html beside the paper's figures.",
+        ' ', "0.1");
+    TCLAP::UnlabeledValueArg<std::string> suite(
+        "suite",
+        "Experiment set INI ([Experiments] + one section per experiment); see "
+        "config/experiments/paper.ini",
+        true, "", "SUITE.ini", cmd);
+    TCLAP::ValueArg<std::string> out(
+        "o", "out", "Output folder (created if needed)", true, "", "DIR", cmd);
+    TCLAP::ValueArg<std::string> only(
+        "", "only", "Only these experiments (comma-separated section names)", false, "",
+        "NAME[,NAME]", cmd);
+    TCLAP::ValueArg<std::string> seeds(
+        "", "seeds", "World seeds (default: [Experiments] seeds of the suite)", false, "",
+        "S[,S...]", cmd);
+    TCLAP::SwitchArg quick(
+        "", "quick",
+        "Smoke run: the first [Experiments] quick_frames frames of each run, and only the "
+        "first seed unless --seeds is given",
+        cmd);
+    TCLAP::SwitchArg quiet("q", "quiet", "No progress lines", cmd);
+    if (!parseCommandLine(cmd, PROGRAM, argc, argv))
+    {
+        m_help_requested = true;
+        return;
+    }
+    m_command = PROGRAM;
+    for (int i = 1; i < argc; ++i)
+    {
+        m_command += std::string(" ") + argv[i];
+    }
+    m_suite_file = suite.getValue();
+    m_out = out.getValue();
+    m_quick = quick.getValue();
+    m_quiet = quiet.getValue();
+    const ExperimentSuite s = ExperimentSuite::load(m_suite_file);
+    m_experiments = s.select(only.getValue());
+    m_seeds = seeds.isSet() ? parseSeedList(seeds.getValue()) : s.seeds;
+    if (m_quick && !seeds.isSet())
+    {
+        m_seeds.resize(1);
+    }
+    m_quick_frames = s.quick_frames;
+}
+
+void ExperimentsApp::run()
+{
+    if (m_help_requested)
+    {
+        return;
+    }
+    const auto t_start = std::chrono::steady_clock::now();
+    std::error_code ec;
+    std::filesystem::create_directories(m_out, ec);
+    if (ec || !std::filesystem::is_directory(m_out))
+    {
+        throw std::runtime_error("cannot create output folder '" + m_out + "'");
+    }
+    std::size_t total = 0;
+    for (const auto& e : m_experiments)
+    {
+        total += e.mappers.size() * m_seeds.size();
+    }
+    ExperimentReportInfo info;
+    info.command = m_command;
+    info.suite_file = m_suite_file;
+    info.quick = m_quick;
+    m_results.clear();
+
+    StopSignal::clear();
+    const StopSignalGuard signals;
+    std::size_t k = 0;
+    for (const auto& e : m_experiments)
+    {
+        for (std::size_t m = 0; m < e.mappers.size() && !StopSignal::requested(); ++m)
+        {
+            for (const int seed : m_seeds)
+            {
+                if (StopSignal::requested())
+                {
+                    break;
+                }
+                ++k;
+                const std::string mapper = std::filesystem::path(e.mappers[m]).stem().string();
+                const std::string what = "[" + std::to_string(k) + "/" + std::to_string(total) +
+                                         "] " + e.name + " " + mapper + " seed " +
+                                         std::to_string(seed);
+                ProgressLine progress(std::string(PROGRAM) + ": " + what, 1, !m_quiet);
+                ExperimentRunOptions opt;
+                opt.max_frames = m_quick ? m_quick_frames : 0;
+                opt.out_dir =
+                    m_out + "/runs/" + e.name + "/" + mapper + "/seed" + std::to_string(seed);
+                opt.on_frame = [&](std::size_t done, std::size_t n)
+                {
+                    progress.updateFraction(done, static_cast<double>(done) / n);
+                    return !StopSignal::requested();
+                };
+                ExperimentResult r = runExperiment(e, m, seed, opt);
+                progress.finish();
+                if (r.interrupted)
+                {
+                    break;  // what finished is written below
+                }
+                if (!m_quiet)
+                {
+                    std::fprintf(
+                        stderr,
+                        "%s: %s: %s %.3f -> %.3f m (%.2f -> %.2f %% of %.1f m), ATE %.3f -> %.3f "
+                        "m, %.0f s\n",
+                        PROGRAM, what.c_str(), e.loop ? "loop gap" : "end error", r.egomotion_gap_m,
+                        r.slam_gap_m, r.egomotionGapPercent(), r.slamGapPercent(), r.path_m,
+                        r.egomotion_ate_m, r.slam_ate_m, r.seconds);
+                }
+                m_results.push_back(std::move(r));
+                info.seconds =
+                    std::chrono::duration<double>(std::chrono::steady_clock::now() - t_start)
+                        .count();
+                writeExperimentReports(m_out, m_results, info);
+            }
+        }
+    }
+    info.interrupted = StopSignal::requested();
+    info.seconds =
+        std::chrono::duration<double>(std::chrono::steady_clock::now() - t_start).count();
+    writeExperimentReports(m_out, m_results, info);
+    if (info.interrupted)
+    {
+        std::fprintf(
+            stderr, "%s: interrupted; the tables hold the %zu finished runs\n", PROGRAM,
+            m_results.size());
+    }
+    std::printf(
+        "%s: %zu runs in %.1f min; tables in '%s/experiments.md', .json, .html\n", PROGRAM,
+        m_results.size(), info.seconds / 60.0, m_out.c_str());
+}
+
+}  // namespace emslam::apps

@@ -1,0 +1,145 @@
+// SPDX-License-Identifier: BSD-3-Clause
+#include "TestData.h"
+#include "TestHelpers.h"
+
+#include <emslam/apps/ExperimentSuite.h>
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <string>
+
+using emslam::apps::ExperimentSuite;
+using emslam::apps::parseSeedList;
+
+namespace
+{
+/** A suite INI in a temporary folder with one world and one mapper beside it. */
+std::string writeSuite(const std::string& tag, const std::string& body)
+{
+    const std::string dir = emslam::test::makeTempDir(tag);
+    const std::string src = emslam::test::sourceDir();
+    emslam::test::writeFile(dir + "/world.ini", "[World]\ntype = empty\n");
+    emslam::test::writeFile(dir + "/mapper.ini", "[Rectifier]\nseed = 1\n");
+    emslam::test::writeFile(dir + "/suite.ini", body);
+    return dir + "/suite.ini";
+}
+
+const std::string GOOD =
+    "[Experiments]\nexperiments = a b\nseeds = 4, 5\nquick_frames = 12\n"
+    "[a]\ntitle = Alpha\nfigure = Fig. 1\nworld = world.ini\nloop = false\n"
+    "mappers = mapper.ini mapper.ini\nset = Rectifier.seed=2 Stereo.max_range=8\n"
+    "paper_path_m = 10.5\npaper_observations = -\npaper_slam_gap_m = 0.1 -\n"
+    "[b]\nworld = world.ini\nmappers = mapper.ini\n";
+}  // namespace
+
+TEST(ExperimentSuite, theShippedSuiteHasEveryExperimentOfThePaper)
+{
+    const auto s =
+        ExperimentSuite::load(emslam::test::sourceDir() + "/config/experiments/paper.ini");
+    ASSERT_EQ(s.experiments.size(), 6u);
+    EXPECT_EQ(s.seeds, (std::vector<int>{1, 2, 3}));
+    std::size_t runs = 0;
+    for (const auto& e : s.experiments)
+    {
+        SCOPED_TRACE(e.name);
+        EXPECT_FALSE(e.mappers.empty());
+        EXPECT_EQ(e.paper_slam_gap_m.size(), e.mappers.size());
+        EXPECT_TRUE(std::isfinite(e.paper_path_m));
+        runs += e.mappers.size();
+    }
+    EXPECT_EQ(runs, 11u);
+    EXPECT_EQ(s.experiments[3].name, "polytechnic_two_floors_loop");
+    EXPECT_DOUBLE_EQ(s.experiments[3].paper_slam_gap_m[1], 0.36);
+    EXPECT_FALSE(s.experiments[1].loop);  // three corridors: acyclic
+}
+
+TEST(ExperimentSuite, loadsPathsRelativeToTheFileAndEveryKey)
+{
+    const std::string file = writeSuite("suite-good", GOOD);
+    const auto s = ExperimentSuite::load(file);
+    EXPECT_EQ(s.seeds, (std::vector<int>{4, 5}));
+    EXPECT_EQ(s.quick_frames, 12u);
+    ASSERT_EQ(s.experiments.size(), 2u);
+    const auto& a = s.experiments[0];
+    EXPECT_EQ(a.title, "Alpha");
+    EXPECT_EQ(a.figure, "Fig. 1");
+    EXPECT_FALSE(a.loop);
+    EXPECT_NE(a.world.find("world.ini"), std::string::npos);
+    EXPECT_EQ(a.mappers.size(), 2u);
+    EXPECT_EQ(a.sets, (std::vector<std::string>{"Rectifier.seed=2", "Stereo.max_range=8"}));
+    EXPECT_DOUBLE_EQ(a.paper_path_m, 10.5);
+    EXPECT_TRUE(std::isnan(a.paper_observations));
+    EXPECT_DOUBLE_EQ(a.paper_slam_gap_m[0], 0.1);
+    EXPECT_TRUE(std::isnan(a.paper_slam_gap_m[1]));
+    const auto& b = s.experiments[1];
+    EXPECT_EQ(b.title, "b");
+    EXPECT_TRUE(b.loop);
+    EXPECT_EQ(b.paper_slam_gap_m.size(), 1u);
+
+    EXPECT_EQ(s.select("").size(), 2u);
+    ASSERT_EQ(s.select("b").size(), 1u);
+    EXPECT_EQ(s.select("b,a")[0].name, "a");  // the suite's order
+    emslam::test::expectThrowContaining([&] { s.select("a,c"); }, {"--only", "'c'", "valid: a, b"});
+}
+
+TEST(ExperimentSuite, badSuitesNameTheFileSectionAndKey)
+{
+    const std::pair<std::string, std::vector<std::string>> cases[] = {
+        {"[Experiments]\nexperiments = a\n[a]\nworld = world.ini\nmapers = mapper.ini\n",
+         {"unknown key 'mapers'", "did you mean 'mappers'"}},
+        {"[Experiments]\nexperiments = a\n[a]\nmappers = mapper.ini\n", {"[a] world: missing"}},
+        {"[Experiments]\nexperiments = a\n[a]\nworld = nowhere.ini\nmappers = mapper.ini\n",
+         {"[a] world", "nowhere.ini", "is not a file"}},
+        {"[Experiments]\nexperiments = a z\n[a]\nworld = world.ini\nmappers = mapper.ini\n",
+         {"[Experiments] experiments", "no section [z]"}},
+        {"[Experiments]\nexperiments = a\n[a]\nworld = world.ini\nmappers = mapper.ini\n"
+         "paper_slam_gap_m = 1 2\n",
+         {"[a] paper_slam_gap_m", "one value per mapper (1), got 2"}},
+        {"[Experiments]\nexperiments = a\n[a]\nworld = world.ini\nmappers = mapper.ini\n"
+         "paper_path_m = 12abc\n",
+         {"[a] paper_path_m", "'12abc'"}},
+        {"[Experiments]\nexperiments = a\n[a]\nworld = world.ini\nmappers = mapper.ini\n"
+         "loop = maybe\n",
+         {"[a] loop", "'maybe'"}},
+        {"[Experiments]\nexperiments = a\nseeds = 1, x\n[a]\nworld = world.ini\n"
+         "mappers = mapper.ini\n",
+         {"[Experiments] seeds", "'1, x'"}},
+        {"[Experiments]\nexperiments = a\nquick_frames = 1.5\n[a]\nworld = world.ini\n"
+         "mappers = mapper.ini\n",
+         {"[Experiments] quick_frames", "'1.5'"}},
+    };
+    int k = 0;
+    for (const auto& [text, parts] : cases)
+    {
+        SCOPED_TRACE(text);
+        const std::string file = writeSuite("suite-bad-" + std::to_string(k++), text);
+        std::vector<std::string> all{"suite.ini"};
+        all.insert(all.end(), parts.begin(), parts.end());
+        try
+        {
+            ExperimentSuite::load(file);
+            ADD_FAILURE() << "no error";
+        }
+        catch (const std::exception& e)
+        {
+            for (const auto& p : all)
+            {
+                EXPECT_NE(std::string(e.what()).find(p), std::string::npos)
+                    << "missing '" << p << "' in: " << e.what();
+            }
+        }
+    }
+    emslam::test::expectThrowContaining(
+        [] { ExperimentSuite::load("no-such-suite.ini"); }, {"no-such-suite.ini", "not a file"});
+}
+
+TEST(ExperimentSuite, seedListsTakeCommasOrSpaces)
+{
+    EXPECT_EQ(parseSeedList("1,2,3"), (std::vector<int>{1, 2, 3}));
+    EXPECT_EQ(parseSeedList(" 7  8 "), (std::vector<int>{7, 8}));
+    for (const char* bad : {"", "1,,x", "-1", "2.5", "99999999999"})
+    {
+        EXPECT_THROW(parseSeedList(bad), std::invalid_argument) << bad;
+    }
+}

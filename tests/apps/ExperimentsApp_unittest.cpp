@@ -1,0 +1,206 @@
+// SPDX-License-Identifier: BSD-3-Clause
+// emslam-experiments end to end: the shipped suite in --quick mode, every
+// output read back; Ctrl-C; bad arguments.
+#include "TestData.h"
+#include "TestHelpers.h"
+
+#include <emslam/apps/ExperimentReport.h>
+#include <emslam/apps/ExperimentsApp.h>
+#include <emslam/apps/StopSignal.h>
+
+#include <gtest/gtest.h>
+
+#include <chrono>
+#include <filesystem>
+#include <fstream>
+#include <sstream>
+#include <string>
+#include <thread>
+#include <vector>
+
+namespace
+{
+using emslam::apps::ExperimentsApp;
+namespace fs = std::filesystem;
+
+void initApp(ExperimentsApp& app, std::vector<std::string> args)
+{
+    args.insert(args.begin(), "emslam-experiments");
+    std::vector<const char*> argv;
+    for (const auto& a : args)
+    {
+        argv.push_back(a.c_str());
+    }
+    app.initialize(static_cast<int>(argv.size()), argv.data());
+}
+
+std::string suite()
+{
+    return emslam::test::sourceDir() + "/config/experiments/paper.ini";
+}
+
+std::string readFile(const std::string& f)
+{
+    std::ifstream in(f);
+    std::stringstream s;
+    s << in.rdbuf();
+    return s.str();
+}
+
+std::size_t count(const std::string& text, const std::string& what)
+{
+    std::size_t n = 0;
+    for (auto p = text.find(what); p != std::string::npos; p = text.find(what, p + 1))
+    {
+        ++n;
+    }
+    return n;
+}
+}  // namespace
+
+TEST(ExperimentsApp, quickRunOfThePaperSuiteWritesEveryTableAndRun)
+{
+    const std::string out = emslam::test::makeTempDir("experiments-quick");
+    ExperimentsApp app;
+    initApp(app, {suite(), "--out", out, "--quick", "--quiet", "--seeds", "7"});
+    app.run();
+
+    // Every experiment x energy of the paper, quick_frames frames each.
+    ASSERT_EQ(app.results().size(), 11u);
+    for (const auto& r : app.results())
+    {
+        SCOPED_TRACE(r.experiment + " " + r.label);
+        EXPECT_EQ(r.seed, 7);
+        EXPECT_EQ(r.frames, 40u);
+        EXPECT_GT(r.observations, 5u);
+        EXPECT_GT(r.path_m, 2.0);
+        EXPECT_LT(r.egomotion_ate_m, 0.5);
+        EXPECT_GT(r.entropy_truth, 0.0);
+        EXPECT_GT(r.entropy_slam, 0.0);
+        EXPECT_GE(r.rectifications, 1u);
+        EXPECT_EQ(r.ground_truth.size(), 40u);
+        EXPECT_EQ(r.egomotion.size(), 40u);
+        const std::string run =
+            out + "/runs/" + r.experiment + "/" + fs::path(r.mapper).stem().string() + "/seed7";
+        for (const char* f :
+             {"groundtruth.tum", "trajectory_egomotion.tum", "trajectory_slam.tum", "summary.json",
+              "report.html"})
+        {
+            EXPECT_TRUE(fs::is_regular_file(run + "/" + f)) << run << "/" << f;
+        }
+    }
+    EXPECT_EQ(app.results()[0].label, "Exp. 11");
+    EXPECT_EQ(app.results()[5].label, "Exp. 10");  // chancellor, structured
+    EXPECT_EQ(app.results()[10].label, "Exp. 8");  // river bed
+
+    const std::string md = readFile(out + "/experiments.md");
+    EXPECT_NE(md.find("--quick"), std::string::npos);
+    EXPECT_NE(md.find("| experiment | energy | seed | path [m] | obs. |"), std::string::npos);
+    EXPECT_NE(md.find("paper SLAM gap [m]"), std::string::npos);
+    EXPECT_NE(md.find("| three_corridors (open) |"), std::string::npos);
+    EXPECT_EQ(count(md, "\n| "), 1u + 11u);  // header and one row per run (one seed: no medians)
+
+    const std::string json = readFile(out + "/experiments.json");
+    EXPECT_EQ(count(json, "{\"experiment\": "), 11u);
+    for (const auto& key : emslam::apps::experimentColumnKeys())
+    {
+        EXPECT_EQ(count(json, ", \"" + key + "\": "), 11u) << key;
+    }
+    EXPECT_NE(json.find("\"quick\": true"), std::string::npos);
+    EXPECT_NE(json.find("\"medians\": ["), std::string::npos);
+
+    const std::string html = readFile(out + "/experiments.html");
+    EXPECT_NE(html.find("<table id=\"experiments\">"), std::string::npos);
+    EXPECT_EQ(count(html, "<svg "), 11u);  // a top view per experiment and energy
+    EXPECT_EQ(count(html, "<h2>"), 6u);
+    EXPECT_EQ(html.find("nan"), std::string::npos);
+    for (const auto& f : fs::directory_iterator(out))
+    {
+        EXPECT_NE(f.path().extension(), ".partial") << f.path();
+    }
+}
+
+TEST(ExperimentsApp, severalSeedsGetAMedianRow)
+{
+    const std::string out = emslam::test::makeTempDir("experiments-median");
+    ExperimentsApp app;
+    initApp(
+        app, {suite(), "--out", out, "--quick", "--quiet", "--only", "three_corridors", "--seeds",
+              "1,2"});
+    app.run();
+    ASSERT_EQ(app.results().size(), 4u);
+    const std::string md = readFile(out + "/experiments.md");
+    EXPECT_EQ(count(md, "median (2 seeds)"), 2u);
+    const std::string json = readFile(out + "/experiments.json");
+    EXPECT_EQ(count(json, "\"seeds\": \"median (2 seeds)\""), 2u);
+    // The median of two runs is their mean.
+    const auto& a = app.results()[0];
+    const auto& b = app.results()[1];
+    char buf[64];
+    std::snprintf(buf, sizeof(buf), "%.1f", 0.5 * (a.path_m + b.path_m));
+    EXPECT_NE(md.find(std::string("**median (2 seeds)** | **") + buf + "**"), std::string::npos)
+        << md;
+}
+
+TEST(ExperimentsApp, ctrlCWritesTheTablesOfTheFinishedRuns)
+{
+    const std::string out = emslam::test::makeTempDir("experiments-stop");
+    ExperimentsApp app;
+    initApp(app, {suite(), "--out", out, "--quick", "--quiet"});
+    std::thread stopper(
+        [&]
+        {
+            // After the first run's tables appear, "press Ctrl-C".
+            const auto deadline = std::chrono::steady_clock::now() + std::chrono::minutes(5);
+            while (!fs::exists(out + "/experiments.md") &&
+                   std::chrono::steady_clock::now() < deadline)
+            {
+                std::this_thread::sleep_for(std::chrono::milliseconds(5));
+            }
+            emslam::apps::StopSignal::request();
+        });
+    app.run();
+    stopper.join();
+    emslam::apps::StopSignal::clear();
+    ASSERT_GE(app.results().size(), 1u);
+    EXPECT_LT(app.results().size(), 11u);
+    const std::string json = readFile(out + "/experiments.json");
+    EXPECT_NE(json.find("\"interrupted\": true"), std::string::npos);
+    EXPECT_EQ(count(json, "{\"experiment\": "), app.results().size());
+    EXPECT_NE(readFile(out + "/experiments.md").find("interrupted"), std::string::npos);
+}
+
+TEST(ExperimentsApp, badArgumentsAreRefusedBeforeAnyWork)
+{
+    const std::string out = emslam::test::makeTempDir("experiments-bad");
+    {
+        ExperimentsApp app;
+        emslam::test::expectThrowContaining(
+            [&] {
+                initApp(app, {suite(), "--out", out, "--only", "hall"});
+            },
+            {"--only", "'hall'", "hall_double_loop"});
+    }
+    {
+        ExperimentsApp app;
+        emslam::test::expectThrowContaining(
+            [&] {
+                initApp(app, {suite(), "--out", out, "--seeds", "1,two"});
+            },
+            {"seeds", "'1,two'"});
+    }
+    {
+        ExperimentsApp app;
+        emslam::test::expectThrowContaining(
+            [&] {
+                initApp(app, {"missing.ini", "--out", out});
+            },
+            {"missing.ini", "not a file"});
+    }
+    {
+        ExperimentsApp app;
+        initApp(app, {"--help"});
+        EXPECT_TRUE(app.helpRequested());
+    }
+    EXPECT_TRUE(fs::is_empty(out));
+}

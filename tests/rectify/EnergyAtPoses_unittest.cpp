@@ -1,0 +1,126 @@
+// SPDX-License-Identifier: BSD-3-Clause
+#include "SimulatedDrive.h"
+#include "TestHelpers.h"
+
+#include <emslam/rectify/EnergyAtPoses.h>
+#include <emslam/rectify/Trajectory.h>
+
+#include <mrpt/core/bits_math.h>
+
+#include <gtest/gtest.h>
+
+#include <map>
+
+using namespace emslam;
+using namespace emslam::rectify;
+using mrpt::poses::CPose3D;
+
+namespace
+{
+CEntropyVoxelMap::TCreationOptions mapOptions(maps::EnergyType e)
+{
+    CEntropyVoxelMap::TCreationOptions o;
+    o.cell_size = 0.15;
+    o.energy = e;
+    o.dof = maps::energyDof(e);
+    return o;
+}
+
+/** The first `n` accepted frames of the hall, exact depth, drifted actions. */
+std::vector<test::DrivenFrame> hallFrames(std::size_t n)
+{
+    test::DriveOptions o;
+    o.max_frames = n;
+    o.depth_noise = 0.0;
+    o.heading_drift_deg_per_m = 1.0;
+    return test::driveWorld("config/sim/hall_double_loop.ini", o);
+}
+
+Trajectory drivenTrajectory(const std::vector<test::DrivenFrame>& frames, maps::EnergyType e)
+{
+    Trajectory t(mapOptions(e));
+    for (const auto& f : frames)
+    {
+        t.append(f.action_drifted, f.cloud, f.timestamp, f.frame_index);
+    }
+    return t;
+}
+
+FramePoseLookup lookupOf(const std::vector<TimedPose>& poses)
+{
+    std::map<std::size_t, CPose3D> by_index;
+    for (const auto& p : poses)
+    {
+        by_index[p.frame_index] = p.T_world_frame;
+    }
+    return [by_index](std::size_t i) { return by_index.at(i); };
+}
+
+}  // namespace
+
+TEST(EnergyAtPoses, atItsOwnFramePosesTheTrajectoryKeepsItsPosesAndEntropy)
+{
+    const auto frames = hallFrames(60);
+    ASSERT_GT(frames.size(), 20u);
+    for (const auto energy : {maps::EnergyType::PlanarLowStructured, maps::EnergyType::Structured})
+    {
+        SCOPED_TRACE(maps::toString(energy));
+        Trajectory t = drivenTrajectory(frames, energy);
+        t.compress();  // elements of two frames: the lookup uses each one's first frame
+        const auto poses = elementPosesAt(t, lookupOf(t.framePoses()));
+        ASSERT_EQ(poses.size(), t.size());
+        for (std::size_t i = 0; i < t.size(); ++i)
+        {
+            EXPECT_LT(test::maxPoseDifference(poses[i], t.pose(i)), 1e-9) << "element " << i;
+        }
+        EXPECT_NEAR(entropyAtElementPoses(t, poses), t.entropy(), 1e-9 * std::abs(t.entropy()));
+    }
+}
+
+TEST(EnergyAtPoses, onExactDepthTheTruthHasLessEntropyThanADriftedTrajectory)
+{
+    const auto frames = hallFrames(120);
+    const Trajectory t = drivenTrajectory(frames, maps::EnergyType::PlanarLowStructured);
+    std::map<std::size_t, CPose3D> truth;
+    for (const auto& f : frames)
+    {
+        truth[f.frame_index] = f.T_world_true;
+    }
+    const double h_truth =
+        entropyAtElementPoses(t, elementPosesAt(t, [&](std::size_t i) { return truth.at(i); }));
+    // The trajectory itself holds the drifted actions (1 deg/m of heading drift).
+    EXPECT_LT(h_truth, t.entropy() - 0.01);
+    // A different map: moving one element changes the entropy.
+    auto moved = elementPosesAt(t, [&](std::size_t i) { return truth.at(i); });
+    moved[moved.size() / 2] = moved[moved.size() / 2] + CPose3D(0.5, 0, 0, 0, 0, 0);
+    EXPECT_GT(entropyAtElementPoses(t, moved), h_truth);
+}
+
+TEST(EnergyAtPoses, threeDofPosesAreMadePlanar)
+{
+    const auto frames = hallFrames(40);
+    const Trajectory t = drivenTrajectory(frames, maps::EnergyType::PlanarLowStructured);
+    // A lookup that lifts and rolls every frame: a 3DOF trajectory cannot hold it.
+    const auto poses = elementPosesAt(
+        t,
+        [&](std::size_t i)
+        {
+            const CPose3D p = t.framePoses().at(0).T_world_frame;
+            for (const auto& f : frames)
+            {
+                if (f.frame_index == i)
+                {
+                    return f.T_world_true + CPose3D(0, 0.2, 0, 0, 0, mrpt::DEG2RAD(5.0));
+                }
+            }
+            return p;
+        });
+    for (std::size_t i = 1; i < poses.size(); ++i)
+    {
+        const CPose3D a = poses[i] - poses[i - 1];
+        EXPECT_NEAR(a.y(), 0.0, 1e-9);
+        EXPECT_NEAR(a.roll(), 0.0, 1e-9);
+    }
+    test::expectThrowContaining(
+        [&] { entropyAtElementPoses(t, {CPose3D()}); }, {"1 poses for", "elements"});
+}
