@@ -142,6 +142,26 @@ TEST(ExperimentsApp, severalSeedsGetAMedianRow)
         << md;
 }
 
+TEST(ExperimentsApp, exactDepthFeedsTheRenderersDepth)
+{
+    const std::string out = emslam::test::makeTempDir("experiments-exact");
+    ExperimentsApp app;
+    initApp(
+        app, {suite(), "--out", out, "--quick", "--quiet", "--exact-depth", "--only",
+              "polytechnic_two_floors_loop"});
+    app.run();
+    ASSERT_EQ(app.results().size(), 2u);
+    for (const auto& r : app.results())
+    {
+        // No stereo matching: the front-end only converts the depth, and the
+        // egomotion on exact 3D is within a centimetre over 12 m.
+        EXPECT_LT(r.egomotion_ate_m, 0.02) << r.label;
+        EXPECT_EQ(r.egomotion_failures, 0u);
+    }
+    EXPECT_NE(readFile(out + "/experiments.json").find("\"exact_depth\": true"), std::string::npos);
+    EXPECT_NE(readFile(out + "/experiments.md").find("--exact-depth"), std::string::npos);
+}
+
 TEST(ExperimentsApp, ctrlCWritesTheTablesOfTheFinishedRuns)
 {
     const std::string out = emslam::test::makeTempDir("experiments-stop");

@@ -151,6 +151,7 @@ std::string markdown(const std::vector<Row>& rows, const ExperimentReportInfo& i
     s << "# emslam: the paper's experiments\n\n"
       << "Made by `" << info.command << "`"
       << (info.quick ? " (--quick: partial trajectories)" : "")
+      << (info.exact_depth ? " (--exact-depth: the renderer's exact depth instead of stereo)" : "")
       << (info.interrupted ? " (interrupted: the finished runs only)" : "") << " in "
       << cell(info.seconds / 60.0, 1) << " min.\n\n"
       << "Gaps are the end-point error once the trajectory is anchored to the ground truth "
@@ -190,6 +191,7 @@ std::string json(const std::vector<Row>& rows, const ExperimentReportInfo& info)
     s << "{\n  \"command\": " << jsonString(info.command)
       << ",\n  \"suite\": " << jsonString(info.suite_file)
       << ",\n  \"quick\": " << (info.quick ? "true" : "false")
+      << ",\n  \"exact_depth\": " << (info.exact_depth ? "true" : "false")
       << ",\n  \"interrupted\": " << (info.interrupted ? "true" : "false")
       << ",\n  \"seconds\": " << jsonNumber(info.seconds) << ",\n  \"runs\": [";
     bool first = true;
@@ -258,8 +260,9 @@ std::string topViews(const std::vector<ExperimentResult>& results)
             {&r.egomotion, "egomotion", EGO_COLOUR, ""},
             {&r.slam, "SLAM", SLAM_COLOUR, ""}};
         const std::string title = r.label + " (" + r.energy + "), seed " + std::to_string(r.seed) +
-                                  ": gap " + cell(r.egomotion_gap_m, 2) + " m → " +
-                                  cell(r.slam_gap_m, 2) + " m";
+                                  (r.loop ? ": gap " : ": end error ") +
+                                  cell(r.egomotion_gap_m, 2) + " m → " + cell(r.slam_gap_m, 2) +
+                                  " m";
         s << trajectoryPlot(
             tracks, "top-" + r.experiment + "-" + r.energy, title, topViewProjection, "x [m]",
             "z [m]", 240, 560);
@@ -292,6 +295,7 @@ std::string html(
       << "</style></head><body>\n<h1>emslam: the paper's experiments</h1>\n<p>Made by <code>"
       << escapeHtml(info.command) << "</code>"
       << (info.quick ? " (--quick: partial trajectories)" : "")
+      << (info.exact_depth ? " (--exact-depth: the renderer's exact depth instead of stereo)" : "")
       << (info.interrupted ? " (interrupted: the finished runs only)" : "") << " in "
       << cell(info.seconds / 60.0, 1)
       << " min. Gaps: end-point error after anchoring at the first pose (the loop gap on "

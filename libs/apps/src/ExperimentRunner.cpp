@@ -8,8 +8,10 @@
 #include <emslam/apps/TrajectoryMetrics.h>
 #include <emslam/maps/EntropyEnergy.h>
 #include <emslam/rectify/EnergyAtPoses.h>
+#include <emslam/sim/ExactDepthFrame.h>
 #include <emslam/sim/StereoSimulator.h>
 #include <emslam/stereo/ExceptionMessage.h>
+#include <emslam/stereo/RangeScanConversion.h>
 
 #include <mrpt/config/CConfigFileMemory.h>
 
@@ -130,10 +132,18 @@ ExperimentResult runExperiment(
     std::vector<mrpt::poses::CPose3D> truth;
     for (std::size_t i = 0; i < n; ++i)
     {
-        const auto f = sim.renderFrame(i);
+        const auto f = sim.renderFrame(i, options.exact_depth);
         r.ground_truth.add(f.t, f.T_first_left);
         truth.push_back(f.T_first_left);
-        mapper.process(*f.obs);
+        if (options.exact_depth)
+        {
+            mapper.process(*emslam::stereo::toRangeScan(
+                emslam::sim::exactDepthFrame(f, p.stereo.min_range, p.stereo.max_range)));
+        }
+        else
+        {
+            mapper.process(*f.obs);
+        }
         if (options.on_frame && !options.on_frame(i + 1, n))
         {
             r.interrupted = i + 1 < n;
@@ -150,7 +160,8 @@ ExperimentResult runExperiment(
 
     const TrajectoryMetrics::Options metric_options;
     MapperRunInfo info;
-    info.rawlog = "simulated: " + spec.world + " (seed " + std::to_string(seed) + ")";
+    info.rawlog = "simulated: " + spec.world + " (seed " + std::to_string(seed) +
+                  (options.exact_depth ? ", exact depth" : "") + ")";
     info.config = mapper_file;
     info.interrupted = r.interrupted;
     info.egomotion_vs_gt = TrajectoryMetrics::compute(r.ground_truth, r.egomotion, metric_options);

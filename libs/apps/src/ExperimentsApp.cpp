@@ -44,6 +44,11 @@ void ExperimentsApp::initialize(int argc, const char** argv)
         "Smoke run: the first [Experiments] quick_frames frames of each run, and only the "
         "first seed unless --seeds is given",
         cmd);
+    TCLAP::SwitchArg exact_depth(
+        "", "exact-depth",
+        "Feed the mapper the renderer's exact depth (as an RGB-D camera) instead of the stereo "
+        "pair: what the method does without stereo noise",
+        cmd);
     TCLAP::SwitchArg quiet("q", "quiet", "No progress lines", cmd);
     if (!parseCommandLine(cmd, PROGRAM, argc, argv))
     {
@@ -59,6 +64,7 @@ void ExperimentsApp::initialize(int argc, const char** argv)
     m_out = out.getValue();
     m_quick = quick.getValue();
     m_quiet = quiet.getValue();
+    m_exact_depth = exact_depth.getValue();
     const ExperimentSuite s = ExperimentSuite::load(m_suite_file);
     m_experiments = s.select(only.getValue());
     m_seeds = seeds.isSet() ? parseSeedList(seeds.getValue()) : s.seeds;
@@ -91,6 +97,7 @@ void ExperimentsApp::run()
     info.command = m_command;
     info.suite_file = m_suite_file;
     info.quick = m_quick;
+    info.exact_depth = m_exact_depth;
     m_results.clear();
 
     StopSignal::clear();
@@ -114,6 +121,7 @@ void ExperimentsApp::run()
                 ProgressLine progress(std::string(PROGRAM) + ": " + what, 1, !m_quiet);
                 ExperimentRunOptions opt;
                 opt.max_frames = m_quick ? m_quick_frames : 0;
+                opt.exact_depth = m_exact_depth;
                 opt.out_dir =
                     m_out + "/runs/" + e.name + "/" + mapper + "/seed" + std::to_string(seed);
                 opt.on_frame = [&](std::size_t done, std::size_t n)

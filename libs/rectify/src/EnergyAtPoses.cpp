@@ -16,7 +16,8 @@ std::vector<mrpt::poses::CPose3D> elementPosesAt(
     {
         const ElementFrame& first = t.framesOf(i).front();
         // T_world_element = T_world_frame ⊕ (T_element_frame)⁻¹
-        poses.push_back(T_world_frame(first.frame_index) - first.T_element_frame);
+        poses.push_back(
+            T_world_frame(first.frame_index) + (mrpt::poses::CPose3D() - first.T_element_frame));
     }
     if (t.dof() == 3)
     {

@@ -14,6 +14,7 @@ struct ExperimentReportInfo
     std::string command;      //!< the command line that made them
     std::string suite_file;   //!< the experiment INI
     bool quick{false};        //!< --quick: partial trajectories
+    bool exact_depth{false};  //!< --exact-depth: the renderer's depth, not stereo
     bool interrupted{false};  //!< Ctrl-C: only the finished runs
     double seconds{0};        //!< wall time so far [s]
 };

@@ -62,6 +62,10 @@ struct ExperimentRunOptions
     /** Folder for this run's trajectories, summary.json and report.html
      * (empty: none written). */
     std::string out_dir;
+    /** Feed the mapper the renderer's exact depth (as an RGB-D camera would,
+     * within the mapper's [Stereo] min_range..max_range) instead of the
+     * stereo pair: an oracle that tells what stereo noise costs. */
+    bool exact_depth{false};
     /** Called after every frame with (frames done, frames in all); return
      * false to stop the run early (Ctrl-C). */
     std::function<bool(std::size_t, std::size_t)> on_frame;

@@ -18,11 +18,14 @@ namespace emslam::apps
  *
  * \code
  * emslam-experiments SUITE.ini --out DIR [--only NAME[,NAME...]] [--seeds 1,2,3]
- *                    [--quick] [--quiet]
+ *                    [--quick] [--exact-depth] [--quiet]
  * \endcode
  * - `--quick`: only the suite's `quick_frames` first frames of each run and,
  *   unless `--seeds` is given, only the first seed (a smoke test of the
  *   whole chain, a minute).
+ * - `--exact-depth`: the mapper gets the renderer's exact depth (an RGB-D
+ *   observation) instead of the stereo pair: what the method does without
+ *   stereo noise.
  * - Ctrl-C (SIGINT) or SIGTERM: the running run stops, and the tables are
  *   written for the runs that finished.
  * \ingroup emslam_apps_grp \sa ExperimentSuite, runExperiment() */
@@ -44,6 +47,7 @@ private:
     bool m_help_requested{false};
     bool m_quick{false};
     bool m_quiet{false};
+    bool m_exact_depth{false};
     std::string m_suite_file, m_out, m_command;
     std::vector<ExperimentSpec> m_experiments;
     std::vector<int> m_seeds;
