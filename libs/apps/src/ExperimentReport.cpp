@@ -60,6 +60,8 @@ const std::vector<Column>& columns()
         {"H truth", "entropy_truth", 3, [](const R& r) { return r.entropy_truth; }},
         {"H ego", "entropy_egomotion", 3, [](const R& r) { return r.entropy_egomotion; }},
         {"H SLAM", "entropy_slam", 3, [](const R& r) { return r.entropy_slam; }},
+        {"H phase spread", "entropy_phase_spread", 3,
+         [](const R& r) { return r.entropy_phase_spread; }},
         {"run [s]", "seconds", 0, [](const R& r) { return r.seconds; }},
     };
     return c;
@@ -159,7 +161,9 @@ std::string markdown(const std::vector<Row>& rows, const ExperimentReportInfo& i
          "paper's loop gap, the distance between the first and last poses; on an open path "
          "(marked) it is the end error. ATE: RMSE after SE(3) alignment. H: the paper's "
          "entropy of the final map's elements placed by the ground truth, the egomotion and "
-         "SLAM. Paper figures: Sáez & Escolano, §3 (– where the paper gives none).\n\n"
+         "SLAM; H phase spread: how much H of the true map changes when the whole map moves by "
+         "1/4, 1/2 or 3/4 of a cell (same geometry, another grid phase). Paper figures: Sáez & "
+         "Escolano, §3 (– where the paper gives none).\n\n"
       << "| experiment | energy | seed |";
     for (const auto& c : columns())
     {

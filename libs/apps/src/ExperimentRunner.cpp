@@ -32,6 +32,30 @@ double entropyAt(
     return emslam::rectify::entropyAtElementPoses(t, emslam::rectify::elementPosesAt(t, lookup));
 }
 
+/** max − min of the entropy of the map at `poses` moved rigidly by k/4 of a
+ * cell along (1, 1, 1), k = 0..3: the same geometry on four grid phases. */
+double gridPhaseSpread(
+    const emslam::rectify::Trajectory& t,
+    const std::vector<mrpt::poses::CPose3D>& poses,
+    double cell_size)
+{
+    double lo = std::numeric_limits<double>::infinity();
+    double hi = -lo;
+    for (int k = 0; k < 4; ++k)
+    {
+        const double d = 0.25 * k * cell_size;
+        std::vector<mrpt::poses::CPose3D> moved;
+        for (const auto& p : poses)
+        {
+            moved.push_back(mrpt::poses::CPose3D(d, d, d, 0, 0, 0) + p);
+        }
+        const double h = emslam::rectify::entropyAtElementPoses(t, moved);
+        lo = std::min(lo, h);
+        hi = std::max(hi, h);
+    }
+    return hi - lo;
+}
+
 emslam::sim::StereoSimulator loadWorld(const std::string& file, int seed)
 {
     try
@@ -191,7 +215,10 @@ ExperimentResult runExperiment(
     if (!traj.empty())
     {
         const auto& ego = r.egomotion.poses;
-        r.entropy_truth = entropyAt(traj, [&](std::size_t i) { return truth.at(i); });
+        const auto at_truth =
+            emslam::rectify::elementPosesAt(traj, [&](std::size_t i) { return truth.at(i); });
+        r.entropy_truth = emslam::rectify::entropyAtElementPoses(traj, at_truth);
+        r.entropy_phase_spread = gridPhaseSpread(traj, at_truth, p.map.cell_size);
         r.entropy_egomotion = entropyAt(traj, [&](std::size_t i) { return ego.at(i).pose; });
         std::vector<mrpt::poses::CPose3D> slam_elements;
         for (std::size_t i = 0; i < traj.size(); ++i)

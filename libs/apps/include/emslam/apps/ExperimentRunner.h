@@ -38,6 +38,11 @@ struct ExperimentResult
      * the ground truth, by the egomotion and by SLAM: is the minimum at the
      * truth, and did the search reach it? */
     double entropy_truth{0}, entropy_egomotion{0}, entropy_slam{0};
+    /** How much the entropy of the same true map changes when the whole map
+     * is moved by 1/4, 1/2 and 3/4 of a cell along (1, 1, 1): max − min over
+     * the four grid phases. A rectification whose "gain" is smaller than this
+     * moves the map against the grid, not towards the truth. */
+    double entropy_phase_spread{0};
     double seconds{0};  //!< wall time of the run (rendering included) [s]
 
     /** The paper's figures for this experiment and energy (NaN: not given). */
