@@ -9,6 +9,7 @@
 
 #include <gtest/gtest.h>
 
+#include <iostream>
 #include <map>
 
 using namespace emslam;
@@ -123,4 +124,58 @@ TEST(EnergyAtPoses, threeDofPosesAreMadePlanar)
     }
     test::expectThrowContaining(
         [&] { entropyAtElementPoses(t, {CPose3D()}); }, {"1 poses for", "elements"});
+}
+
+TEST(EnergyAtPoses, gridPhasesFollowChangesRevertsAndCompression)
+{
+    const auto frames = hallFrames(60);
+    Trajectory t = drivenTrajectory(frames, maps::EnergyType::Structured);
+    t.setGridPhases(3);
+    EXPECT_EQ(t.gridPhases(), 3);
+    const auto own = [&] { return elementPosesAt(t, lookupOf(t.framePoses())); };
+    const double tol = 1e-9 * std::abs(t.entropy());
+    EXPECT_NEAR(t.entropy(), entropyAtElementPoses(t, own(), 3), tol);
+    EXPECT_GT(std::abs(t.entropy() - entropyAtElementPoses(t, own(), 1)), 1e-6);
+
+    const double before = t.energy();
+    const double changed = t.changeActions({{5, t.action(5) + CPose3D(0.1, 0, 0.05, 0.02, 0, 0)}});
+    EXPECT_NEAR(changed, entropyAtElementPoses(t, own(), 3), tol);
+    EXPECT_NEAR(t.revertLastChange(), before, tol);
+    t.changeActions({{7, t.action(7) + CPose3D(0, 0.03, 0, 0, 0.01, 0)}});
+    t.commitChange();
+    t.compress();
+    EXPECT_NEAR(t.entropy(), entropyAtElementPoses(t, own(), 3), tol);
+    EXPECT_NEAR(t.recomputeEnergy(), t.entropy(), tol);
+    test::expectThrowContaining([&] { t.setGridPhases(0); }, {"setGridPhases", "1..8"});
+}
+
+TEST(EnergyAtPoses, averagedGridPhasesHideMostOfTheGridPhase)
+{
+    // The same map moved rigidly by fractions of a cell: the single grid's
+    // entropy changes with the phase, the average over 4 phases much less.
+    const auto frames = hallFrames(120);
+    const Trajectory t = drivenTrajectory(frames, maps::EnergyType::Unstructured);
+    const auto base = elementPosesAt(t, lookupOf(t.framePoses()));
+    const auto spread = [&](int phases)
+    {
+        double lo = 1e9, hi = -1e9;
+        for (int k = 0; k < 5; ++k)
+        {
+            std::vector<CPose3D> moved;
+            const double d = 0.15 * k / 5 + 0.011;
+            for (const auto& p : base)
+            {
+                moved.push_back(CPose3D(d, 0.7 * d, 0.4 * d, 0, 0, 0) + p);
+            }
+            const double h = entropyAtElementPoses(t, moved, phases);
+            lo = std::min(lo, h);
+            hi = std::max(hi, h);
+        }
+        return hi - lo;
+    };
+    const double single = spread(1);
+    const double averaged = spread(4);
+    std::cout << "entropy spread over grid phases: single grid " << single << ", 4 phases "
+              << averaged << "\n";
+    EXPECT_LT(averaged, 0.5 * single);
 }

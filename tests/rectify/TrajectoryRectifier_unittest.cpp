@@ -138,6 +138,7 @@ TEST(TrajectoryRectifier, optionsRoundTripAndRejectBadValues)
     o.seed = 1234567890123ULL;
     o.prior_weight = 3e-7;
     o.prior_sigma_rot_deg = 0.25;
+    o.grid_phases = 3;
     mrpt::config::CConfigFileMemory out;
     o.saveToConfigFile(out, "Rectifier");
     mrpt::config::CConfigFileMemory in(out.getContent());
@@ -150,6 +151,7 @@ TEST(TrajectoryRectifier, optionsRoundTripAndRejectBadValues)
     EXPECT_EQ(back.nc_max, 50);
     EXPECT_DOUBLE_EQ(back.prior_weight, 3e-7);  // not rounded to 0
     EXPECT_DOUBLE_EQ(back.prior_sigma_rot_deg, 0.25);
+    EXPECT_EQ(back.grid_phases, 3);
     EXPECT_DOUBLE_EQ(back.odometryPrior().sigma_xyz, 0.02);
 
     const auto load = [](const std::string& kv)
@@ -169,6 +171,8 @@ TEST(TrajectoryRectifier, optionsRoundTripAndRejectBadValues)
     test::expectThrowContaining([&] { load("prior_sigma_xyz = 0"); }, {"prior_sigma_xyz"});
     test::expectThrowContaining(
         [&] { load("prior_sigma_rot_deg = nan"); }, {"prior_sigma_rot_deg"});
+    test::expectThrowContaining([&] { load("grid_phases = 0"); }, {"grid_phases", "1..8"});
+    test::expectThrowContaining([&] { load("grid_phases = 9"); }, {"grid_phases", "1..8"});
 }
 
 TEST(TrajectoryRectifier, shippedConfigLoadsWithThePaperDefaults)

@@ -34,7 +34,7 @@ std::vector<mrpt::poses::CPose3D> elementPosesAt(
 }
 
 double entropyAtElementPoses(
-    const Trajectory& t, const std::vector<mrpt::poses::CPose3D>& element_poses)
+    const Trajectory& t, const std::vector<mrpt::poses::CPose3D>& element_poses, int grid_phases)
 {
     if (element_poses.size() != t.size())
     {
@@ -42,12 +42,23 @@ double entropyAtElementPoses(
             "entropyAtElementPoses: " + std::to_string(element_poses.size()) + " poses for " +
             std::to_string(t.size()) + " elements");
     }
-    emslam::CEntropyVoxelMap map(t.map().creationOptions(), t.map().insertionOptions);
-    for (std::size_t i = 0; i < t.size(); ++i)
+    if (grid_phases < 1)
     {
-        map.insertWeightedCloud(t.map().observationCloud(i), element_poses[i], true);
+        throw std::invalid_argument("entropyAtElementPoses: grid_phases must be >= 1");
     }
-    return map.energy();
+    double sum = 0;
+    for (int k = 0; k < grid_phases; ++k)
+    {
+        const mrpt::poses::CPose3D shift =
+            Trajectory::gridPhaseShift(k, grid_phases, t.map().creationOptions().cell_size);
+        emslam::CEntropyVoxelMap map(t.map().creationOptions(), t.map().insertionOptions);
+        for (std::size_t i = 0; i < t.size(); ++i)
+        {
+            map.insertWeightedCloud(t.map().observationCloud(i), shift + element_poses[i], true);
+        }
+        sum += map.energy();
+    }
+    return sum / grid_phases;
 }
 
 }  // namespace emslam::rectify

@@ -76,6 +76,7 @@ void TRectifierOptions::loadFromConfigFile(
     MRPT_LOAD_CONFIG_VAR(prior_weight, double, c, s);
     MRPT_LOAD_CONFIG_VAR(prior_sigma_xyz, double, c, s);
     MRPT_LOAD_CONFIG_VAR(prior_sigma_rot_deg, double, c, s);
+    MRPT_LOAD_CONFIG_VAR(grid_phases, int, c, s);
     validate();
 }
 
@@ -104,6 +105,8 @@ void TRectifierOptions::saveToConfigFile(
         "odometry prior weight (0: off, the paper)");
     MRPT_SAVE_CONFIG_VAR_COMMENT(prior_sigma_xyz, "odometry prior, one step [m]");
     MRPT_SAVE_CONFIG_VAR_COMMENT(prior_sigma_rot_deg, "odometry prior, one step [deg]");
+    MRPT_SAVE_CONFIG_VAR_COMMENT(
+        grid_phases, "entropy averaged over shifted voxel grids (1: the paper)");
 }
 
 void TRectifierOptions::validate() const
@@ -135,6 +138,7 @@ void TRectifierOptions::validate() const
     require(
         std::isfinite(prior_sigma_rot_deg) && prior_sigma_rot_deg > 0, "prior_sigma_rot_deg",
         "must be > 0");
+    require(grid_phases >= 1 && grid_phases <= 8, "grid_phases", "must be in 1..8");
 }
 
 }  // namespace emslam::rectify

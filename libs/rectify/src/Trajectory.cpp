@@ -43,12 +43,72 @@ void Trajectory::append(
         a = planarAction(a);
     }
     const mrpt::poses::CPose3D pose = m_actions.empty() ? a : this->pose(m_actions.size() - 1) + a;
-    m_map.insertWeightedCloud(cloud, pose);
+    const std::size_t index = m_map.insertWeightedCloud(cloud, pose);
+    for (auto& ph : m_phase_maps)
+    {
+        ph.map.insertWeightedCloud(m_map.observationCloud(index), ph.shift + pose, true);
+    }
     m_actions.push_back(a);
     m_reference.push_back(a);
     m_frames.push_back({ElementFrame{timestamp, frame_index, mrpt::poses::CPose3D()}});
     m_prior_terms.push_back(0.0);  // the action equals its reference
     m_undo_valid = false;
+}
+
+double Trajectory::entropy() const
+{
+    return phaseMean(m_map.energy());
+}
+
+double Trajectory::phaseMean(double e0) const
+{
+    if (m_phase_maps.empty())
+    {
+        return e0;
+    }
+    double sum = e0;
+    for (const auto& ph : m_phase_maps)
+    {
+        sum += ph.map.energy();
+    }
+    return sum / static_cast<double>(m_phase_maps.size() + 1);
+}
+
+void Trajectory::setGridPhases(int phases)
+{
+    if (phases < 1 || phases > 8)
+    {
+        throw std::invalid_argument(
+            "Trajectory::setGridPhases: " + std::to_string(phases) + " is not in 1..8");
+    }
+    const double cell = m_map.creationOptions().cell_size;
+    m_phase_maps.clear();
+    for (int k = 1; k < phases; ++k)
+    {
+        m_phase_maps.push_back(
+            {gridPhaseShift(k, phases, cell),
+             emslam::CEntropyVoxelMap(m_map.creationOptions(), m_map.insertionOptions)});
+    }
+    rebuildPhaseMaps();
+}
+
+mrpt::poses::CPose3D Trajectory::gridPhaseShift(int k, int phases, double cell_size)
+{
+    const double d = cell_size * k / phases;
+    return mrpt::poses::CPose3D(d, d, d, 0, 0, 0);
+}
+
+void Trajectory::rebuildPhaseMaps()
+{
+    for (auto& ph : m_phase_maps)
+    {
+        ph.map = emslam::CEntropyVoxelMap(m_map.creationOptions(), m_map.insertionOptions);
+        for (std::size_t i = 0; i < m_map.observationCount(); ++i)
+        {
+            ph.map.insertWeightedCloud(
+                m_map.observationCloud(i), ph.shift + m_map.observationPose(i), true);
+        }
+    }
 }
 
 void Trajectory::setOdometryPrior(const OdometryPrior& prior)
@@ -94,7 +154,12 @@ void Trajectory::updatePrior(const std::vector<ActionChange>& changed)
 double Trajectory::recomputeEnergy()
 {
     recomputePrior();
-    return m_map.recomputeFromScratch() + m_prior_sum;
+    const double e0 = m_map.recomputeFromScratch();
+    for (auto& ph : m_phase_maps)
+    {
+        ph.map.recomputeFromScratch();
+    }
+    return phaseMean(e0) + m_prior_sum;
 }
 
 double Trajectory::movePosesFrom(std::size_t first)
@@ -106,7 +171,17 @@ double Trajectory::movePosesFrom(std::size_t first)
         p = p + m_actions[i];
         m_moves.push_back({i, p});
     }
-    return m_map.moveObservations(m_moves);
+    const double e0 = m_map.moveObservations(m_moves);
+    for (auto& ph : m_phase_maps)
+    {
+        m_shifted_moves.resize(m_moves.size());
+        for (std::size_t k = 0; k < m_moves.size(); ++k)
+        {
+            m_shifted_moves[k] = {m_moves[k].index, ph.shift + m_moves[k].pose};
+        }
+        ph.map.moveObservations(m_shifted_moves);
+    }
+    return phaseMean(e0);
 }
 
 double Trajectory::changeActions(const std::vector<ActionChange>& changes)
@@ -163,13 +238,25 @@ double Trajectory::revertLastChange()
     }
     m_undo_valid = false;
     updatePrior(m_undo);
-    return (m_map.canRevert() ? m_map.revertLastMove() : m_map.energy()) + m_prior_sum;
+    const double e0 = m_map.canRevert() ? m_map.revertLastMove() : m_map.energy();
+    for (auto& ph : m_phase_maps)
+    {
+        if (ph.map.canRevert())
+        {
+            ph.map.revertLastMove();
+        }
+    }
+    return phaseMean(e0) + m_prior_sum;
 }
 
 void Trajectory::commitChange()
 {
     m_undo_valid = false;
     m_map.commitMove();
+    for (auto& ph : m_phase_maps)
+    {
+        ph.map.commitMove();
+    }
 }
 
 std::size_t Trajectory::frameCount() const

@@ -75,6 +75,7 @@ void Trajectory::compress()
         frames.push_back(std::move(members));
     }
     m_map = fuseObservationPairs(m_map, m_actions);
+    rebuildPhaseMaps();
     m_actions = composeActionPairs(m_actions);
     m_reference = composeActionPairs(m_reference);
     m_frames = std::move(frames);

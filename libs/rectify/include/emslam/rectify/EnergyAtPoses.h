@@ -26,8 +26,12 @@ std::vector<mrpt::poses::CPose3D> elementPosesAt(
  * Evaluating it at the ground truth, at the egomotion and at the rectified
  * poses tells whether a rectification failed because the search stopped
  * short (the truth has less energy) or because the energy's minimum is not
- * at the truth. `t` does not change. \ingroup emslam_rectify_grp */
+ * at the truth. With `grid_phases` > 1, the mean over that many shifted
+ * voxel grids, as Trajectory::setGridPhases() computes it. `t` does not
+ * change. \ingroup emslam_rectify_grp */
 double entropyAtElementPoses(
-    const Trajectory& t, const std::vector<mrpt::poses::CPose3D>& element_poses);
+    const Trajectory& t,
+    const std::vector<mrpt::poses::CPose3D>& element_poses,
+    int grid_phases = 1);
 
 }  // namespace emslam::rectify

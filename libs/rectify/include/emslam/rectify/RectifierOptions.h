@@ -52,6 +52,7 @@ enum class RectificationMode : std::uint8_t
  * prior_weight     = 0       ; odometry prior (0: off, the paper's energy)
  * prior_sigma_xyz  = 0.02    ; [m] per accepted step
  * prior_sigma_rot_deg = 0.5  ; [deg] per accepted step
+ * grid_phases      = 1       ; entropy averaged over shifted voxel grids (1: the paper)
  * \endcode
  *
  * `vertical_band` is an option beside the paper: for a 3DOF robot (fixed
@@ -92,6 +93,9 @@ struct TRectifierOptions : public mrpt::config::CLoadableOptions
     double prior_weight{0.0};
     double prior_sigma_xyz{0.02};     //!< [m] one accepted step (Default: 0.02)
     double prior_sigma_rot_deg{0.5};  //!< [deg] one accepted step (Default: 0.5)
+    /** Grid phases the entropy is averaged over (Trajectory::setGridPhases());
+     * 1: the paper's single voxel grid (Default: 1) */
+    int grid_phases{1};
 
     /** The prior these options describe. */
     OdometryPrior odometryPrior() const

@@ -83,9 +83,10 @@ public:
 
     /** Current energy (O(1)): the map's entropy plus the odometry prior's
      * cost (0 unless enabled). */
-    double energy() const { return m_map.energy() + m_prior_sum; }
-    /** The map's entropy alone (the paper's energy). */
-    double entropy() const { return m_map.energy(); }
+    double energy() const { return entropy() + m_prior_sum; }
+    /** The map's entropy alone (the paper's energy), averaged over the grid
+     * phases if setGridPhases() asked for more than one. */
+    double entropy() const;
     /** The odometry prior's part of energy(). */
     double priorEnergy() const { return m_prior_sum; }
     /** Recomputes the map's histograms from scratch (drops rounding drift of
@@ -95,6 +96,18 @@ public:
     /** Enables (weight > 0) or disables the odometry prior: the actions as
      * appended (composed by compress()) are its references. */
     void setOdometryPrior(const OdometryPrior& prior);
+
+    /** Averages the entropy over `phases` copies of the map whose voxel grids
+     * are shifted by k / phases of a cell along (1, 1, 1), k = 0..phases-1
+     * (averaged shifted histograms): the entropy of a hard-binned map changes
+     * with the grid's phase as much as with sub-cell pose errors, and the
+     * average removes most of that. 1 (the default) is the paper's single
+     * grid. Costs `phases` times the moves. Throws unless 1 <= phases <= 8. */
+    void setGridPhases(int phases);
+    int gridPhases() const { return static_cast<int>(m_phase_maps.size()) + 1; }
+    /** The world shift of grid phase k of `phases`: k / phases of a cell
+     * along (1, 1, 1). */
+    static mrpt::poses::CPose3D gridPhaseShift(int k, int phases, double cell_size);
     const OdometryPrior& odometryPrior() const { return m_prior; }
     /** The egomotion's estimate of action i (the prior's reference). */
     const mrpt::poses::CPose3D& referenceAction(std::size_t i) const { return m_reference.at(i); }
@@ -139,15 +152,28 @@ private:
     void recomputePrior();
     /** Updates the terms of these actions and the sum. */
     void updatePrior(const std::vector<ActionChange>& changed);
+    /** Rebuilds the shifted copies from m_map (after compression). */
+    void rebuildPhaseMaps();
+    /** The mean of the phase-0 entropy `e0` and the copies' entropies. */
+    double phaseMean(double e0) const;
+
+    /** A copy of the map on a shifted grid: its observations sit at shift ⊕ pose. */
+    struct PhaseMap
+    {
+        mrpt::poses::CPose3D shift;
+        emslam::CEntropyVoxelMap map;
+    };
 
     emslam::CEntropyVoxelMap m_map;
+    std::vector<PhaseMap> m_phase_maps;  //!< grid phases 1..K-1 (empty: the paper's energy)
     std::vector<mrpt::poses::CPose3D> m_actions;
     std::vector<std::vector<ElementFrame>> m_frames;
     OdometryPrior m_prior;
     std::vector<mrpt::poses::CPose3D> m_reference;  //!< egomotion actions (prior references)
     std::vector<double> m_prior_terms;              //!< prior cost of each action
     double m_prior_sum{0.0};
-    std::vector<emslam::CEntropyVoxelMap::ObservationMove> m_moves;  //!< scratch
+    std::vector<emslam::CEntropyVoxelMap::ObservationMove> m_moves;          //!< scratch
+    std::vector<emslam::CEntropyVoxelMap::ObservationMove> m_shifted_moves;  //!< scratch
     std::vector<ActionChange> m_undo;  //!< old values of the last change's actions
     bool m_undo_valid{false};
     std::size_t m_compressions{0};
