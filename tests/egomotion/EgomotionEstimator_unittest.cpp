@@ -159,10 +159,21 @@ TEST(EgomotionEstimator, saveReparseLoadRoundTrip)
 TEST(EgomotionEstimator, invalidValuesThrow)
 {
     const std::vector<std::pair<std::string, std::string>> bad{
-        {"window_size", "2"},    {"similarity_min", "0"}, {"similarity_min", "1.5"},
-        {"lwo_sigma_min", "0"},  {"lwo_sigma_min", "-1"}, {"min_final_matches", "2"},
-        {"min_gradient", "-1"},  {"lp_num_rings", "1"},   {"lp_radius", "0.5"},
-        {"max_lwo_matches", "5"}};
+        {"window_size", "2"},
+        {"similarity_min", "0"},
+        {"similarity_min", "1.5"},
+        {"lwo_sigma_min", "0"},
+        {"lwo_sigma_min", "-1"},
+        {"min_final_matches", "2"},
+        {"min_gradient", "-1"},
+        {"lp_num_rings", "1"},
+        {"lp_radius", "0.5"},
+        {"max_lwo_matches", "5"},
+        // Sizes that ran out of memory or for minutes after the work started:
+        {"window_size", "2147483647"},
+        {"lp_num_rings", "70000"},
+        {"lp_num_angles", "100000"},
+        {"lp_radius", "1e9"}};
     for (const auto& [key, value] : bad)
     {
         mrpt::config::CConfigFileMemory c("[Egomotion]\n" + key + " = " + value + "\n");

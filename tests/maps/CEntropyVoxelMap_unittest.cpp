@@ -382,6 +382,10 @@ TEST(CEntropyVoxelMap, invalidOptionsThrowNamingTheKey)
     using emslam::test::expectThrowContaining;
     expectThrowContaining([&] { load("cell_size = 0\n"); }, {"cell_size", "> 0"});
     expectThrowContaining([&] { load("cell_size = -0.1\n"); }, {"cell_size"});
+    // 1e-9 m made the cell keys overflow (a heap write out of bounds).
+    expectThrowContaining([&] { load("cell_size = 1e-9\n"); }, {"cell_size", "[0.01, 100]"});
+    expectThrowContaining([&] { load("cell_size = 1e9\n"); }, {"cell_size", "[0.01, 100]"});
+    EXPECT_NO_THROW(load("cell_size = 0.01\n"));
     expectThrowContaining([&] { load("energy = entropic\n"); }, {"energy", "entropic"});
     expectThrowContaining([&] { load("dof = 4\n"); }, {"dof", "3 or 6"});
     expectThrowContaining([&] { load("energy = structured\ndof = 3\n"); }, {"energy", "dof"});

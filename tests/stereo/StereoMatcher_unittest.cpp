@@ -227,9 +227,13 @@ TEST(StereoMatcherParameters, saveAndReloadRoundTrips)
 
 TEST(StereoMatcherParameters, invalidValuesThrow)
 {
-    const char* bad[] = {"algorithm = census",     "image_scale = 0",  "image_scale = 1.5",
-                         "num_disparities = 0",    "block_size = 4",   "max_range = 0.1",
-                         "uniqueness_ratio = 101", "p2_per_pixel = 8", "p1_per_pixel = -1"};
+    const char* bad[] = {
+        "algorithm = census", "image_scale = 0", "image_scale = 1.5", "num_disparities = 0",
+        "block_size = 4", "max_range = 0.1", "uniqueness_ratio = 101", "p2_per_pixel = 8",
+        "p1_per_pixel = -1",
+        // Values that overflowed OpenCV's fixed point or SGBM's penalties:
+        "block_size = 99999", "block_size = 257", "num_disparities = 2000",
+        "min_disparity = 200000000", "lr_max_diff = 2147483647", "p2_per_pixel = 100000"};
     for (const char* line : bad)
     {
         mrpt::config::CConfigFileMemory c(std::string("[Stereo]\n") + line + "\n");

@@ -79,8 +79,11 @@ void EgomotionEstimator::TParameters::saveToConfigFile(
 
 void EgomotionEstimator::TParameters::validate() const
 {
+    // Upper bounds keep the descriptor and window sizes from overflowing
+    // allocations before any frame is seen.
     require(
-        window_size >= 3, "window_size", "must be >= 3 (got " + std::to_string(window_size) + ")");
+        window_size >= 3 && window_size <= 128, "window_size",
+        "must be in [3, 128] (got " + std::to_string(window_size) + ")");
     require(std::isfinite(min_gradient) && min_gradient >= 0, "min_gradient", "must be >= 0");
     require(
         similarity_min > 0 && similarity_min <= 1, "similarity_min",
@@ -89,9 +92,11 @@ void EgomotionEstimator::TParameters::validate() const
         std::isfinite(lwo_sigma_min) && lwo_sigma_min > 0, "lwo_sigma_min",
         "must be > 0 (got " + std::to_string(lwo_sigma_min) + ")");
     require(min_final_matches >= 3, "min_final_matches", "must be >= 3 (a pose needs 3 points)");
-    require(lp_num_rings >= 2, "lp_num_rings", "must be >= 2");
-    require(lp_num_angles >= 4, "lp_num_angles", "must be >= 4");
-    require(std::isfinite(lp_radius) && lp_radius > 1, "lp_radius", "must be > 1 px");
+    require(lp_num_rings >= 2 && lp_num_rings <= 64, "lp_num_rings", "must be in [2, 64]");
+    require(lp_num_angles >= 4 && lp_num_angles <= 256, "lp_num_angles", "must be in [4, 256]");
+    require(
+        std::isfinite(lp_radius) && lp_radius > 1 && lp_radius <= 256, "lp_radius",
+        "must be in (1, 256] px");
     require(
         max_lwo_matches >= min_final_matches, "max_lwo_matches", "must be >= min_final_matches");
 }

@@ -49,10 +49,11 @@ void CEntropyVoxelMap::TCreationOptions::saveToConfigFile(
 
 void CEntropyVoxelMap::TCreationOptions::validate() const
 {
-    if (!(cell_size > 0) || !std::isfinite(cell_size))
+    // Cell keys hold +-2^20 cells per axis: +-10 km at the smallest l_d.
+    if (!(cell_size > 0) || !std::isfinite(cell_size) || cell_size < 0.01 || cell_size > 100)
     {
         THROW_EXCEPTION_FMT(
-            "CEntropyVoxelMap: invalid 'cell_size' = %g (must be a finite value > 0 [m])",
+            "CEntropyVoxelMap: invalid 'cell_size' = %g (must be > 0 [m], in [0.01, 100])",
             cell_size);
     }
     if (dof != 3 && dof != 6)

@@ -107,8 +107,18 @@ void StereoMatcher::TParameters::validate() const
             algorithm == "bm",
         "[Stereo] algorithm must be sgbm_hh, sgbm, sgbm_3way or bm, got '" + algorithm + "'");
     ASSERTMSG_(image_scale > 0 && image_scale <= 1.0, "[Stereo] image_scale must be in (0, 1]");
-    ASSERTMSG_(num_disparities > 0, "[Stereo] num_disparities must be > 0");
-    ASSERTMSG_(block_size >= 1 && block_size % 2 == 1, "[Stereo] block_size must be odd, >= 1");
+    // Ranges that keep OpenCV's fixed-point disparities (16 x disparity in a
+    // short) and SGBM's penalties (p * block_size^2 in an int) from overflowing.
+    ASSERTMSG_(
+        num_disparities > 0 && num_disparities <= 1024,
+        "[Stereo] num_disparities must be in [1, 1024]");
+    ASSERTMSG_(
+        min_disparity >= -1000 && min_disparity <= 1000,
+        "[Stereo] min_disparity must be in [-1000, 1000]");
+    ASSERTMSG_(
+        block_size >= 1 && block_size <= 255 && block_size % 2 == 1,
+        "[Stereo] block_size must be odd, in [1, 255]");
+    ASSERTMSG_(lr_max_diff <= 1024, "[Stereo] lr_max_diff must be <= 1024 (< 0: off)");
     ASSERTMSG_(
         algorithm != "bm" || (block_size >= 5 && block_size <= 255),
         "[Stereo] block_size must be in [5, 255] for bm");
@@ -119,7 +129,9 @@ void StereoMatcher::TParameters::validate() const
     ASSERTMSG_(speckle_range >= 0, "[Stereo] speckle_range must be >= 0");
     ASSERTMSG_(
         pre_filter_cap >= 1 && pre_filter_cap <= 63, "[Stereo] pre_filter_cap must be in [1, 63]");
-    ASSERTMSG_(p1_per_pixel >= 0, "[Stereo] p1_per_pixel must be >= 0");
+    ASSERTMSG_(
+        p1_per_pixel >= 0 && p1_per_pixel <= 10000, "[Stereo] p1_per_pixel must be in [0, 10000]");
+    ASSERTMSG_(p2_per_pixel <= 10000, "[Stereo] p2_per_pixel must be <= 10000");
     ASSERTMSG_(p2_per_pixel > p1_per_pixel, "[Stereo] p2_per_pixel must be > p1_per_pixel");
     ASSERTMSG_(min_range >= 0, "[Stereo] min_range must be >= 0");
     ASSERTMSG_(max_range > min_range, "[Stereo] max_range must be > min_range");

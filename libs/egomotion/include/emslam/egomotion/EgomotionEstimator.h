@@ -44,14 +44,14 @@ struct EgomotionResult
  * INI section `[Egomotion]`:
  * \code
  * [Egomotion]
- * window_size       = 8      ; |W|, GLM non-maximum window [px]
+ * window_size       = 8      ; |W|, GLM non-maximum window [px], 3..128
  * min_gradient      = 0      ; gradient magnitude floor for features
  * similarity_min    = 0.8    ; S_min
  * lwo_sigma_min     = 0.005  ; sigma_min
  * min_final_matches = 12     ; fewer matches after LWO -> the step failed
- * lp_num_rings      = 8      ; log-polar descriptor
- * lp_num_angles     = 16
- * lp_radius         = 8
+ * lp_num_rings      = 8      ; log-polar descriptor, 2..64
+ * lp_num_angles     = 16     ; 4..256
+ * lp_radius         = 8      ; [px], (1, 256]
  * euclidean_init    = true   ; closed-form start before the Dpp conjugate gradient
  * max_lwo_matches   = 2000   ; most similar matches kept for LWO (O(M^2) memory/time)
  * \endcode

@@ -50,7 +50,7 @@ namespace emslam
  * entropyVoxelMap_count = 1          ; also "CEntropyVoxelMap" or "emslam::CEntropyVoxelMap"
  *
  * [<P>_creationOpts]
- * cell_size = 0.15                   ; l_d [m] > 0 (paper: 0.15 indoor, 0.35 outdoor)
+ * cell_size = 0.15                   ; l_d [m], 0.01..100 (paper: 0.15 indoor, 0.35 outdoor)
  * energy    = structured             ; unstructured | low_structured | structured (6DOF)
  *                                    ; planar_low_structured | planar_structured (3DOF)
  * dof       = 6                      ; 3 or 6; must match the energy (absent: follows it)

@@ -42,11 +42,12 @@ enum class RectificationMode : std::uint8_t
  * min_improvement  = 1e-5    ; a success lowers E by more than this fraction of E
  * acceptance       = greedy  ; greedy | ratio (the paper: p = E_old / E_try)
  * reuse_success    = true    ; after a success, try the same change again
- * rectify_every    = 25      ; S_rec: serial mode, accepted frames between rectifications (0:
- * never) mode             = serial  ; serial | anytime buffer_size      = 10      ; S_buf: AnyTime,
- * frames buffered between synchronisations n_max            = 60      ; N_max: compress the
- * trajectory when N exceeds it (0: never) seed             = 1       ; random seed (serial mode
- * repeats exactly) vertical_band    = false   ; keep only points with band_min_y <= y <= band_max_y
+ * rectify_every    = 25      ; S_rec: serial, accepted frames between rectifications (0: never)
+ * mode             = serial  ; serial | anytime
+ * buffer_size      = 10      ; S_buf: AnyTime, frames buffered between synchronisations
+ * n_max            = 60      ; N_max: compress the trajectory when N exceeds it (0: never)
+ * seed             = 1       ; random seed (serial mode repeats exactly)
+ * vertical_band    = false   ; keep only points with band_min_y <= y <= band_max_y
  * band_min_y       = -1.5    ; [m] camera frame, y down (above the camera is < 0)
  * band_max_y       = 0.8     ; [m]
  * prior_weight     = 0       ; odometry prior (0: off, the paper's energy)

@@ -25,17 +25,17 @@ namespace emslam::stereo
  * [Stereo]
  * algorithm          = sgbm_hh ; sgbm_hh | sgbm | sgbm_3way | bm
  * image_scale        = 1.0    ; resize factor applied before matching (0.5: 640x480 -> 320x240)
- * num_disparities    = 64     ; disparity search range [px] at the working scale (rounded up to 16)
- * min_disparity      = 0      ; [px]
- * block_size         = 5      ; matching window side [px], odd
+ * num_disparities    = 64     ; [px] search range at working scale, 1..1024 (rounded up to 16)
+ * min_disparity      = 0      ; [px], -1000..1000
+ * block_size         = 5      ; matching window side [px], odd, 1..255 (bm: 5..255)
  * uniqueness_ratio   = 10     ; [%] best cost must beat the second best by this margin
  * speckle_window_size = 100   ; [px] connected blobs smaller than this are removed (0: off)
  * speckle_range      = 2      ; [px] max disparity step inside one blob
- * lr_max_diff        = 1      ; [px] left-right consistency tolerance (<0: off)
+ * lr_max_diff        = 1      ; [px] left-right consistency tolerance (<0: off), <= 1024
  * texture_threshold  = 10     ; BM only: minimum local texture
  * pre_filter_cap     = 31     ; clip of the prefiltered image
- * p1_per_pixel       = 8      ; SGBM smoothness: P1 = p1_per_pixel * block_size^2
- * p2_per_pixel       = 32     ; SGBM smoothness: P2 = p2_per_pixel * block_size^2 (> p1)
+ * p1_per_pixel       = 8      ; SGBM: P1 = p1_per_pixel * block_size^2, 0..10000
+ * p2_per_pixel       = 32     ; SGBM: P2 = p2_per_pixel * block_size^2, > p1, <= 10000
  * min_range          = 0.3    ; [m] closer points are dropped
  * max_range          = 12.0   ; [m] farther points are dropped (paper: 12 m)
  * \endcode
