@@ -243,6 +243,14 @@ TEST(KittiSequence, missingImageOrTimesMismatchThrows)
     const std::string dir2 = writeSequence(emslam::test::makeTempDir("kitti_times"), 3);
     writeFile(dir2 + "/times.txt", "0.0\n0.1\nzero.two\n");
     expectThrowContaining([&] { KittiSequence s(dir2); }, {"times.txt:3"});
+    // Were accepted and gave NaN or 0 timestamps in the rawlog.
+    for (const char* bad : {"nan", "inf", "1e300", "-0.5"})
+    {
+        writeFile(dir2 + "/times.txt", std::string("0.0\n0.1\n") + bad + "\n");
+        expectThrowContaining([&] { KittiSequence s(dir2); }, {"times.txt:3", bad, "[0, 1e10)"});
+    }
+    writeFile(dir2 + "/times.txt", "0.0\n0.2\n0.1\n");
+    expectThrowContaining([&] { KittiSequence s(dir2); }, {"times.txt:3", "must increase"});
 }
 
 TEST(KittiSequence, poseCountMismatchThrows)

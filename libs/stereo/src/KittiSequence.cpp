@@ -10,6 +10,7 @@
 #include <mrpt/math/CMatrixFixed.h>
 
 #include <Eigen/Dense>
+#include <cmath>
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
@@ -134,6 +135,20 @@ void KittiSequence::open(const std::string& sequence_dir, const std::string& pos
                 THROW_EXCEPTION_FMT(
                     "%s:%zu: expected one timestamp [s], got '%s'", times_file.c_str(), line_no,
                     line.c_str());
+            }
+            // Finite, in a range a clock can hold (1e10 s: year 2286), increasing.
+            if (!std::isfinite(v[0]) || v[0] < 0 || v[0] >= 1e10)
+            {
+                THROW_EXCEPTION_FMT(
+                    "%s:%zu: timestamp '%s' must be a finite number of seconds in [0, 1e10)",
+                    times_file.c_str(), line_no, line.c_str());
+            }
+            if (!times.empty() && !(v[0] > times.back()))
+            {
+                THROW_EXCEPTION_FMT(
+                    "%s:%zu: timestamp %.9g does not follow the previous one (%.9g): "
+                    "times must increase",
+                    times_file.c_str(), line_no, v[0], times.back());
             }
             times.push_back(v[0]);
         }
