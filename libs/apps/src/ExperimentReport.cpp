@@ -9,6 +9,7 @@
 #include <cstdio>
 #include <functional>
 #include <limits>
+#include <set>
 #include <sstream>
 
 namespace emslam::apps
@@ -242,16 +243,15 @@ std::string topViews(const std::vector<ExperimentResult>& results)
 {
     using namespace emslam::apps::svg;
     std::ostringstream s;
-    std::string shown;  // experiment + mapper already drawn (first seed only)
+    std::set<std::string> shown;  // experiment/mapper already drawn (first seed only)
     std::string current;
     for (const auto& r : results)
     {
         const std::string id = r.experiment + "/" + r.mapper;
-        if (shown.find("|" + id + "|") != std::string::npos)
+        if (!shown.insert(id).second)
         {
             continue;
         }
-        shown += "|" + id + "|";
         if (r.experiment != current)
         {
             s << (current.empty() ? "" : "</div>\n") << "<h2>" << escapeHtml(r.title)

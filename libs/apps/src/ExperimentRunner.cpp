@@ -25,13 +25,6 @@ namespace emslam::apps
 {
 namespace
 {
-/** The entropy of the final trajectory's elements placed by `lookup`. */
-double entropyAt(
-    const emslam::rectify::Trajectory& t, const emslam::rectify::FramePoseLookup& lookup)
-{
-    return emslam::rectify::entropyAtElementPoses(t, emslam::rectify::elementPosesAt(t, lookup));
-}
-
 /** max − min of the entropy of the map at `poses` moved rigidly by k/4 of a
  * cell along (1, 1, 1), k = 0..3: the same geometry on four grid phases. */
 double gridPhaseSpread(
@@ -43,11 +36,11 @@ double gridPhaseSpread(
     double hi = -lo;
     for (int k = 0; k < 4; ++k)
     {
-        const double d = 0.25 * k * cell_size;
+        const auto shift = emslam::rectify::Trajectory::gridPhaseShift(k, 4, cell_size);
         std::vector<mrpt::poses::CPose3D> moved;
         for (const auto& p : poses)
         {
-            moved.push_back(mrpt::poses::CPose3D(d, d, d, 0, 0, 0) + p);
+            moved.push_back(shift + p);
         }
         const double h = emslam::rectify::entropyAtElementPoses(t, moved);
         lo = std::min(lo, h);
@@ -219,7 +212,9 @@ ExperimentResult runExperiment(
             emslam::rectify::elementPosesAt(traj, [&](std::size_t i) { return truth.at(i); });
         r.entropy_truth = emslam::rectify::entropyAtElementPoses(traj, at_truth);
         r.entropy_phase_spread = gridPhaseSpread(traj, at_truth, p.map.cell_size);
-        r.entropy_egomotion = entropyAt(traj, [&](std::size_t i) { return ego.at(i).pose; });
+        r.entropy_egomotion = emslam::rectify::entropyAtElementPoses(
+            traj,
+            emslam::rectify::elementPosesAt(traj, [&](std::size_t i) { return ego.at(i).pose; }));
         std::vector<mrpt::poses::CPose3D> slam_elements;
         for (std::size_t i = 0; i < traj.size(); ++i)
         {

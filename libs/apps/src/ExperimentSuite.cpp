@@ -5,6 +5,7 @@
 #include <mrpt/config/CConfigFile.h>
 #include <mrpt/config/CConfigFileMemory.h>
 
+#include <algorithm>
 #include <cerrno>
 #include <cmath>
 #include <cstdlib>
@@ -40,6 +41,13 @@ std::vector<std::string> words(const std::string& s)
         w.push_back(x);
     }
     return w;
+}
+
+/** "a,b c" → {a, b, c}. */
+std::vector<std::string> commaOrSpaceSeparated(std::string s)
+{
+    std::replace(s.begin(), s.end(), ',', ' ');
+    return words(s);
 }
 
 class SuiteReader
@@ -156,16 +164,8 @@ private:
 
 std::vector<int> parseSeedList(const std::string& text)
 {
-    std::string s = text;
-    for (char& c : s)
-    {
-        if (c == ',')
-        {
-            c = ' ';
-        }
-    }
     std::vector<int> seeds;
-    for (const auto& w : words(s))
+    for (const auto& w : commaOrSpaceSeparated(text))
     {
         char* end = nullptr;
         errno = 0;
@@ -259,15 +259,7 @@ std::vector<ExperimentSpec> ExperimentSuite::select(const std::string& only) con
     {
         return experiments;
     }
-    std::string s = only;
-    for (char& c : s)
-    {
-        if (c == ',')
-        {
-            c = ' ';
-        }
-    }
-    const auto wanted = words(s);
+    const auto wanted = commaOrSpaceSeparated(only);
     for (const auto& w : wanted)
     {
         bool known = false;
