@@ -112,9 +112,6 @@ TEST(CommandLine, setTyposAndNonNumbersAreRejectedInEveryAppThatTakesSet)
     expectInitFails<emslam::apps::StereoApp>(
         "emslam-stereo", {none, "--set", "Stereo.num_disparities=abc"},
         {"num_disparities", "'abc'", "not a number"});
-    expectInitFails<emslam::apps::StereoApp>(
-        "emslam-stereo", {none, "--set", "Stereo.num_disparities=64.5"},
-        {"num_disparities", "not a whole number"});
     // emslam-mapper: every section of its INI file.
     expectInitFails<emslam::apps::MapperApp>(
         "emslam-mapper", {mapperConfig(), none, "-o", "/tmp/x", "--set", "Stereo.max_range=far"},

@@ -165,10 +165,7 @@ std::string valueMismatch(const std::string& value, ValueKind kind)
 {
     switch (kind)
     {
-        case ValueKind::Integer:
-            return parsesAsInteger(value)  ? ""
-                   : parsesAsNumber(value) ? "a whole number"
-                                           : "a number (a whole number expected)";
+        case ValueKind::Integer:  // some doubles are saved in integer form: any number
         case ValueKind::Number:
             return parsesAsNumber(value) ? "" : "a number";
         case ValueKind::Boolean:

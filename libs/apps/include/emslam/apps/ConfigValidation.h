@@ -21,13 +21,13 @@ struct ConfigProblem
      * none is close. */
     std::string suggestion;
     /** For a known key with a malformed value: the value as the user wrote it
-     * and what the key needs ("a number", "a whole number", "true or false");
+     * and what the key needs ("a number", "true or false ...");
      * `expected` is empty for unknown names. */
     std::string value, expected;
 
     /** E.g. "unknown key 'esp_xyz' in [Rectifier] (did you mean 'eps_xyz'?)",
      * "unknown section [Rectifer] (did you mean [Rectifier]?)" or
-     * "[Stereo] num_disparities = 'abc' is not a whole number". */
+     * "[Stereo] num_disparities = 'abc' is not a number". */
     std::string message() const;
 };
 
@@ -64,14 +64,13 @@ void requireKnownConfigEntries(
     const std::vector<std::string>& ignored_sections = {});
 
 /** Every value of `user` that MRPT would misread silently: where `reference`
- * holds a whole number, a number or a boolean under the same section and key,
+ * holds a number or a boolean under the same section and key,
  * the user's text (as read_string() returns it: trimmed, without a trailing
  * `//` comment, `$eval{}` done) must be one too. MRPT 2.5.8's read_int() and
  * read_double() parse with atoi() / atof(), so "abc" reads as 0 and "64x" as
- * 64; read_bool() takes true/false, yes/no, on/off or an integer. A reference
- * value written by CConfigFileBase::write(double) always has a '.' or an
- * exponent, one written from an int has neither, which tells the two apart.
- * Unknown sections and keys are left to findUnknownConfigEntries(). */
+ * 64; read_bool() takes true/false, yes/no, on/off or an integer. Whole and
+ * fractional numbers are not told apart: some double parameters are saved in
+ * integer form. Unknown sections and keys are left to findUnknownConfigEntries(). */
 std::vector<ConfigProblem> findMalformedConfigValues(
     const mrpt::config::CConfigFileBase& user,
     const mrpt::config::CConfigFileBase& reference,
