@@ -14,7 +14,7 @@ mkdir -p "$out"
 ./build/apps/emslam-mapper config/mapper/3dof-low-structured.ini "$out/hall.rawlog" \
     --out "$out/hall_map" --gt "$out/hall_gt.tum"
 for t in egomotion slam; do
-    ./build/apps/emslam-eval --gt "$out/hall_gt.tum" --est "$out/hall_map/trajectory_$t.tum" \
+    ./build/apps/emslam-eval "$out/hall_gt.tum" "$out/hall_map/trajectory_$t.tum" \
         --json "$out/hall_map/eval_$t.json" >/dev/null
 done
 

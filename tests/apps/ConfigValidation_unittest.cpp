@@ -254,3 +254,39 @@ TEST(ConfigValidation, keyRecorderCatchesAnAsymmetricSave)
     ASSERT_EQ(p.size(), 1U);
     EXPECT_EQ(p[0].key, "forgotten");
 }
+
+// MRPT reads "abc" as 0 and "64x" as 64 without a word: such values are problems.
+TEST(ConfigValidation, malformedNumbersAndBooleansAreFound)
+{
+    CConfigFileMemory reference;
+    emslam::stereo::StereoMatcher::TParameters().saveToConfigFile(reference, "Stereo");
+    const CConfigFileMemory user(
+        "[Stereo]\n"
+        "num_disparities = abc\n"
+        "block_size = 5.5\n"
+        "max_range = 40 // metres, a trailing comment is fine\n"
+        "min_range = 0.3x\n"
+        "algorithm = sgbm\n"
+        "[Other]\n"
+        "x = y\n");
+    const auto p = emslam::apps::findMalformedConfigValues(user, reference);
+    std::set<std::string> messages;  // in the order MRPT lists the keys
+    for (const auto& q : p)
+    {
+        messages.insert(q.message());
+    }
+    EXPECT_EQ(
+        messages, (std::set<std::string>{
+                      "[Stereo] num_disparities = 'abc' is not a number",
+                      "[Stereo] min_range = '0.3x' is not a number"}));
+
+    emslam::test::expectThrowContaining(
+        [&] { emslam::apps::requireValidConfig(user, reference); },
+        {"3 invalid configuration entries", "unknown section [Other]", "'abc'"});
+    // With unknown sections allowed (an app reading part of a shared INI file).
+    emslam::test::expectThrowContaining(
+        [&] { emslam::apps::requireValidConfig(user, reference, {}, true); },
+        {"2 invalid configuration entries"});
+    EXPECT_NO_THROW(emslam::apps::requireValidConfig(
+        CConfigFileMemory("[Stereo]\nnum_disparities = 64\nmax_range = 1e2\n"), reference));
+}

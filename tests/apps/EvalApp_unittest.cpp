@@ -100,8 +100,7 @@ TEST(EvalApp, writesJsonWithKnownValues)
     const std::string dir = emslam::test::makeTempDir("eval_app");
     line(1.0).saveToFile(dir + "/gt.tum");
     line(1.02, 0.005).saveToFile(dir + "/est.tum");
-    const EvalRun r =
-        runEval({"--gt", dir + "/gt.tum", "--est", dir + "/est.tum", "--json", dir + "/m.json"});
+    const EvalRun r = runEval({dir + "/gt.tum", dir + "/est.tum", "--json", dir + "/m.json"});
     ASSERT_EQ(r.exit_code, 0) << r.err;
     EXPECT_NE(r.out.find("ATE RMSE"), std::string::npos) << r.out;
     const std::string json = readFile(dir + "/m.json");
@@ -115,9 +114,8 @@ TEST(EvalApp, writesJsonWithKnownValues)
     // Rigid fit of x_gt = 1.02 x_est + c: residual RMSE = 0.02 * std(x) = 0.02 * sqrt(140).
     EXPECT_NEAR(jsonValue(json, "ate_rmse_m"), 0.02 * std::sqrt(140.0), 1e-9);
 
-    const EvalRun sim = runEval(
-        {"--gt", dir + "/gt.tum", "--est", dir + "/est.tum", "--align", "sim3", "--json",
-         dir + "/s.json"});
+    const EvalRun sim =
+        runEval({dir + "/gt.tum", dir + "/est.tum", "--align", "sim3", "--json", dir + "/s.json"});
     ASSERT_EQ(sim.exit_code, 0) << sim.err;
     const std::string sj = readFile(dir + "/s.json");
     EXPECT_NEAR(jsonValue(sj, "scale"), 1.0 / 1.02, 1e-12);
@@ -135,28 +133,28 @@ TEST(EvalApp, badInputFailsWithMessage)
     emslam::test::writeFile(dir + "/garbled.tum", "1000.0 1 2 3\n");
     line(1.0, 60.0).saveToFile(dir + "/late.tum");
 
-    expectFailure({"--gt", dir + "/nope.tum", "--est", est}, {"ground-truth", "nope.tum", "exist"});
-    expectFailure({"--gt", gt, "--est", dir + "/nope.tum"}, {"estimate", "nope.tum", "exist"});
-    expectFailure({"--gt", gt, "--est", dir}, {"estimate", "directory"});
-    expectFailure({"--gt", gt, "--est", dir + "/garbled.tum"}, {"estimate", "garbled.tum:1"});
-    expectFailure({"--gt", dir + "/empty.tum", "--est", est}, {"ground-truth", "no poses"});
-    expectFailure({"--gt", gt, "--est", dir + "/empty.tum"}, {"estimate", "no poses"});
-    expectFailure({"--gt", gt, "--est", dir + "/late.tum"}, {"no timestamp", "late.tum"});
-    expectFailure({"--gt", gt, "--est", est, "--align", "affine"}, {"--align", "'affine'"});
-    expectFailure({"--gt", gt, "--est", est, "--max-dt", "0"}, {"--max-dt"});
-    expectFailure({"--est", est}, {"missing --gt"});
-    expectFailure({"--gt", gt}, {"missing --est"});
-    expectFailure({"--gt", gt, "--est", est, "--json", dir + "/no/such/dir/m.json"}, {"m.json"});
+    expectFailure({dir + "/nope.tum", est}, {"ground-truth", "nope.tum", "exist"});
+    expectFailure({gt, dir + "/nope.tum"}, {"estimate", "nope.tum", "exist"});
+    expectFailure({gt, dir}, {"estimate", "directory"});
+    expectFailure({gt, dir + "/garbled.tum"}, {"estimate", "garbled.tum:1"});
+    expectFailure({dir + "/empty.tum", est}, {"ground-truth", "no poses"});
+    expectFailure({gt, dir + "/empty.tum"}, {"estimate", "no poses"});
+    expectFailure({gt, dir + "/late.tum"}, {"no timestamp", "late.tum"});
+    expectFailure({gt, est, "--align", "affine"}, {"--align", "'affine'"});
+    expectFailure({gt, est, "--max-dt", "0"}, {"--max-dt"});
+    expectFailure({}, {"missing required arguments <GT.tum>, <EST.tum>"});
+    expectFailure({gt}, {"missing required argument <EST.tum>"});
+    expectFailure({gt, est, "--json", dir + "/no/such/dir/m.json"}, {"m.json"});
     // Unreadable (permissions): root reads anyway, so only checked as a user.
     if (::geteuid() != 0)
     {
         const std::string locked = dir + "/locked.tum";
         line(1.0).saveToFile(locked);
         std::filesystem::permissions(locked, std::filesystem::perms::none);
-        expectFailure({"--gt", gt, "--est", locked}, {"cannot read estimate", "locked.tum"});
+        expectFailure({gt, locked}, {"cannot read estimate", "locked.tum"});
     }
     // A wider tolerance lets the shifted estimate match.
-    EXPECT_EQ(runEval({"--gt", gt, "--est", dir + "/late.tum", "--max-dt", "61"}).exit_code, 0);
+    EXPECT_EQ(runEval({gt, dir + "/late.tum", "--max-dt", "61"}).exit_code, 0);
 }
 
 // KITTI 06 frames 0-50 (59.9 m): the ground truth against itself and against a
@@ -182,9 +180,7 @@ TEST(EvalApp, kitti06GroundTruth)
     est.saveToFile(dir + "/est.tum");
 
     ASSERT_EQ(
-        runEval({"--gt", dir + "/gt.tum", "--est", dir + "/gt.tum", "--json", dir + "/self.json"})
-            .exit_code,
-        0);
+        runEval({dir + "/gt.tum", dir + "/gt.tum", "--json", dir + "/self.json"}).exit_code, 0);
     const std::string self = readFile(dir + "/self.json");
     EXPECT_EQ(jsonValue(self, "matched_poses"), 51.0);
     EXPECT_NEAR(jsonValue(self, "path_length_m"), 59.9, 0.05);
@@ -194,16 +190,13 @@ TEST(EvalApp, kitti06GroundTruth)
     EXPECT_NEAR(jsonValue(self, "loop_gap_m"), 59.9, 1.0);
 
     const EvalRun r = runEval(
-        {"--gt", dir + "/gt.tum", "--est", dir + "/est.tum", "--align", "sim3", "--json",
-         dir + "/sim.json"});
+        {dir + "/gt.tum", dir + "/est.tum", "--align", "sim3", "--json", dir + "/sim.json"});
     ASSERT_EQ(r.exit_code, 0) << r.err;
     const std::string sim = readFile(dir + "/sim.json");
     EXPECT_NEAR(jsonValue(sim, "scale"), 1.0 / 1.01, 1e-9);
     EXPECT_LT(jsonValue(sim, "ate_rmse_m"), 1e-6);
     ASSERT_EQ(
-        runEval({"--gt", dir + "/gt.tum", "--est", dir + "/est.tum", "--json", dir + "/se3.json"})
-            .exit_code,
-        0);
+        runEval({dir + "/gt.tum", dir + "/est.tum", "--json", dir + "/se3.json"}).exit_code, 0);
     // 1 % longer steps: 1 % drift, a little more as segments end past their
     // nominal length (frames are ~1.2 m apart, the shortest segment 6 m).
     const double t_rel = jsonValue(readFile(dir + "/se3.json"), "t_rel_percent");

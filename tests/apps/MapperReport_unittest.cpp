@@ -16,6 +16,7 @@
 #include <limits>
 #include <opencv2/core.hpp>
 #include <opencv2/imgcodecs.hpp>
+#include <opencv2/imgproc.hpp>
 #include <sstream>
 #include <string>
 #include <vector>
@@ -26,7 +27,17 @@ using mrpt::poses::CPose3D;
 namespace
 {
 const std::vector<std::string> PLOT_IDS = {
-    "plot-top", "plot-side", "plot-energy", "plot-time", "plot-attempts"};
+    "plot-top",
+    "plot-side",
+    "plot-error-distance",
+    "plot-error-distance-rotation",
+    "plot-error-time",
+    "plot-matches",
+    "plot-points",
+    "plot-energy-drop",
+    "plot-energy",
+    "plot-attempts",
+    "plot-time"};
 
 std::string readText(const std::string& path)
 {
@@ -97,6 +108,9 @@ MapperReportData syntheticData()
         f.ms_stereo = 20.0 + static_cast<double>(i % 7);
         f.ms_egomotion = 8.0 + static_cast<double>(i % 5);
         f.ms_rectification = i % 40 == 39 ? 150.0 + static_cast<double>(i) : 0.0;
+        f.points = 3000 + 10 * (i % 11);
+        f.initial_matches = 400 + i % 13;
+        f.final_matches = 250 + i % 9;
         d.frames.push_back(f);
     }
     double energy = 5000.0;
@@ -118,6 +132,9 @@ MapperReportData syntheticData()
         d.rectifications.push_back(r);
     }
     d.summary = {{"frames", "200"}, {"ATE <rmse> & co", "0.12 m"}};
+    const emslam::apps::TrajectoryMetrics::Options opts;
+    d.egomotion_vs_gt = emslam::apps::TrajectoryMetrics::compute(d.ground_truth, d.egomotion, opts);
+    d.slam_vs_gt = emslam::apps::TrajectoryMetrics::compute(d.ground_truth, d.slam, opts);
     return d;
 }
 
@@ -158,6 +175,27 @@ std::string pathData(const std::string& svg)
         d += svg.substr(b, svg.find('"', b) - b);
     }
     return d;
+}
+
+/** The texts of `svg` centred under a point (x tick labels and the x axis label). */
+std::vector<std::string> centredTexts(const std::string& svg)
+{
+    std::vector<std::string> t;
+    const std::string tag = "text-anchor=\"middle\">";
+    for (auto p = svg.find(tag); p != std::string::npos; p = svg.find(tag, p + 1))
+    {
+        const auto b = p + tag.size();
+        t.push_back(svg.substr(b, svg.find('<', b) - b));
+    }
+    return t;
+}
+
+/** A small grey PNG, as the mapper's map_top.png. */
+void writeMapPicture(const std::string& file)
+{
+    cv::Mat img(120, 160, CV_8UC3, cv::Scalar(200, 200, 200));
+    cv::rectangle(img, {20, 20}, {140, 100}, cv::Scalar(20, 120, 20), 3);
+    ASSERT_TRUE(cv::imwrite(file, img)) << file;
 }
 
 /** Runs chromium headless with `args` (60 s at most); returns its exit status
@@ -300,6 +338,96 @@ TEST(MapperReport, unwritablePathThrowsNamingIt)
         [&] { emslam::apps::writeMapperReport(file, MapperReportData{}); }, {file});
 }
 
+TEST(MapperReport, errorPlotsDrawEgomotionAndSlamAgainstTheGroundTruth)
+{
+    const std::string dir = emslam::test::makeTempDir("report_errors");
+    emslam::apps::writeMapperReport(dir + "/report.html", syntheticData());
+    const std::string html = readText(dir + "/report.html");
+    // 40 m square: segments of 2, 4, ..., 16 m; one curve with a dot per length each.
+    for (const std::string id : {"plot-error-distance", "plot-error-distance-rotation"})
+    {
+        const std::string svg = svgOf(html, id);
+        EXPECT_EQ(countOf(svg, "<polyline"), 2u) << id;
+        EXPECT_EQ(countOf(svg, "<circle"), 2u * 8u) << id;
+        EXPECT_NE(svg.find("segment length [m]"), std::string::npos) << id;
+    }
+    EXPECT_NE(svgOf(html, "plot-error-distance").find("translation error [%]"), std::string::npos);
+    EXPECT_EQ(countOf(svgOf(html, "plot-error-time"), "<polyline"), 2u);
+    EXPECT_EQ(countOf(svgOf(html, "plot-matches"), "<polyline"), 2u);
+    EXPECT_NE(svgOf(html, "plot-matches").find("LWO inliers"), std::string::npos);
+    EXPECT_EQ(countOf(svgOf(html, "plot-points"), "<polyline"), 1u);
+    // Five rectifications, each lowering the energy: five green drop bars, no rise.
+    const std::string drop = svgOf(html, "plot-energy-drop");
+    ASSERT_EQ(countOf(drop, "<path"), 2u);
+    EXPECT_EQ(countOf(pathData(drop), "M"), 5u);
+
+    // Without ground truth the error plots say so instead of drawing.
+    MapperReportData no_gt = syntheticData();
+    no_gt.egomotion_vs_gt.reset();
+    no_gt.slam_vs_gt.reset();
+    emslam::apps::writeMapperReport(dir + "/no_gt.html", no_gt);
+    const std::string plain = readText(dir + "/no_gt.html");
+    expectWellFormed(plain);
+    EXPECT_EQ(countOf(svgOf(plain, "plot-error-time"), "<polyline"), 0u);
+    EXPECT_NE(svgOf(plain, "plot-error-distance").find("no ground truth"), std::string::npos);
+}
+
+TEST(MapperReport, countAxesHaveIntegerTicks)
+{
+    // Two rectifications and three frames: a 1-2-5 tick step would be 0.2 or 0.5.
+    MapperReportData d = syntheticData();
+    d.rectifications.resize(2);
+    d.frames.resize(3);
+    const std::string dir = emslam::test::makeTempDir("report_ticks");
+    emslam::apps::writeMapperReport(dir + "/r.html", d);
+    const std::string html = readText(dir + "/r.html");
+    for (const std::string id :
+         {"plot-attempts", "plot-energy-drop", "plot-time", "plot-matches", "plot-points"})
+    {
+        std::size_t ticks = 0;
+        for (const auto& label : centredTexts(svgOf(html, id)))
+        {
+            if (!label.empty() && (std::isdigit(static_cast<unsigned char>(label[0])) != 0))
+            {
+                EXPECT_EQ(label.find('.'), std::string::npos) << id << " tick " << label;
+                ++ticks;
+            }
+        }
+        EXPECT_GE(ticks, 2u) << id;
+    }
+}
+
+TEST(MapperReport, embedsTheMapPictureAndLinksEveryFileOfItsFolder)
+{
+    const std::string dir = emslam::test::makeTempDir("report_links");
+    for (const std::string name :
+         {"trajectory_egomotion.tum", "trajectory_slam.tum", "map.ply", "map.3Dscene",
+          "entropy_map.bin", "stats.csv", "summary.json", "effective.ini", "extra notes.txt",
+          "stats.csv.partial"})
+    {
+        std::ofstream(dir + "/" + name) << "x\n";
+    }
+    emslam::apps::writeMapperReport(dir + "/report.html", syntheticData());
+    std::string html = readText(dir + "/report.html");
+    EXPECT_NE(html.find("id=\"map-missing\""), std::string::npos);  // not written yet
+    EXPECT_EQ(html.find("<img"), std::string::npos);
+
+    writeMapPicture(dir + "/map_top.png");
+    emslam::apps::writeMapperReport(dir + "/report.html", syntheticData());
+    html = readText(dir + "/report.html");
+    EXPECT_NE(html.find("<img id=\"map-top\" src=\"map_top.png\" alt=\""), std::string::npos);
+    for (const std::string name :
+         {"trajectory_egomotion.tum", "trajectory_slam.tum", "map.ply", "map.3Dscene",
+          "map_top.png", "entropy_map.bin", "stats.csv", "summary.json", "effective.ini"})
+    {
+        EXPECT_EQ(countOf(html, "<a href=\"" + name + "\">"), 1u) << name;
+    }
+    EXPECT_NE(html.find("<a href=\"extra%20notes.txt\">extra notes.txt</a>"), std::string::npos);
+    EXPECT_EQ(html.find(".partial"), std::string::npos);
+    EXPECT_EQ(html.find("href=\"report.html\""), std::string::npos);
+    EXPECT_LT(html.find("trajectory_slam.tum"), html.find("effective.ini"));  // fixed order
+}
+
 TEST(MapperReport, headlessChromiumRendersThePlots)
 {
     if (!std::filesystem::exists("/usr/bin/chromium"))
@@ -308,6 +436,7 @@ TEST(MapperReport, headlessChromiumRendersThePlots)
     }
     const std::string dir = emslam::test::makeTempDir("report_chromium");
     const std::string file = dir + "/report.html";
+    writeMapPicture(dir + "/map_top.png");
     emslam::apps::writeMapperReport(file, syntheticData());
 
     const std::string dom = dir + "/dom.html", log1 = dir + "/dump.log";
@@ -322,6 +451,15 @@ TEST(MapperReport, headlessChromiumRendersThePlots)
             << readText(log1);
     }
     EXPECT_GE(countOf(html, "<polyline") + countOf(html, "<path"), 8u);
+    // The new plots carry curves in the rendered DOM, and the map picture is there.
+    for (const std::string id : {"plot-error-distance", "plot-error-time", "plot-matches"})
+    {
+        EXPECT_GE(countOf(svgOf(html, id), "<polyline"), 2u) << id;
+    }
+    EXPECT_GE(countOf(pathData(svgOf(html, "plot-energy-drop")), "M"), 5u);
+    EXPECT_NE(html.find("id=\"map-top\""), std::string::npos);
+    EXPECT_NE(html.find("src=\"map_top.png\""), std::string::npos);
+    EXPECT_NE(html.find("<ul id=\"outputs\">"), std::string::npos);
 
     const std::string png = dir + "/report.png", log2 = dir + "/screenshot.log";
     const int rc2 = runChromium(

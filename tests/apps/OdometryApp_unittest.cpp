@@ -50,7 +50,7 @@ TEST(OdometryApp, missingArgumentsThrow)
     emslam::apps::OdometryApp app;
     EXPECT_ANY_THROW(initApp(app, {"-o", "x.tum"}));
     emslam::apps::OdometryApp app2;
-    EXPECT_ANY_THROW(initApp(app2, {"--rawlog", "x.rawlog"}));
+    EXPECT_ANY_THROW(initApp(app2, {"x.rawlog"}));
 }
 
 TEST(OdometryApp, helpDoesNotRun)
@@ -64,7 +64,7 @@ TEST(OdometryApp, helpDoesNotRun)
 TEST(OdometryApp, missingRawlogThrowsNamingIt)
 {
     emslam::apps::OdometryApp app;
-    initApp(app, {"--rawlog", "/nonexistent/in.rawlog", "-o", "/tmp/never.tum"});
+    initApp(app, {"/nonexistent/in.rawlog", "-o", "/tmp/never.tum"});
     emslam::test::expectThrowContaining([&] { app.run(); }, {"/nonexistent/in.rawlog"});
 }
 
@@ -72,8 +72,8 @@ TEST(OdometryApp, invalidEgomotionOverrideThrows)
 {
     emslam::apps::OdometryApp app;
     initApp(
-        app, {"--rawlog", "/nonexistent/in.rawlog", "-o", "/tmp/never.tum", "--set",
-              "Egomotion.lwo_sigma_min=0"});
+        app,
+        {"/nonexistent/in.rawlog", "-o", "/tmp/never.tum", "--set", "Egomotion.lwo_sigma_min=0"});
     emslam::test::expectThrowContaining([&] { app.run(); }, {"lwo_sigma_min"});
 }
 
@@ -89,7 +89,7 @@ TEST(OdometryApp, kittiRawlogGivesTrajectory)
 
     emslam::apps::OdometryApp app;
     initApp(
-        app, {"--rawlog", rawlog, "-o", out, "--config",
+        app, {rawlog, "-o", out, "--config",
               emslam::test::sourceDir() + "/config/odometry/kitti.ini", "--max-frames", "6"});
     app.run();
     EXPECT_EQ(app.frames_processed, 6u);
@@ -126,7 +126,7 @@ TEST(OdometryApp, failedStepKeepsPreviousPose)
     }
     emslam::apps::OdometryApp app;
     initApp(
-        app, {"--rawlog", rawlog, "-o", dir + "/t.tum", "--config",
+        app, {rawlog, "-o", dir + "/t.tum", "--config",
               emslam::test::sourceDir() + "/config/odometry/kitti.ini", "--quiet"});
     app.run();
     EXPECT_EQ(app.frames_processed, 2u);

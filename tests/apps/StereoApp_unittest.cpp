@@ -34,10 +34,10 @@ void runApp(emslam::apps::StereoApp& app, std::vector<std::string> args)
 std::vector<std::string> aloeArgs()
 {
     const std::string src = emslam::test::sourceDir();
-    return {"--left",   ALOE_DIR + "aloeL.jpg",
-            "--right",  ALOE_DIR + "aloeR.jpg",
-            "--calib",  src + "/share/emslam/calib/middlebury-aloe.ini",
-            "--config", src + "/config/stereo/middlebury-aloe.ini"};
+    return {
+        ALOE_DIR + "aloeL.jpg", ALOE_DIR + "aloeR.jpg",
+        src + "/share/emslam/calib/middlebury-aloe.ini", "--config",
+        src + "/config/stereo/middlebury-aloe.ini"};
 }
 }  // namespace
 
@@ -92,8 +92,7 @@ TEST(StereoApp, badInputsFailWithAClearError)
         emslam::apps::StereoApp app;
         try
         {
-            runApp(
-                app, {"--left", dir + "/nope.png", "--right", dir + "/nope.png", "--calib", calib});
+            runApp(app, {dir + "/nope.png", dir + "/nope.png", calib});
             FAIL() << "missing image accepted";
         }
         catch (const std::exception& e)
@@ -105,10 +104,7 @@ TEST(StereoApp, badInputsFailWithAClearError)
         std::ofstream(dir + "/garbage.png") << "not an image";
         emslam::apps::StereoApp app;
         EXPECT_THROW(
-            runApp(
-                app, {"--left", dir + "/garbage.png", "--right", dir + "/garbage.png", "--calib",
-                      calib}),
-            std::exception);
+            runApp(app, {dir + "/garbage.png", dir + "/garbage.png", calib}), std::exception);
     }
     {
         emslam::apps::StereoApp app;  // neither a pair nor a rawlog
@@ -116,7 +112,7 @@ TEST(StereoApp, badInputsFailWithAClearError)
     }
     {
         emslam::apps::StereoApp app;
-        EXPECT_THROW(runApp(app, {"--rawlog", dir + "/missing.rawlog"}), std::exception);
+        EXPECT_THROW(runApp(app, {dir + "/missing.rawlog"}), std::exception);
     }
     {
         emslam::apps::StereoApp app;
@@ -124,7 +120,7 @@ TEST(StereoApp, badInputsFailWithAClearError)
     }
     {
         emslam::apps::StereoApp app;
-        EXPECT_THROW(runApp(app, {"--rawlog", "x", "--set", "nodot"}), std::invalid_argument);
+        EXPECT_THROW(runApp(app, {"x", "--set", "nodot"}), std::invalid_argument);
     }
 }
 

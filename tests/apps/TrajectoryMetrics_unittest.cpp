@@ -271,3 +271,39 @@ TEST(TrajectoryMetrics, jsonHasEveryKey)
     EXPECT_NE(json.find("\"matched_poses\": 41,"), std::string::npos) << json;
     EXPECT_NE(json.find("\"path_length_m\": 40,"), std::string::npos) << json;
 }
+
+TEST(TrajectoryMetrics, closedLoopNeedsTheEndNearTheStart)
+{
+    using emslam::apps::isClosedLoop;
+    // A 40 m square back at its start, and ending 0.8 m short (within 1 m).
+    TumTrajectory square, almost, open;
+    for (int i = 0; i <= 40; ++i)
+    {
+        const double s = i % 40, u = std::fmod(s, 10.0);
+        const int side = static_cast<int>(s / 10.0);
+        const double x[] = {u, 10.0, 10.0 - u, 0.0}, z[] = {0.0, u, 10.0, 10.0 - u};
+        square.add(i, CPose3D(x[side], 0, z[side], 0, 0, 0));
+    }
+    EXPECT_TRUE(isClosedLoop(square));
+    almost = square;
+    almost.poses.back().pose = CPose3D(0, 0, 0.8, 0, 0, 0);
+    EXPECT_TRUE(isClosedLoop(almost));
+    almost.poses.back().pose = CPose3D(0, 0, 1.5, 0, 0, 0);  // 1.5 m > max(0.4 m, 1 m)
+    EXPECT_FALSE(isClosedLoop(almost));
+    // A straight 60 m drive (the KITTI 06 excerpt's shape) is no loop.
+    EXPECT_FALSE(isClosedLoop(line(61)));
+    // 1 % of a 400 m path: 3.5 m from the start still closes it.
+    TumTrajectory big;
+    for (int i = 0; i <= 400; ++i)
+    {
+        const double a = 2 * M_PI * i / 400.0 * (1.0 - 3.5 / 400.0);
+        big.add(i, CPose3D(63.66 * std::sin(a), 0, 63.66 * (1 - std::cos(a)), 0, 0, 0));
+    }
+    EXPECT_TRUE(isClosedLoop(big));
+    EXPECT_FALSE(isClosedLoop(TumTrajectory{}));
+    TumTrajectory still;  // shorter than LOOP_MIN_PATH_M
+    still.add(0, CPose3D());
+    still.add(1, CPose3D(0.2, 0, 0, 0, 0, 0));
+    still.add(2, CPose3D());
+    EXPECT_FALSE(isClosedLoop(still));
+}

@@ -1,12 +1,16 @@
 // SPDX-License-Identifier: BSD-3-Clause
 #include <emslam/apps/CommandLine.h>
+#include <emslam/apps/ConfigValidation.h>
 
 #include <mrpt/system/filesystem.h>
 
 #include <algorithm>
+#include <cstdio>
 #include <fstream>
 #include <iterator>
+#include <map>
 #include <memory>
+#include <optional>
 #include <stdexcept>
 #include <vector>
 
@@ -21,35 +25,178 @@ class ThrowingOutput : public TCLAP::StdOutput
 public:
     void failure(TCLAP::CmdLineInterface& c, TCLAP::ArgException& e) override
     {
+        const std::string missing = missingRequired(c);
+        if (!missing.empty())
+        {
+            throw std::invalid_argument(
+                "missing " + missing + "; try " + c.getProgramName() + " --help");
+        }
         // TCLAP's argId() is blank when no single argument is to blame.
         const bool has_id = e.argId().find_first_not_of(' ') != std::string::npos;
         throw std::invalid_argument(
             "bad command line: " + e.error() + (has_id ? " (" + e.argId() + ")" : "") + "; try " +
             c.getProgramName() + " --help");
     }
+
+private:
+    /** "required argument X" / "required arguments X, Y" for the required
+     * arguments not given, or "". */
+    static std::string missingRequired(TCLAP::CmdLineInterface& c)
+    {
+        std::vector<std::string> names;
+        for (const TCLAP::Arg* a : c.getArgList())
+        {
+            if (a->isRequired() && !a->isSet())
+            {
+                // Unlabeled: "<CONFIG.ini>"; labeled: "--out <DIR>".
+                const std::string id = a->shortID();
+                const auto space = id.find(' ');
+                names.push_back(
+                    id.rfind('<', 0) == 0
+                        ? id
+                        : "--" + a->getName() +
+                              (space == std::string::npos ? "" : id.substr(space)));
+            }
+        }
+        std::string out;
+        for (const auto& n : names)
+        {
+            out += (out.empty() ? "" : ", ") + n;
+        }
+        return names.empty()       ? ""
+               : names.size() == 1 ? "required argument " + out
+                                   : "required arguments " + out;
+    }
 };
+
+/** The value of `--flag=value`, or nullopt when `arg` is not that flag. */
+std::optional<std::string> inlineValue(const std::string& arg, const std::string& flag)
+{
+    if (arg.size() > flag.size() && arg.compare(0, flag.size(), flag) == 0 &&
+        arg[flag.size()] == '=')
+    {
+        return arg.substr(flag.size() + 1);
+    }
+    return std::nullopt;
+}
 }  // namespace
 
-bool parseCommandLine(TCLAP::CmdLine& cmd, int argc, const char** argv)
+std::vector<std::string> rewriteDeprecatedSpellings(
+    const std::string& program,
+    const std::vector<std::string>& args,
+    const std::vector<DeprecatedSpelling>& deprecated)
 {
+    std::map<std::size_t, std::string> positional;
+    std::vector<std::string> out;
+    for (std::size_t i = 0; i < args.size(); ++i)
+    {
+        const DeprecatedSpelling* match = nullptr;
+        std::optional<std::string> value;
+        for (const auto& d : deprecated)
+        {
+            if (args[i] == d.old_flag || (value = inlineValue(args[i], d.old_flag)))
+            {
+                match = &d;
+                break;
+            }
+        }
+        if (!match)
+        {
+            out.push_back(args[i]);
+            continue;
+        }
+        if (!value)
+        {
+            if (i + 1 >= args.size())
+            {
+                throw std::invalid_argument(
+                    match->old_flag + " needs a value; try " + program + " --help");
+            }
+            value = args[++i];
+        }
+        std::fprintf(
+            stderr,
+            "%s: warning: %s is deprecated and goes away in the next release; give %s instead\n",
+            program.c_str(), match->old_flag.c_str(),
+            (match->new_flag.empty() ? match->new_name + " as positional argument " +
+                                           std::to_string(match->position + 1)
+                                     : match->new_flag + " " + match->new_name)
+                .c_str());
+        if (!match->new_flag.empty())
+        {
+            out.push_back(match->new_flag);
+            out.push_back(*value);
+        }
+        else if (!positional.emplace(match->position, *value).second)
+        {
+            throw std::invalid_argument(
+                "positional argument " + std::to_string(match->position + 1) + " given twice (" +
+                match->old_flag + "); try " + program + " --help");
+        }
+    }
+    // The old flags' values lead, so they must fill the first positions.
+    std::size_t expected = 0;
+    for (const auto& [position, value] : positional)
+    {
+        if (position != expected++)
+        {
+            throw std::invalid_argument(
+                "give every input positionally (the deprecated flags cannot be mixed with "
+                "positional inputs); try " +
+                program + " --help");
+        }
+    }
+    std::vector<std::string> rewritten;
+    for (const auto& [position, value] : positional)
+    {
+        rewritten.push_back(value);
+    }
+    rewritten.insert(rewritten.end(), out.begin(), out.end());
+    return rewritten;
+}
+
+bool parseCommandLine(
+    TCLAP::CmdLine& cmd,
+    const char* program,
+    int argc,
+    const char** argv,
+    const std::vector<DeprecatedSpelling>& deprecated)
+{
+    const std::vector<std::string> given(argv + std::min(argc, 1), argv + std::max(argc, 0));
+    std::vector<std::string> args = rewriteDeprecatedSpellings(program, given, deprecated);
+    args.insert(args.begin(), program);
     ThrowingOutput out;
     // setOutput() does not free the default output object; take it over.
     const std::unique_ptr<TCLAP::CmdLineOutput> default_output(cmd.getOutput());
     cmd.setOutput(&out);
-    const bool run = cmd.parse(argc, argv);
+    std::vector<const char*> c_args;
+    for (const auto& a : args)
+    {
+        c_args.push_back(a.c_str());
+    }
+    const bool run = cmd.parse(static_cast<int>(c_args.size()), c_args.data());
     cmd.setOutput(nullptr);
     return run;
 }
 
-bool parseCommandLine(TCLAP::CmdLine& cmd, const char* program, int argc, const char** argv)
+std::string withDefault(const std::string& description, const std::string& value)
 {
-    std::vector<const char*> args(argv, argv + std::max(argc, 0));
-    if (args.empty())
+    return description + " (default: " + value + ")";
+}
+
+void requireValidOverrides(
+    const std::vector<std::string>& sets, const mrpt::config::CConfigFileBase& reference)
+{
+    mrpt::config::CConfigFileMemory given;
+    applyConfigOverrides(given, sets);
+    try
     {
-        args.push_back(program);
+        requireValidConfig(given, reference);
     }
-    args[0] = program;
-    return parseCommandLine(cmd, static_cast<int>(args.size()), args.data());
+    catch (const std::invalid_argument& e)
+    {
+        throw std::invalid_argument(std::string("--set: ") + e.what());
+    }
 }
 
 void applyConfigOverrides(

@@ -5,6 +5,8 @@
 
 #include <algorithm>
 #include <cctype>
+#include <cerrno>
+#include <cstdlib>
 #include <numeric>
 #include <stdexcept>
 
@@ -32,20 +34,35 @@ const std::string* findNoCase(const std::vector<std::string>& names, const std::
     return it == names.end() ? nullptr : &*it;
 }
 
+/** Length of the common prefix of `a` and `b`, ignoring case. */
+std::size_t commonPrefix(const std::string& a, const std::string& b)
+{
+    std::size_t n = 0;
+    while (n < a.size() && n < b.size() && lower(a[n]) == lower(b[n]))
+    {
+        ++n;
+    }
+    return n;
+}
+
 /** The closest of `candidates` to `name`, or "" if none is within
- * max(2, |name| / 3) edits (farther names are more noise than help). */
+ * max(2, |name| / 3) edits (farther names are more noise than help). Ties go
+ * to the longer common prefix: a typo is likelier at the end of a name
+ * ("num_disparity" means "num_disparities", not "min_disparity"). */
 std::string closestName(const std::string& name, const std::vector<std::string>& candidates)
 {
     const std::size_t max_distance = std::max<std::size_t>(2, name.size() / 3);
     std::string best;
-    std::size_t best_distance = max_distance + 1;
+    std::size_t best_distance = max_distance + 1, best_prefix = 0;
     for (const auto& c : candidates)
     {
         const std::size_t d = editDistance(name, c);
-        if (d < best_distance)
+        const std::size_t prefix = commonPrefix(name, c);
+        if (d < best_distance || (d == best_distance && prefix > best_prefix))
         {
             best = c;
             best_distance = d;
+            best_prefix = prefix;
         }
     }
     return best;
@@ -81,15 +98,117 @@ void appendUnknownKeys(
     {
         if (!findNoCase(valid_keys, key))
         {
-            problems.push_back({user_section, key, closestName(key, valid_keys)});
+            problems.push_back({user_section, key, closestName(key, valid_keys), "", ""});
         }
     }
 }
 
+/** What a reference value is: a whole number, a number, a boolean or other text. */
+enum class ValueKind
+{
+    Integer,
+    Number,
+    Boolean,
+    Text
+};
+
+bool parsesAsInteger(const std::string& v)
+{
+    if (v.empty())
+    {
+        return false;
+    }
+    char* end = nullptr;
+    errno = 0;
+    (void)std::strtoll(v.c_str(), &end, 10);
+    return errno == 0 && *end == '\0';
+}
+
+bool parsesAsNumber(const std::string& v)
+{
+    if (v.empty())
+    {
+        return false;
+    }
+    char* end = nullptr;
+    (void)std::strtod(v.c_str(), &end);
+    return *end == '\0';
+}
+
+bool isBooleanWord(const std::string& v)
+{
+    for (const char* w : {"true", "false", "yes", "no", "on", "off"})
+    {
+        if (equalNoCase(v, w))
+        {
+            return true;
+        }
+    }
+    return false;
+}
+
+ValueKind kindOf(const std::string& reference_value)
+{
+    if (parsesAsInteger(reference_value))
+    {
+        return ValueKind::Integer;
+    }
+    if (parsesAsNumber(reference_value))
+    {
+        return ValueKind::Number;
+    }
+    return isBooleanWord(reference_value) ? ValueKind::Boolean : ValueKind::Text;
+}
+
+/** What `value` lacks to be read as `kind`, or "" when it reads fine. */
+std::string valueMismatch(const std::string& value, ValueKind kind)
+{
+    switch (kind)
+    {
+        case ValueKind::Integer:  // some doubles are saved in integer form: any number
+        case ValueKind::Number:
+            return parsesAsNumber(value) ? "" : "a number";
+        case ValueKind::Boolean:
+            return isBooleanWord(value) || parsesAsInteger(value) ? ""
+                                                                  : "true or false (nor yes/no, "
+                                                                    "on/off, 0/1)";
+        case ValueKind::Text:
+            break;
+    }
+    return "";
+}
+
+}  // namespace
+
+namespace
+{
+/** Throws one message listing `problems`, "N <noun><one / many>:" first. */
+void throwIfAny(
+    const std::vector<ConfigProblem>& problems,
+    const std::string& noun,
+    const std::string& one,
+    const std::string& many)
+{
+    if (problems.empty())
+    {
+        return;
+    }
+    std::string msg =
+        std::to_string(problems.size()) + " " + noun + (problems.size() == 1 ? one : many) + ":";
+    for (const auto& p : problems)
+    {
+        msg += "\n  " + p.message();
+    }
+    throw std::invalid_argument(msg);
+}
 }  // namespace
 
 std::string ConfigProblem::message() const
 {
+    if (!expected.empty())
+    {
+        return "[" + section + "] " + key + " = '" + value + "' is not " + expected;
+    }
     if (key.empty())
     {
         return "unknown section [" + section + "]" +
@@ -115,7 +234,7 @@ std::vector<ConfigProblem> findUnknownConfigEntries(
         const std::string* ref_section = findNoCase(valid_sections, section);
         if (!ref_section)
         {
-            problems.push_back({section, "", closestName(section, valid_sections)});
+            problems.push_back({section, "", closestName(section, valid_sections), "", ""});
             continue;
         }
         // Ask the reference with its own spelling: not every CConfigFileBase ignores case.
@@ -124,23 +243,71 @@ std::vector<ConfigProblem> findUnknownConfigEntries(
     return problems;
 }
 
+std::vector<ConfigProblem> findMalformedConfigValues(
+    const mrpt::config::CConfigFileBase& user,
+    const mrpt::config::CConfigFileBase& reference,
+    const std::vector<std::string>& ignored_sections)
+{
+    const auto valid_sections = sectionsOf(reference);
+    std::vector<ConfigProblem> problems;
+    for (const auto& section : sectionsOf(user))
+    {
+        const std::string* ref_section = findNoCase(valid_sections, section);
+        if (!ref_section || findNoCase(ignored_sections, section))
+        {
+            continue;
+        }
+        // The reference's own (padded) key spelling, to read its values back.
+        std::vector<std::string> ref_keys;
+        reference.getAllKeys(*ref_section, ref_keys);
+        for (const auto& key : keysOf(user, section))
+        {
+            const auto ref_key = std::find_if(
+                ref_keys.begin(), ref_keys.end(),
+                [&](const std::string& k) { return equalNoCase(mrpt::system::trim(k), key); });
+            if (ref_key == ref_keys.end())
+            {
+                continue;
+            }
+            const ValueKind kind = kindOf(reference.read_string(*ref_section, *ref_key, ""));
+            const std::string value = user.read_string(section, key, "");
+            const std::string expected = valueMismatch(value, kind);
+            if (!expected.empty())
+            {
+                problems.push_back({section, key, "", value, expected});
+            }
+        }
+    }
+    return problems;
+}
+
+void requireValidConfig(
+    const mrpt::config::CConfigFileBase& user,
+    const mrpt::config::CConfigFileBase& reference,
+    const std::vector<std::string>& ignored_sections,
+    bool skip_unknown_sections)
+{
+    auto problems = findUnknownConfigEntries(user, reference, ignored_sections);
+    if (skip_unknown_sections)
+    {
+        problems.erase(
+            std::remove_if(
+                problems.begin(), problems.end(), [](const auto& p) { return p.key.empty(); }),
+            problems.end());
+    }
+    const auto malformed = findMalformedConfigValues(user, reference, ignored_sections);
+    problems.insert(problems.end(), malformed.begin(), malformed.end());
+    throwIfAny(problems, "invalid configuration entr", "y", "ies");
+}
+
 void requireKnownConfigEntries(
     const mrpt::config::CConfigFileBase& user,
     const mrpt::config::CConfigFileBase& reference,
     const std::vector<std::string>& ignored_sections)
 {
-    const auto problems = findUnknownConfigEntries(user, reference, ignored_sections);
-    if (problems.empty())
-    {
-        return;
-    }
-    std::string msg = std::to_string(problems.size()) + " unknown configuration entr" +
-                      (problems.size() == 1 ? "y" : "ies") + ":";
-    for (const auto& p : problems)
-    {
-        msg += "\n  " + p.message();
-    }
-    throw std::invalid_argument(msg);
+    throwIfAny(
+        findUnknownConfigEntries(user, reference, ignored_sections), "unknown configuration entr",
+        "y", "ies");
 }
 
 std::size_t editDistance(const std::string& a, const std::string& b)

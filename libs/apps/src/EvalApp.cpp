@@ -3,6 +3,8 @@
 #include <emslam/apps/EvalApp.h>
 #include <emslam/stereo/ExceptionMessage.h>
 
+#include <mrpt/core/format.h>
+
 #include <cmath>
 #include <cstdio>
 #include <filesystem>
@@ -13,6 +15,8 @@ namespace emslam::apps
 {
 namespace
 {
+constexpr const char* PROGRAM = "emslam-eval";
+
 /** Loads a TUM file, with a message that says which input (`what`) failed and why. */
 emslam::stereo::TumTrajectory loadTrajectory(const std::string& file, const std::string& what)
 {
@@ -63,35 +67,33 @@ void EvalApp::initialize(int argc, const char** argv)
         "emslam-eval: an estimated trajectory against ground truth (both TUM: t tx ty tz qx qy "
         "qz qw): ATE RMSE after alignment, KITTI drift, end-point error, loop gap, path length.",
         ' ', "0.1");
-    // Not TCLAP-required: its "required arguments missing" message names none.
-    TCLAP::ValueArg<std::string> gt(
-        "", "gt", "(required) Ground-truth trajectory (TUM)", false, "", "FILE", cmd);
-    TCLAP::ValueArg<std::string> est(
-        "", "est", "(required) Estimated trajectory (TUM)", false, "", "FILE", cmd);
+    TCLAP::UnlabeledValueArg<std::string> gt(
+        "gt", "Ground-truth trajectory (TUM)", true, "", "GT.tum", cmd);
+    TCLAP::UnlabeledValueArg<std::string> est(
+        "est", "Estimated trajectory (TUM)", true, "", "EST.tum", cmd);
     TCLAP::ValueArg<std::string> align(
-        "", "align", "Alignment before the ATE: se3 (rigid), sim3 (with scale) or none", false,
-        "se3", "se3|sim3|none", cmd);
+        "", "align",
+        withDefault("Alignment before the ATE: se3 (rigid), sim3 (with scale) or none", "se3"),
+        false, "se3", "se3|sim3|none", cmd);
     TCLAP::ValueArg<std::string> json(
         "", "json", "Also write the metrics to this JSON file", false, "", "FILE", cmd);
     TCLAP::ValueArg<double> max_dt(
-        "", "max-dt", "Largest time difference of an associated pose pair [s]", false,
-        options.max_dt, "SECONDS", cmd);
+        "", "max-dt",
+        withDefault(
+            "Largest time difference of an associated pose pair [s]",
+            mrpt::format("%g", options.max_dt)),
+        false, options.max_dt, "SECONDS", cmd);
     TCLAP::ValueArg<std::size_t> step(
-        "", "segment-step", "Drift segments start every N matched poses", false,
-        options.segment_step, "N", cmd);
+        "", "segment-step",
+        withDefault(
+            "Drift segments start every N matched poses", std::to_string(options.segment_step)),
+        false, options.segment_step, "N", cmd);
 
-    if (!parseCommandLine(cmd, argc, argv))
+    if (!parseCommandLine(
+            cmd, PROGRAM, argc, argv, {{"--gt", "", 0, "GT.tum"}, {"--est", "", 1, "EST.tum"}}))
     {
         m_help_requested = true;
         return;
-    }
-    for (auto* a : {&gt, &est})
-    {
-        if (a->getValue().empty())
-        {
-            throw std::invalid_argument(
-                "missing --" + a->getName() + " FILE; try emslam-eval --help");
-        }
     }
     m_gt = gt.getValue();
     m_est = est.getValue();

@@ -75,7 +75,8 @@ void MapperApp::initialize(int argc, const char** argv)
     TCLAP::MultiArg<std::string> sets(
         "", "set", "Override a parameter: SECTION.key=value", false, "SECTION.key=value", cmd);
     TCLAP::ValueArg<std::size_t> max_frames(
-        "", "max-frames", "Stop after N stereo / RGB-D frames (0: all)", false, 0, "N", cmd);
+        "", "max-frames", withDefault("Stop after N stereo / RGB-D frames (0: all)", "0"), false, 0,
+        "N", cmd);
     TCLAP::SwitchArg quiet("q", "quiet", "No progress line", cmd);
 
     if (!parseCommandLine(cmd, PROGRAM, argc, argv))
@@ -96,7 +97,7 @@ void MapperApp::initialize(int argc, const char** argv)
     Mapper::TParameters reference;
     mrpt::config::CConfigFileMemory known;
     reference.saveToConfigFile(known);
-    requireKnownConfigEntries(params, known);
+    requireValidConfig(params, known);
     Mapper::TParameters p;
     p.loadFromConfigFile(params);
     if (!mrpt::system::fileExists(m_rawlog))
@@ -225,8 +226,9 @@ void MapperApp::writeOutputs(const emslam::stereo::TumTrajectory& ground_truth)
         "), %zu rectifications, final energy %.4f, %.1f s\n", m.rectifications().size(),
         m.finalEnergy(), m_info.seconds);
     std::printf(
-        "loop gap (first to last pose): egomotion %.3f m, SLAM %.3f m\n",
-        loopGap(m.egomotionTrajectory()), loopGap(m.slamTrajectory()));
+        "%s (first to last pose): egomotion %.3f m, SLAM %.3f m\n",
+        startToEndName(ground_truth).c_str(), loopGap(m.egomotionTrajectory()),
+        loopGap(m.slamTrajectory()));
     if (m_info.slam_vs_gt)
     {
         std::printf(

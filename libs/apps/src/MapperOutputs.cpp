@@ -118,6 +118,11 @@ double loopGap(const emslam::stereo::TumTrajectory& t)
         .norm();
 }
 
+std::string startToEndName(const emslam::stereo::TumTrajectory& ground_truth)
+{
+    return isClosedLoop(ground_truth) ? "loop gap" : "start-to-end distance";
+}
+
 StageMeans stageMeans(const std::vector<MapperFrameRecord>& frames)
 {
     StageMeans m;
@@ -324,14 +329,26 @@ MapperReportData makeReportData(
         "rectification ms per call: median / max",
         fixed(rt.median_ms, 1) + " / " + fixed(rt.max_ms, 1));
     s.emplace_back("final energy", fixed(m.finalEnergy(), 4));
-    s.emplace_back("loop gap egomotion [m]", fixed(loopGap(m.egomotionTrajectory()), 3));
-    s.emplace_back("loop gap SLAM [m]", fixed(loopGap(m.slamTrajectory()), 3));
+    const std::string gap = startToEndName(ground_truth);
+    s.emplace_back(gap + " egomotion [m]", fixed(loopGap(m.egomotionTrajectory()), 3));
+    s.emplace_back(gap + " SLAM [m]", fixed(loopGap(m.slamTrajectory()), 3));
+    if (!ground_truth.empty())
+    {
+        s.emplace_back(
+            "ground truth: path length / start-to-end distance [m]",
+            fixed(pathLength(ground_truth), 3) + " / " + fixed(loopGap(ground_truth), 3));
+    }
     if (info.egomotion_vs_gt && info.slam_vs_gt)
     {
         s.emplace_back(
             "ATE egomotion / SLAM [m]", fixed(info.egomotion_vs_gt->ate_rmse_m, 3) + " / " +
                                             fixed(info.slam_vs_gt->ate_rmse_m, 3));
+        s.emplace_back(
+            "drift egomotion / SLAM [%]", fixed(info.egomotion_vs_gt->rel.t_rel_percent, 2) +
+                                              " / " + fixed(info.slam_vs_gt->rel.t_rel_percent, 2));
     }
+    d.egomotion_vs_gt = info.egomotion_vs_gt;
+    d.slam_vs_gt = info.slam_vs_gt;
     if (!info.input_ended_early.empty())
     {
         s.emplace_back("input ended early", info.input_ended_early);

@@ -1,5 +1,6 @@
 // SPDX-License-Identifier: BSD-3-Clause
 #include <emslam/apps/CommandLine.h>
+#include <emslam/apps/ConfigValidation.h>
 #include <emslam/apps/OdometryApp.h>
 #include <emslam/apps/RawlogInput.h>
 #include <emslam/egomotion/EgomotionEstimator.h>
@@ -19,6 +20,16 @@ namespace
 {
 constexpr const char* STEREO_SECTION = "Stereo";
 constexpr const char* EGOMOTION_SECTION = "Egomotion";
+constexpr const char* PROGRAM = "emslam-odometry";
+
+/** Every section and key this app reads, with its default value. */
+mrpt::config::CConfigFileMemory knownParameters()
+{
+    mrpt::config::CConfigFileMemory known;
+    emslam::stereo::StereoMatcher::TParameters().saveToConfigFile(known, STEREO_SECTION);
+    emslam::egomotion::EgomotionEstimator::TParameters().saveToConfigFile(known, EGOMOTION_SECTION);
+    return known;
+}
 }  // namespace
 
 void OdometryApp::initialize(int argc, const char** argv)
@@ -27,20 +38,23 @@ void OdometryApp::initialize(int argc, const char** argv)
         "emslam-odometry: stereo visual odometry (GLM features, log-polar matching, LWO, Dpp "
         "pose) over a rawlog; writes the camera trajectory in TUM format.",
         ' ', "0.1");
-    TCLAP::ValueArg<std::string> rawlog(
-        "", "rawlog", "Rawlog with CObservationStereoImages / CObservation3DRangeScan", true, "",
-        "FILE", cmd);
+    TCLAP::UnlabeledValueArg<std::string> rawlog(
+        "rawlog", "Rawlog with CObservationStereoImages / CObservation3DRangeScan", true, "",
+        "DATASET.rawlog", cmd);
     TCLAP::ValueArg<std::string> output(
-        "o", "output", "Output trajectory (TUM: t tx ty tz qx qy qz qw)", true, "", "FILE", cmd);
+        "o", "output", "Output trajectory (TUM: t tx ty tz qx qy qz qw)", true, "", "OUT.tum", cmd);
     TCLAP::ValueArg<std::string> config(
-        "c", "config", "INI file with [Stereo] and [Egomotion] sections", false, "", "INI", cmd);
+        "c", "config",
+        withDefault("INI file with [Stereo] and [Egomotion] sections", "the built-in defaults"),
+        false, "", "CONFIG.ini", cmd);
     TCLAP::MultiArg<std::string> sets(
-        "", "set", "Override a parameter: SECTION.key=value", false, "SECTION.key=value", cmd);
+        "", "set", "Override a parameter: SECTION.key=value ([Stereo], [Egomotion])", false,
+        "SECTION.key=value", cmd);
     TCLAP::ValueArg<std::size_t> max_frames(
-        "", "max-frames", "Stop after N frames (0: all)", false, 0, "N", cmd);
+        "", "max-frames", withDefault("Stop after N frames (0: all)", "0"), false, 0, "N", cmd);
     TCLAP::SwitchArg quiet("q", "quiet", "Print the summary only, not every frame", cmd);
 
-    if (!parseCommandLine(cmd, argc, argv))
+    if (!parseCommandLine(cmd, PROGRAM, argc, argv, {{"--rawlog", "", 0, "DATASET.rawlog"}}))
     {
         m_help_requested = true;
         return;
@@ -50,6 +64,10 @@ void OdometryApp::initialize(int argc, const char** argv)
     m_max_frames = max_frames.getValue();
     m_quiet = quiet.getValue();
     loadConfig(params, config.getValue(), sets.getValue());
+    // A typo or a non-number must not run silently on a default.
+    const auto known = knownParameters();
+    requireValidOverrides(sets.getValue(), known);
+    requireValidConfig(params, known, {}, true);
 }
 
 void OdometryApp::run()

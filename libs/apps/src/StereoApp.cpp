@@ -1,5 +1,6 @@
 // SPDX-License-Identifier: BSD-3-Clause
 #include <emslam/apps/CommandLine.h>
+#include <emslam/apps/ConfigValidation.h>
 #include <emslam/apps/RawlogInput.h>
 #include <emslam/apps/StereoApp.h>
 #include <emslam/stereo/CalibrationReaders.h>
@@ -25,6 +26,7 @@ namespace emslam::apps
 namespace
 {
 constexpr const char* STEREO_SECTION = "Stereo";
+constexpr const char* PROGRAM = "emslam-stereo";
 
 void requireFile(const std::string& f, const std::string& what)
 {
@@ -108,30 +110,33 @@ void StereoApp::initialize(int argc, const char** argv)
 {
     TCLAP::CmdLine cmd(
         "emslam-stereo: run the emslam stereo front-end (rectification + disparity -> "
-        "semi-dense 3D) on an image pair or a rawlog and report what it found.",
+        "semi-dense 3D) on a rawlog (DATASET.rawlog) or on an image pair with its calibration "
+        "(LEFT RIGHT CALIB.ini) and report what it found.",
         ' ', "0.1");
-    TCLAP::ValueArg<std::string> left("", "left", "Left (reference) image", false, "", "FILE", cmd);
-    TCLAP::ValueArg<std::string> right("", "right", "Right image", false, "", "FILE", cmd);
-    TCLAP::ValueArg<std::string> calib(
-        "", "calib", "Stereo calibration, MRPT TStereoCamera INI form", false, "", "INI", cmd);
+    // A multi-arg: one input (a rawlog) or three (an image pair and its calibration).
+    TCLAP::UnlabeledMultiArg<std::string> inputs(
+        "inputs",
+        "DATASET.rawlog (CObservationStereoImages / CObservation3DRangeScan), or LEFT RIGHT "
+        "CALIB.ini: the left (reference) and right images and their calibration in MRPT's "
+        "TStereoCamera INI form",
+        true, "DATASET.rawlog | LEFT RIGHT CALIB.ini", cmd);
     TCLAP::ValueArg<std::string> calib_section(
-        "", "calib-section", "Calibration section prefix in --calib (default: CAMERA)", false,
-        "CAMERA", "NAME", cmd);
-    TCLAP::ValueArg<std::string> rawlog(
-        "", "rawlog", "Rawlog with CObservationStereoImages / CObservation3DRangeScan", false, "",
-        "FILE", cmd);
+        "", "calib-section", withDefault("Calibration section prefix in CALIB.ini", "CAMERA"),
+        false, "CAMERA", "NAME", cmd);
     TCLAP::ValueArg<std::size_t> max_frames(
-        "", "max-frames", "Stop after N frames of the rawlog (0: all)", false, 0, "N", cmd);
+        "", "max-frames", withDefault("Stop after N frames of the rawlog (0: all)", "0"), false, 0,
+        "N", cmd);
     TCLAP::ValueArg<std::string> config(
-        "c", "config", "INI file with a [Stereo] section", false, "", "INI", cmd);
+        "c", "config", withDefault("INI file with a [Stereo] section", "the built-in defaults"),
+        false, "", "CONFIG.ini", cmd);
     TCLAP::MultiArg<std::string> sets(
-        "", "set", "Override a parameter: SECTION.key=value", false, "SECTION.key=value", cmd);
+        "", "set", "Override a parameter: Stereo.key=value", false, "SECTION.key=value", cmd);
     TCLAP::ValueArg<std::string> gt(
         "", "gt-disparity", "Ground-truth disparity image of the first frame (0 = unknown)", false,
         "", "PNG", cmd);
     TCLAP::ValueArg<double> gt_scale(
-        "", "gt-disparity-scale", "Pixels of disparity per ground-truth unit (default 1)", false,
-        1.0, "S", cmd);
+        "", "gt-disparity-scale", withDefault("Pixels of disparity per ground-truth unit", "1"),
+        false, 1.0, "S", cmd);
     TCLAP::ValueArg<std::string> out_rawlog(
         "", "out-rawlog", "Write the frames as CObservation3DRangeScan to this rawlog", false, "",
         "FILE", cmd);
@@ -140,33 +145,49 @@ void StereoApp::initialize(int argc, const char** argv)
     TCLAP::ValueArg<std::string> disp_png(
         "", "disparity-png", "Write the first frame's disparity image", false, "", "FILE", cmd);
 
-    if (!parseCommandLine(cmd, argc, argv))
+    if (!parseCommandLine(
+            cmd, PROGRAM, argc, argv,
+            {{"--rawlog", "", 0, "DATASET.rawlog"},
+             {"--left", "", 0, "LEFT"},
+             {"--right", "", 1, "RIGHT"},
+             {"--calib", "", 2, "CALIB.ini"}}))
     {
         m_help_requested = true;
         return;
     }
-    m_left = left.getValue();
-    m_right = right.getValue();
-    m_calib = calib.getValue();
+    const auto& in = inputs.getValue();
+    for (const auto& i : in)
+    {
+        // TCLAP's multi-arg takes any word, so an unknown option lands here.
+        if (i.size() > 1 && i[0] == '-')
+        {
+            throw std::invalid_argument(
+                "unknown option '" + i + "'; try " + std::string(PROGRAM) + " --help");
+        }
+    }
+    if (in.size() != 1 && in.size() != 3)
+    {
+        throw std::invalid_argument(
+            "expected DATASET.rawlog or LEFT RIGHT CALIB.ini, got " + std::to_string(in.size()) +
+            " inputs; try " + PROGRAM + " --help");
+    }
+    m_rawlog = in.size() == 1 ? in[0] : "";
+    m_left = in.size() == 3 ? in[0] : "";
+    m_right = in.size() == 3 ? in[1] : "";
+    m_calib = in.size() == 3 ? in[2] : "";
     m_calib_section = calib_section.getValue();
-    m_rawlog = rawlog.getValue();
     m_max_frames = max_frames.getValue();
     m_gt_disparity = gt.getValue();
     m_gt_scale = gt_scale.getValue();
     m_out_rawlog = out_rawlog.getValue();
     m_ply = ply.getValue();
     m_disparity_png = disp_png.getValue();
-
-    const bool pair = !m_left.empty() || !m_right.empty();
-    if (pair == !m_rawlog.empty())
-    {
-        throw std::invalid_argument("give either --left/--right/--calib or --rawlog (see --help)");
-    }
-    if (pair && (m_left.empty() || m_right.empty() || m_calib.empty()))
-    {
-        throw std::invalid_argument("--left, --right and --calib go together (see --help)");
-    }
     loadConfig(params, config.getValue(), sets.getValue());
+    // A typo or a non-number must not run silently on a default.
+    mrpt::config::CConfigFileMemory known;
+    emslam::stereo::StereoMatcher::TParameters().saveToConfigFile(known, STEREO_SECTION);
+    requireValidOverrides(sets.getValue(), known);
+    requireValidConfig(params, known, {}, true);
 }
 
 void StereoApp::run()

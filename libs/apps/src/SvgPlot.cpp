@@ -112,6 +112,22 @@ std::vector<double> niceTicks(const Range& r, double& step)
     return ticks;
 }
 
+std::vector<double> integerTicks(const Range& r, double& step)
+{
+    std::vector<double> ticks = niceTicks(r, step);
+    if (!(step < 1.0))
+    {
+        return ticks;
+    }
+    step = 1.0;
+    ticks.clear();
+    for (double t = std::ceil(r.lo); t <= r.hi + 1e-9 && ticks.size() < 20; t += 1.0)
+    {
+        ticks.push_back(t);
+    }
+    return ticks;
+}
+
 SvgPlot::SvgPlot(std::string id, std::string title, double plot_height)
     : m_id(std::move(id)), m_title(std::move(title)), m_h(plot_height)
 {
@@ -122,12 +138,13 @@ void SvgPlot::axes(
     const Range& y,
     const std::string& x_label,
     const std::string& y_label,
-    bool abs_y)
+    bool abs_y,
+    bool integer_x)
 {
     m_x = x;
     m_y = y;
     double step = 0;
-    for (const double t : niceTicks(x, step))
+    for (const double t : integer_x ? integerTicks(x, step) : niceTicks(x, step))
     {
         const std::string X = fmt(px(t));
         m_body << "<line class=\"grid\" x1=\"" << X << "\" y1=\"" << fmt(MARGIN_TOP) << "\" x2=\""

@@ -1,7 +1,7 @@
 // SPDX-License-Identifier: BSD-3-Clause
 #include <emslam/apps/Json.h>
+#include <emslam/apps/SegmentErrors.h>
 #include <emslam/apps/TrajectoryMetrics.h>
-#include <emslam/rectify/Action.h>
 
 #include <mrpt/math/CMatrixFixed.h>
 
@@ -197,6 +197,28 @@ double pathLength(const std::vector<mrpt::poses::CPose3D>& poses)
     return len;
 }
 
+bool isClosedLoop(const emslam::stereo::TumTrajectory& t)
+{
+    if (t.size() < 2)
+    {
+        return false;
+    }
+    const double length = pathLength(t);
+    const double gap = t.poses.front().pose.distanceTo(t.poses.back().pose);
+    return length >= LOOP_MIN_PATH_M &&
+           gap <= std::max(LOOP_TOLERANCE_FRACTION * length, LOOP_TOLERANCE_M);
+}
+
+double pathLength(const emslam::stereo::TumTrajectory& t)
+{
+    double length = 0;
+    for (std::size_t i = 1; i < t.size(); ++i)
+    {
+        length += t.poses[i].pose.distanceTo(t.poses[i - 1].pose);
+    }
+    return length;
+}
+
 RelativeErrors relativeErrors(
     const std::vector<mrpt::poses::CPose3D>& gt,
     const std::vector<mrpt::poses::CPose3D>& est,
@@ -206,15 +228,8 @@ RelativeErrors relativeErrors(
     {
         throw std::invalid_argument("relativeErrors: trajectories of different lengths");
     }
-    step = std::max<std::size_t>(step, 1);
-    // Distance along the ground-truth path at every pose (devkit's trajectoryDistances).
-    std::vector<double> dist(gt.size(), 0.0);
-    for (std::size_t i = 1; i < gt.size(); ++i)
-    {
-        dist[i] = dist[i - 1] + gt[i].distanceTo(gt[i - 1]);
-    }
     RelativeErrors out;
-    const double total = dist.empty() ? 0.0 : dist.back();
+    const double total = pathLength(gt);
     if (total >= KITTI_LENGTHS[0])
     {
         out.lengths_m.assign(std::begin(KITTI_LENGTHS), std::end(KITTI_LENGTHS));
@@ -226,25 +241,16 @@ RelativeErrors relativeErrors(
             out.lengths_m.push_back(f * total);
         }
     }
+    // The mean over every segment of every length: the per-length means weighted by count.
     double sum_t = 0, sum_r = 0;
-    for (std::size_t first = 0; first < gt.size(); first += step)
+    for (const auto& s : segmentErrors(gt, est, out.lengths_m, step))
     {
-        for (const double len : out.lengths_m)
+        if (s.segments > 0)
         {
-            // The first pose strictly beyond `len` along the path, as the devkit.
-            const auto it = std::upper_bound(
-                dist.begin() + static_cast<std::ptrdiff_t>(first), dist.end(), dist[first] + len);
-            if (it == dist.end())
-            {
-                continue;
-            }
-            const auto last = static_cast<std::size_t>(it - dist.begin());
-            const mrpt::poses::CPose3D d_gt = gt[last] - gt[first];
-            const mrpt::poses::CPose3D d_est = est[last] - est[first];
-            const mrpt::poses::CPose3D err = d_gt - d_est;  // inv(d_est) * d_gt
-            sum_t += err.norm() / len;
-            sum_r += emslam::rectify::rotationAngle(err) / len;
-            ++out.segments;
+            const double n = static_cast<double>(s.segments);
+            sum_t += s.t_err_percent * n;
+            sum_r += s.r_err_deg_per_m * n;
+            out.segments += s.segments;
         }
     }
     if (out.segments == 0)
@@ -253,8 +259,8 @@ RelativeErrors relativeErrors(
         return out;
     }
     const double n = static_cast<double>(out.segments);
-    out.t_rel_percent = 100.0 * sum_t / n;
-    out.r_rel_deg_per_m = (180.0 / M_PI) * sum_r / n;
+    out.t_rel_percent = sum_t / n;
+    out.r_rel_deg_per_m = sum_r / n;
     return out;
 }
 
@@ -306,6 +312,13 @@ TrajectoryMetrics TrajectoryMetrics::compute(
     }
     m.ate_rmse_m = std::sqrt(sq / static_cast<double>(a.size()));
     m.rel = relativeErrors(a.gt, aligned, opts.segment_step);
+    m.segment_errors =
+        segmentErrors(a.gt, aligned, segmentLengthsFor(pathLength(a.gt)), opts.segment_step);
+    for (std::size_t i = 0; i < a.size(); ++i)
+    {
+        m.error_time_s.push_back(a.t_gt[i] - a.t_gt.front());
+        m.position_error_m.push_back(aligned[i].distanceTo(a.gt[i]));
+    }
     // Anchor the estimate on the ground truth at the first pair: drift from the start.
     const mrpt::poses::CPose3D d_est = aligned.back() - aligned.front();
     m.end_error_m = (a.gt.front() + d_est).distanceTo(a.gt.back());

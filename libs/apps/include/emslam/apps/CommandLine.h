@@ -4,22 +4,69 @@
 #include <mrpt/3rdparty/tclap/CmdLine.h>
 #include <mrpt/config/CConfigFileMemory.h>
 
+#include <cstddef>
 #include <string>
 #include <vector>
 
 namespace emslam::apps
 {
+/** An old spelling of an argument that is still accepted for one release,
+ * with a warning on stderr: `--rawlog FILE` where the rawlog is now the first
+ * positional argument, or `--poses FILE` now spelled `--gt FILE`.
+ * \ingroup emslam_apps_grp \sa parseCommandLine() */
+struct DeprecatedSpelling
+{
+    /** The old flag, e.g. "--rawlog" (always followed by one value). */
+    std::string old_flag;
+    /** The flag that replaces it, e.g. "--gt"; empty: its value became the
+     * positional argument number `position` (0: the first). */
+    std::string new_flag;
+    std::size_t position{0};
+    /** How --help names the replacement, e.g. "DATASET.rawlog". */
+    std::string new_name;
+};
+
 /** Parses `argv` with `cmd` without letting TCLAP call exit(): returns false
  * when `--help` or `--version` was handled (the text is already printed), true
- * when the App should run, and throws std::invalid_argument with TCLAP's
- * message (plus a pointer to --help) on bad arguments.
+ * when the App should run, and throws std::invalid_argument on bad arguments
+ * with TCLAP's message, the missing required arguments named (TCLAP only says
+ * "One or more required arguments missing!") and a pointer to --help.
+ *
+ * argv[0] is replaced by `program`, so usage and error texts name the program
+ * as users type it, whatever path started it. The `deprecated` spellings are
+ * rewritten first (see rewriteDeprecatedSpellings()).
  * \ingroup emslam_apps_grp */
-bool parseCommandLine(TCLAP::CmdLine& cmd, int argc, const char** argv);
+bool parseCommandLine(
+    TCLAP::CmdLine& cmd,
+    const char* program,
+    int argc,
+    const char** argv,
+    const std::vector<DeprecatedSpelling>& deprecated = {});
 
-/** Same, with argv[0] replaced by (or, if argc is 0, set to) `program`, so
- * usage and error texts name the program as users type it, whatever path
- * started it. \ingroup emslam_apps_grp */
-bool parseCommandLine(TCLAP::CmdLine& cmd, const char* program, int argc, const char** argv);
+/** `args` (without the program name) with every `OLD VALUE` / `OLD=VALUE` of
+ * `deprecated` rewritten to its new spelling, and a warning for each printed
+ * to stderr as "<program>: warning: ...". Values of old flags that became
+ * positional go first, in position order; throws std::invalid_argument when
+ * they cannot stand there (a position given twice, or a gap: old and new
+ * spellings mixed) or when an old flag lacks its value.
+ * \ingroup emslam_apps_grp */
+std::vector<std::string> rewriteDeprecatedSpellings(
+    const std::string& program,
+    const std::vector<std::string>& args,
+    const std::vector<DeprecatedSpelling>& deprecated);
+
+/** `description` followed by " (default: `value`)", for --help texts.
+ * \ingroup emslam_apps_grp */
+std::string withDefault(const std::string& description, const std::string& value);
+
+/** Checks each `--set Section.key=value` item against `reference` (every
+ * valid section and key, e.g. the parameter structs saved into it): the
+ * section and key must exist (with a "did you mean" suggestion otherwise) and
+ * a numeric or boolean key needs a value of that kind. Throws
+ * std::invalid_argument naming every bad item. \ingroup emslam_apps_grp
+ * \sa requireValidConfig() */
+void requireValidOverrides(
+    const std::vector<std::string>& sets, const mrpt::config::CConfigFileBase& reference);
 
 /** Applies `--set Section.key=value` overrides to `cfg`. Throws
  * std::invalid_argument on a malformed item.

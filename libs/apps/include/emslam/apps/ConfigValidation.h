@@ -20,9 +20,14 @@ struct ConfigProblem
     /** The closest valid name (a section, or a key of `section`); empty if
      * none is close. */
     std::string suggestion;
+    /** For a known key with a malformed value: the value as the user wrote it
+     * and what the key needs ("a number", "true or false ...");
+     * `expected` is empty for unknown names. */
+    std::string value, expected;
 
-    /** E.g. "unknown key 'esp_xyz' in [Rectifier] (did you mean 'eps_xyz'?)"
-     * or "unknown section [Rectifer] (did you mean [Rectifier]?)". */
+    /** E.g. "unknown key 'esp_xyz' in [Rectifier] (did you mean 'eps_xyz'?)",
+     * "unknown section [Rectifer] (did you mean [Rectifier]?)" or
+     * "[Stereo] num_disparities = 'abc' is not a number". */
     std::string message() const;
 };
 
@@ -57,6 +62,30 @@ void requireKnownConfigEntries(
     const mrpt::config::CConfigFileBase& user,
     const mrpt::config::CConfigFileBase& reference,
     const std::vector<std::string>& ignored_sections = {});
+
+/** Every value of `user` that MRPT would misread silently: where `reference`
+ * holds a number or a boolean under the same section and key,
+ * the user's text (as read_string() returns it: trimmed, without a trailing
+ * `//` comment, `$eval{}` done) must be one too. MRPT 2.5.8's read_int() and
+ * read_double() parse with atoi() / atof(), so "abc" reads as 0 and "64x" as
+ * 64; read_bool() takes true/false, yes/no, on/off or an integer. Whole and
+ * fractional numbers are not told apart: some double parameters are saved in
+ * integer form. Unknown sections and keys are left to findUnknownConfigEntries(). */
+std::vector<ConfigProblem> findMalformedConfigValues(
+    const mrpt::config::CConfigFileBase& user,
+    const mrpt::config::CConfigFileBase& reference,
+    const std::vector<std::string>& ignored_sections = {});
+
+/** Throws std::invalid_argument listing every problem of
+ * findUnknownConfigEntries() and findMalformedConfigValues(), one per line.
+ * With `skip_unknown_sections`, sections that `reference` lacks are not
+ * problems (an app that reads a few sections of a shared INI file), but
+ * unknown keys of the sections it knows still are. */
+void requireValidConfig(
+    const mrpt::config::CConfigFileBase& user,
+    const mrpt::config::CConfigFileBase& reference,
+    const std::vector<std::string>& ignored_sections = {},
+    bool skip_unknown_sections = false);
 
 /** Levenshtein edit distance between `a` and `b` (insertions, deletions and
  * substitutions of one character each cost 1), ignoring ASCII case. */

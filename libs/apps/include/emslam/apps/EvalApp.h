@@ -13,7 +13,7 @@ namespace emslam::apps
  * matched poses. Prints them and optionally writes them as JSON.
  *
  * \code
- * emslam-eval --gt GT.tum --est EST.tum [--align se3|sim3|none] [--json OUT.json]
+ * emslam-eval GT.tum EST.tum [--align se3|sim3|none] [--json OUT.json]
  *   [--max-dt SECONDS] [--segment-step N]
  * \endcode
  * It has no INI parameters. \ingroup emslam_apps_grp \sa TrajectoryMetrics */

@@ -26,6 +26,11 @@ struct MapperRunInfo
 /** Distance between the first and last poses of a trajectory [m] (0 if < 2). */
 double loopGap(const emslam::stereo::TumTrajectory& t);
 
+/** What loopGap() of an estimate is called: "loop gap" when the ground truth
+ * closes a loop (isClosedLoop()), "start-to-end distance" otherwise and
+ * without ground truth (an open path's start-to-end distance is no error). */
+std::string startToEndName(const emslam::stereo::TumTrajectory& ground_truth);
+
 /** Mean time per frame of each stage [ms] (and the slowest frame's total). */
 struct StageMeans
 {

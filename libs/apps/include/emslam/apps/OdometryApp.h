@@ -18,7 +18,7 @@ namespace emslam::apps
  * and is counted.
  *
  * \code
- * emslam-odometry --rawlog IN.rawlog -o TRAJ.tum [--config X.ini]
+ * emslam-odometry IN.rawlog -o TRAJ.tum [--config X.ini]
  *   [--set Section.key=value ...] [--max-frames N] [--quiet]
  * \endcode
  * Parameters: `[Stereo]` (StereoMatcher::TParameters) and `[Egomotion]`

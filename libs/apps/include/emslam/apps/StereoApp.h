@@ -17,8 +17,8 @@ namespace emslam::apps
  * when a ground-truth disparity image is given).
  *
  * \code
- * emslam-stereo --left L.png --right R.png --calib CALIB.ini [--calib-section CAMERA]
- * emslam-stereo --rawlog IN.rawlog [--max-frames N]
+ * emslam-stereo L.png R.png CALIB.ini [--calib-section CAMERA]
+ * emslam-stereo IN.rawlog [--max-frames N]
  *   [--config STEREO.ini] [--set Stereo.key=value ...]
  *   [--gt-disparity GT.png [--gt-disparity-scale S]]
  *   [--out-rawlog OUT.rawlog]   ; frames as CObservation3DRangeScan (stock viewers)

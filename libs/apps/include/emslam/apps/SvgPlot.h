@@ -65,6 +65,10 @@ struct Range
  * their spacing. */
 std::vector<double> niceTicks(const Range& r, double& step);
 
+/** As niceTicks(), but the spacing is a whole number (at least 1), so a
+ * count axis never shows a fractional tick. */
+std::vector<double> integerTicks(const Range& r, double& step);
+
 enum class Swatch
 {
     Line,
@@ -87,13 +91,15 @@ public:
     SvgPlot(std::string id, std::string title, double plot_height);
 
     /** Sets the data ranges and draws grid, ticks and axis labels; `abs_y`
-     * labels negative y ticks by their magnitude. */
+     * labels negative y ticks by their magnitude; `integer_x` keeps the x ticks
+     * on whole numbers (counts: frame, rectification, attempt). */
     void axes(
         const Range& x,
         const Range& y,
         const std::string& x_label,
         const std::string& y_label,
-        bool abs_y = false);
+        bool abs_y = false,
+        bool integer_x = false);
 
     void polyline(const Points& p, const std::string& colour, const std::string& dash = "");
     /** The region between the curve and y = `base`. */

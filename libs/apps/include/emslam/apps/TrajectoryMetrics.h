@@ -1,6 +1,7 @@
 // SPDX-License-Identifier: BSD-3-Clause
 #pragma once
 
+#include <emslam/apps/SegmentErrors.h>
 #include <emslam/stereo/TumTrajectory.h>
 
 #include <mrpt/poses/CPose3D.h>
@@ -81,6 +82,23 @@ SimilarityTransform alignPositions(
  * \ingroup emslam_apps_grp */
 double pathLength(const std::vector<mrpt::poses::CPose3D>& poses);
 
+/** Sum of the distances between consecutive poses of `t`, in file order [m].
+ * \ingroup emslam_apps_grp */
+double pathLength(const emslam::stereo::TumTrajectory& t);
+
+/** Whether `t` (poses in time order) returns to its start, so that its
+ * start-to-end distance is a loop gap: the path is at least LOOP_MIN_PATH_M
+ * long and ends within max(LOOP_TOLERANCE_FRACTION of the path,
+ * LOOP_TOLERANCE_M) of its first pose. A ground-truth loop ends within a
+ * metre or 1 % of its length of the start; a straight 60 m drive ends 60 m
+ * away and is no loop. \ingroup emslam_apps_grp */
+bool isClosedLoop(const emslam::stereo::TumTrajectory& t);
+
+/** See isClosedLoop(). */
+constexpr double LOOP_MIN_PATH_M = 10.0;
+constexpr double LOOP_TOLERANCE_FRACTION = 0.01;
+constexpr double LOOP_TOLERANCE_M = 1.0;
+
 /** KITTI-style relative (drift) errors, as the KITTI odometry devkit
  * (evaluate_odometry.cpp) computes them.
  * \ingroup emslam_apps_grp \sa relativeErrors() */
@@ -148,6 +166,12 @@ struct TrajectoryMetrics
     double path_length_m{0};
     /** Length of the estimated path over the paired poses [m]. */
     double est_path_length_m{0};
+    /** Drift per segment length, the lengths chosen by segmentLengthsFor() from
+     * the ground-truth path (the report's error-over-distance plot; not in JSON). */
+    std::vector<SegmentError> segment_errors;
+    /** Per paired pose: ground-truth time since the first pair [s] and position
+     * error after alignment [m] (the report's error-over-time plot; not in JSON). */
+    std::vector<double> error_time_s, position_error_m;
 
     /** Associates, aligns and measures. Throws std::runtime_error if either
      * trajectory is empty or no pose pairs within `opts.max_dt`. */

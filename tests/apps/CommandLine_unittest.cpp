@@ -1,0 +1,188 @@
+// SPDX-License-Identifier: BSD-3-Clause
+#include "TestData.h"
+#include "TestHelpers.h"
+
+#include <emslam/apps/CommandLine.h>
+#include <emslam/apps/EvalApp.h>
+#include <emslam/apps/ExperimentsApp.h>
+#include <emslam/apps/GrabberApp.h>
+#include <emslam/apps/ImportApp.h>
+#include <emslam/apps/MapperApp.h>
+#include <emslam/apps/OdometryApp.h>
+#include <emslam/apps/SimApp.h>
+#include <emslam/apps/StereoApp.h>
+
+#include <gtest/gtest.h>
+
+#include <string>
+#include <vector>
+
+using emslam::apps::DeprecatedSpelling;
+using emslam::apps::rewriteDeprecatedSpellings;
+
+namespace
+{
+/** Runs App::initialize() on `program args...`. */
+template <class App>
+void initWith(App& app, const std::string& program, std::vector<std::string> args)
+{
+    args.insert(args.begin(), program);
+    std::vector<const char*> argv;
+    for (const auto& a : args)
+    {
+        argv.push_back(a.c_str());
+    }
+    app.initialize(static_cast<int>(argv.size()), argv.data());
+}
+
+/** initialize() must throw a message holding every one of `parts`. */
+template <class App>
+void expectInitFails(
+    const std::string& program,
+    const std::vector<std::string>& args,
+    std::initializer_list<std::string> parts)
+{
+    App app;
+    emslam::test::expectThrowContaining([&] { initWith(app, program, args); }, parts);
+}
+
+/** The --help text of an App. */
+template <class App>
+std::string helpOf(const std::string& program)
+{
+    App app;
+    testing::internal::CaptureStdout();
+    initWith(app, program, {"--help"});
+    return testing::internal::GetCapturedStdout();
+}
+
+const std::vector<DeprecatedSpelling> EVAL_LIKE = {
+    {"--gt", "", 0, "GT.tum"}, {"--est", "", 1, "EST.tum"}, {"--poses", "--truth", 0, "FILE"}};
+
+std::string mapperConfig()
+{
+    return emslam::test::sourceDir() + "/config/mapper/kitti.ini";
+}
+}  // namespace
+
+TEST(CommandLine, deprecatedFlagsMoveToTheirPositionsOrNewNames)
+{
+    using V = std::vector<std::string>;
+    EXPECT_EQ(
+        rewriteDeprecatedSpellings("p", {"--est", "e.tum", "--json", "j", "--gt=g.tum"}, EVAL_LIKE),
+        (V{"g.tum", "e.tum", "--json", "j"}));
+    EXPECT_EQ(
+        rewriteDeprecatedSpellings("p", {"a", "--poses", "x.txt", "-q"}, EVAL_LIKE),
+        (V{"a", "--truth", "x.txt", "-q"}));
+    // New spellings pass untouched, and so do longer flags sharing a prefix.
+    EXPECT_EQ(
+        rewriteDeprecatedSpellings("p", {"g", "e", "--gt-format", "kitti"}, EVAL_LIKE),
+        (V{"g", "e", "--gt-format", "kitti"}));
+    emslam::test::expectThrowContaining(
+        [] { rewriteDeprecatedSpellings("p", {"--gt"}, EVAL_LIKE); }, {"--gt", "needs a value"});
+    emslam::test::expectThrowContaining(
+        [] {
+            rewriteDeprecatedSpellings("p", {"g", "--est", "e"}, EVAL_LIKE);
+        },
+        {"positionally"});
+    emslam::test::expectThrowContaining(
+        [] {
+            rewriteDeprecatedSpellings("p", {"--gt", "a", "--gt", "b"}, EVAL_LIKE);
+        },
+        {"given twice"});
+}
+
+TEST(CommandLine, setTyposAndNonNumbersAreRejectedInEveryAppThatTakesSet)
+{
+    const std::string none = "/nonexistent/in.rawlog";
+    // emslam-odometry: [Stereo] and [Egomotion].
+    expectInitFails<emslam::apps::OdometryApp>(
+        "emslam-odometry", {none, "-o", "x.tum", "--set", "Egomotoin.S_min=1"},
+        {"unknown section [Egomotoin]", "did you mean [Egomotion]"});
+    expectInitFails<emslam::apps::OdometryApp>(
+        "emslam-odometry", {none, "-o", "x.tum", "--set", "Egomotion.similarity_mn=0.5"},
+        {"unknown key 'similarity_mn'", "did you mean 'similarity_min'"});
+    expectInitFails<emslam::apps::OdometryApp>(
+        "emslam-odometry", {none, "-o", "x.tum", "--set", "Egomotion.similarity_min=high"},
+        {"similarity_min", "'high'", "is not a number"});
+    // emslam-stereo: [Stereo].
+    expectInitFails<emslam::apps::StereoApp>(
+        "emslam-stereo", {none, "--set", "Stereo.num_disparity=64"},
+        {"unknown key 'num_disparity'", "did you mean 'num_disparities'"});
+    expectInitFails<emslam::apps::StereoApp>(
+        "emslam-stereo", {none, "--set", "Stereo.num_disparities=abc"},
+        {"num_disparities", "'abc'", "not a number"});
+    // emslam-mapper: every section of its INI file.
+    expectInitFails<emslam::apps::MapperApp>(
+        "emslam-mapper", {mapperConfig(), none, "-o", "/tmp/x", "--set", "Stereo.max_range=far"},
+        {"max_range", "'far'", "not a number"});
+    expectInitFails<emslam::apps::MapperApp>(
+        "emslam-mapper",
+        {mapperConfig(), none, "-o", "/tmp/x", "--set", "Mapper.egomotion_only=maybe"},
+        {"egomotion_only", "'maybe'", "not true or false"});
+}
+
+TEST(CommandLine, missingRequiredArgumentsAreNamed)
+{
+    expectInitFails<emslam::apps::MapperApp>(
+        "emslam-mapper", {mapperConfig(), "in.rawlog"},
+        {"missing required argument --out <DIR>", "emslam-mapper --help"});
+    expectInitFails<emslam::apps::MapperApp>(
+        "emslam-mapper", {"-o", "d"},
+        {"missing required arguments <CONFIG.ini>, <DATASET.rawlog>"});
+    expectInitFails<emslam::apps::OdometryApp>(
+        "emslam-odometry", {"-o", "x.tum"}, {"missing required argument <DATASET.rawlog>"});
+    expectInitFails<emslam::apps::StereoApp>(
+        "emslam-stereo", {}, {"missing required argument <DATASET.rawlog | LEFT RIGHT CALIB.ini>"});
+    expectInitFails<emslam::apps::EvalApp>(
+        "emslam-eval", {"gt.tum"}, {"missing required argument <EST.tum>"});
+    expectInitFails<emslam::apps::ImportApp>(
+        "emslam-import", {"kitti", "seq"}, {"missing required argument --output <OUT.rawlog>"});
+    expectInitFails<emslam::apps::SimApp>(
+        "emslam-sim", {"-o", "x.rawlog"}, {"missing required argument <WORLD.ini>"});
+    expectInitFails<emslam::apps::ExperimentsApp>(
+        "emslam-experiments", {"suite.ini"}, {"missing required argument --out <DIR>"});
+    expectInitFails<emslam::apps::GrabberApp>("emslam-grabber", {"-q"}, {"CONFIG.ini"});
+}
+
+TEST(CommandLine, oldSpellingsStillWork)
+{
+    const std::string dir = emslam::test::makeTempDir("cli_old_spellings");
+    {
+        emslam::apps::OdometryApp app;
+        initWith(app, "emslam-odometry", {"--rawlog", dir + "/in.rawlog", "-o", dir + "/t.tum"});
+        emslam::test::expectThrowContaining([&] { app.run(); }, {dir + "/in.rawlog"});
+    }
+    {
+        emslam::apps::StereoApp app;
+        initWith(app, "emslam-stereo", {"--rawlog", dir + "/in.rawlog"});
+        emslam::test::expectThrowContaining([&] { app.run(); }, {dir + "/in.rawlog"});
+    }
+    {
+        emslam::apps::StereoApp app;
+        initWith(
+            app, "emslam-stereo",
+            {"--left", dir + "/l.png", "--right", dir + "/r.png", "--calib", dir + "/c.ini"});
+        emslam::test::expectThrowContaining([&] { app.run(); }, {dir});
+    }
+    {
+        emslam::apps::EvalApp app;
+        initWith(app, "emslam-eval", {"--est", dir + "/e.tum", "--gt", dir + "/g.tum"});
+        emslam::test::expectThrowContaining([&] { app.run(); }, {"g.tum"});
+    }
+}
+
+TEST(CommandLine, helpShowsTheProgramNameAndDefaults)
+{
+    const std::string eval = helpOf<emslam::apps::EvalApp>("emslam-eval");
+    EXPECT_NE(eval.find("emslam-eval"), std::string::npos) << eval;
+    EXPECT_EQ(eval.find("(required)  --"), std::string::npos) << eval;
+    EXPECT_NE(eval.find("(default: se3)"), std::string::npos) << eval;
+    EXPECT_NE(eval.find("(default: 0.02)"), std::string::npos) << eval;
+    EXPECT_NE(eval.find("(default: 10)"), std::string::npos) << eval;
+    const std::string odo = helpOf<emslam::apps::OdometryApp>("emslam-odometry");
+    EXPECT_NE(odo.find("   emslam-odometry "), std::string::npos) << odo;
+    EXPECT_NE(odo.find("(default: 0)"), std::string::npos) << odo;
+    const std::string stereo = helpOf<emslam::apps::StereoApp>("emslam-stereo");
+    EXPECT_NE(stereo.find("(default: CAMERA)"), std::string::npos) << stereo;
+}
