@@ -97,10 +97,6 @@ SceneObjects createScene(mrpt::opengl::COpenGLScene& scene)
         o.world->insert(obj);
     }
     scene.insert(o.world);
-    auto& cam = scene.getViewport()->getCamera();
-    cam.setZoomDistance(25.0f);
-    cam.setElevationDegrees(55.0f);
-    cam.setAzimuthDegrees(-120.0f);
     o.image = scene.createViewport("image");
     o.image->setViewportPosition(0.66, 0.62, 0.33, 0.37);
     o.image->setTransparent(false);
@@ -242,6 +238,10 @@ void LiveViewer::run()
             objects = createScene(*scene);
             win->unlockAccess3DScene();
         }
+        // The window's own camera (the mouse moves it), not the scene's.
+        win->setCameraZoom(25.0f);
+        win->setCameraElevationDeg(55.0f);
+        win->setCameraAzimuthDeg(-120.0f);
         std::size_t line = LEGEND_FIRST;
         for (const auto& style : {EGOMOTION_STYLE, SLAM_STYLE})
         {
@@ -298,8 +298,9 @@ void LiveViewer::run()
             continue;
         }
         next_draw = Clock::now() + period;
+        std::optional<mrpt::math::TPoint3D> follow;
         {
-            auto& scene = win->get3DSceneAndLock();
+            win->get3DSceneAndLock();
             appendPoints(*objects.cloud, drawn_points, points, m_options.max_points);
             if (snap)
             {
@@ -309,9 +310,7 @@ void LiveViewer::run()
                 {
                     objects.camera->setPose(*snap->camera);
                     objects.camera->setVisibility(true);
-                    const auto p = (viewerFromCamera() + *snap->camera).asTPose();
-                    scene->getViewport()->getCamera().setPointingAt(
-                        static_cast<float>(p.x), static_cast<float>(p.y), static_cast<float>(p.z));
+                    follow = (viewerFromCamera() + *snap->camera).asTPose().translation();
                 }
                 if (!snap->image.isEmpty())
                 {
@@ -319,6 +318,12 @@ void LiveViewer::run()
                 }
             }
             win->unlockAccess3DScene();
+        }
+        if (follow)
+        {
+            win->setCameraPointingToPoint(
+                static_cast<float>(follow->x), static_cast<float>(follow->y),
+                static_cast<float>(follow->z));
         }
         if (snap)
         {
