@@ -66,23 +66,30 @@ mrpt::opengl::CSetOfObjects::Ptr entropyVoxelObject(
     return set;
 }
 
-void writeEntropyMapScene(
-    const emslam::CEntropyVoxelMap& map, std::size_t max_cells, const std::string& file)
+mrpt::opengl::COpenGLScene::Ptr buildEntropyMapScene(
+    const emslam::CEntropyVoxelMap& map, std::size_t max_cells)
 {
     auto world = mrpt::opengl::CSetOfObjects::Create();
     world->setPose(viewerFromCamera());
     world->insert(entropyVoxelObject(map, max_cells));
     world->insert(mrpt::opengl::stock_objects::CornerXYZ(0.5f));
 
-    mrpt::opengl::COpenGLScene scene;
-    scene.insert(world);
-    auto& cam = scene.getViewport()->getCamera();
+    auto scene = mrpt::opengl::COpenGLScene::Create();
+    scene->insert(world);
+    auto& cam = scene->getViewport()->getCamera();
     cam.setZoomDistance(30.0f);
     cam.setElevationDegrees(60.0f);
     cam.setAzimuthDegrees(-90.0f);
-    scene.enableFollowCamera(true);
+    scene->enableFollowCamera(true);
+    return scene;
+}
+
+void writeEntropyMapScene(
+    const emslam::CEntropyVoxelMap& map, std::size_t max_cells, const std::string& file)
+{
+    const auto scene = buildEntropyMapScene(map, max_cells);
     const std::string tmp = file + ".partial";
-    if (!scene.saveToFile(tmp) || std::rename(tmp.c_str(), file.c_str()) != 0)
+    if (!scene->saveToFile(tmp) || std::rename(tmp.c_str(), file.c_str()) != 0)
     {
         throw std::runtime_error("cannot write '" + file + "'");
     }

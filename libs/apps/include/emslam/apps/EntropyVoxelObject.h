@@ -3,6 +3,7 @@
 
 #include <emslam/maps/CEntropyVoxelMap.h>
 
+#include <mrpt/opengl/COpenGLScene.h>
 #include <mrpt/opengl/CSetOfObjects.h>
 
 #include <cstddef>
@@ -21,6 +22,12 @@ constexpr const char* ENTROPY_VOXELS_NAME = "entropy voxels";
  * bounds the drawing whatever the map's size. The returned set is named
  * ENTROPY_VOXELS_NAME. \ingroup emslam_apps_grp */
 mrpt::opengl::CSetOfObjects::Ptr entropyVoxelObject(
+    const emslam::CEntropyVoxelMap& map, std::size_t max_cells);
+
+/** A scene of the map alone: entropyVoxelObject() turned so that the world's
+ * up is +Z, with axes at the origin and a camera above the cells.
+ * \ingroup emslam_apps_grp */
+mrpt::opengl::COpenGLScene::Ptr buildEntropyMapScene(
     const emslam::CEntropyVoxelMap& map, std::size_t max_cells);
 
 /** Writes `file` (a .3Dscene for SceneViewer3D): entropyVoxelObject() turned
