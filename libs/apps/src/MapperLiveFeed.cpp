@@ -1,4 +1,5 @@
 // SPDX-License-Identifier: BSD-3-Clause
+#include <emslam/apps/MapDrawingContent.h>
 #include <emslam/apps/MapperLiveFeed.h>
 
 #include <mrpt/core/format.h>
@@ -33,7 +34,8 @@ void MapperLiveFeed::update(const Mapper& m)
     {
         IntensityCloud world;
         world.appendTransformed(*cloud, T_world_cam);
-        m_viewer.addMapPoints(world);
+        // The same ceiling cut as map.3Dscene, so the trajectories stay visible.
+        m_viewer.addMapPoints(cutAboveHeight(world, m.parameters().mapper.export_max_height));
     }
     if (!m_viewer.wantsSnapshot())
     {
