@@ -20,6 +20,7 @@
 #include <cmath>
 #include <cstdlib>
 #include <filesystem>
+#include <iostream>
 #include <sstream>
 #include <string>
 #include <thread>
@@ -330,24 +331,40 @@ TEST(LiveViewer, underXvfbTheWindowShowsTrajectoriesAndImage)
     VirtualDisplay display(xvfb);
     ASSERT_TRUE(display.ok()) << "Xvfb did not start on " << display.name();
 
-    int fds[2];
-    ASSERT_EQ(::pipe(fds), 0);
-    const pid_t child = ::fork();
-    ASSERT_GE(child, 0);
-    if (child == 0)
-    {
-        ::close(fds[0]);
-        const ViewerRun r = runViewer(display.name());
-        const bool sent = ::write(fds[1], &r, sizeof(r)) == static_cast<ssize_t>(sizeof(r));
-        ::_exit(sent ? 0 : 3);  // no static destructors: the toolkit thread goes with the process
-    }
-    ::close(fds[1]);
+    // MRPT 2.5.8's window toolkit thread can crash while starting up on a
+    // loaded machine (wxTopLevelWindowGTK::Create; seen in about 1 run in 10
+    // of a short grabber run under Xvfb): one more try if the viewer process
+    // died from a signal. Any other failure counts at once.
     ViewerRun r;
-    const ssize_t got = ::read(fds[0], &r, sizeof(r));
-    ::close(fds[0]);
-    int status = 0;
-    ::waitpid(child, &status, 0);
-    ASSERT_EQ(got, static_cast<ssize_t>(sizeof(r))) << "the viewer process failed";
+    bool received = false;
+    for (int attempt = 0; attempt < 2 && !received; ++attempt)
+    {
+        int fds[2];
+        ASSERT_EQ(::pipe(fds), 0);
+        const pid_t child = ::fork();
+        ASSERT_GE(child, 0);
+        if (child == 0)
+        {
+            ::close(fds[0]);
+            const ViewerRun mine = runViewer(display.name());
+            const bool sent =
+                ::write(fds[1], &mine, sizeof(mine)) == static_cast<ssize_t>(sizeof(mine));
+            ::_exit(
+                sent ? 0 : 3);  // no static destructors: the toolkit thread ends with the process
+        }
+        ::close(fds[1]);
+        const ssize_t got = ::read(fds[0], &r, sizeof(r));
+        ::close(fds[0]);
+        int status = 0;
+        ::waitpid(child, &status, 0);
+        received = got == static_cast<ssize_t>(sizeof(r));
+        if (!received)
+        {
+            ASSERT_TRUE(WIFSIGNALED(status)) << "the viewer process failed, status " << status;
+            std::cerr << "note: the viewer process died from signal " << WTERMSIG(status) << "\n";
+        }
+    }
+    ASSERT_TRUE(received) << "the viewer process died twice";
 
     EXPECT_TRUE(r.active);
     EXPECT_TRUE(r.shown);

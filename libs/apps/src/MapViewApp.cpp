@@ -118,6 +118,12 @@ void MapViewApp::run()
         shown = scene;
         win.unlockAccess3DScene();
     }
+    // The window keeps its own camera; start it where the scene's looks from.
+    const auto& cam = scene->getViewport()->getCamera();
+    win.setCameraZoom(cam.getZoomDistance());
+    win.setCameraAzimuthDeg(cam.getAzimuthDegrees());
+    win.setCameraElevationDeg(cam.getElevationDegrees());
+    win.setCameraPointingToPoint(cam.getPointingAtX(), cam.getPointingAtY(), cam.getPointingAtZ());
     win.addTextMessage(
         0.01, 0.02, "mouse: left drag rotates, right drag / wheel zooms; close the window to quit",
         0);
