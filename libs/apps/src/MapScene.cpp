@@ -154,9 +154,11 @@ mrpt::opengl::COpenGLScene::Ptr buildMapScene(const MapDrawingContent& c)
     const double step = extent / 15.0;
     auto legend = mrpt::opengl::CSetOfObjects::Create();
     legend->setName(LEGEND_NAME);
-    double x = hi.x;
-    const double y = hi.y + 2 * step, z = hi.z + 1.0;
-    const auto next = [&] { return x -= step; };
+    // Seen from above with the scene's camera, viewer +Y is the screen's up:
+    // the lines stack downwards from above the map's top-left corner.
+    const double x = lo.x, z = hi.z + 1.0;
+    double y = hi.y + 7 * step;
+    const auto next = [&] { return y -= step; };
     if (c.cloud)
     {
         std::string cut;
@@ -200,7 +202,7 @@ mrpt::opengl::COpenGLScene::Ptr buildMapScene(const MapDrawingContent& c)
     cam.setPointingAt(
         static_cast<float>(0.5 * (lo.x + hi.x)), static_cast<float>(0.5 * (lo.y + hi.y)),
         static_cast<float>(0.5 * (lo.z + hi.z)));
-    cam.setZoomDistance(static_cast<float>(1.5 * extent));
+    cam.setZoomDistance(static_cast<float>(2.0 * extent));
     cam.setElevationDegrees(70.0f);
     cam.setAzimuthDegrees(-90.0f);
     scene->enableFollowCamera(true);
