@@ -12,7 +12,8 @@ fi
 export DEBIAN_FRONTEND=noninteractive
 $SUDO apt-get update -q
 # chromium: the MapperReport test renders report.html with it, headless
-# (the test is skipped without it).
+# (the test is skipped without it). xvfb, xauth: the live-viewer test opens
+# its window on a virtual X display (skipped without Xvfb).
 $SUDO apt-get install -y -q --no-install-recommends \
     build-essential cmake pkg-config ca-certificates \
     libmrpt-dev mrpt-apps mrpt-common \
@@ -20,4 +21,5 @@ $SUDO apt-get install -y -q --no-install-recommends \
     libusb-1.0-0-dev libdc1394-dev \
     libgtest-dev libgmock-dev libbenchmark-dev \
     clang-format \
-    chromium
+    chromium \
+    xvfb xauth

@@ -5,6 +5,8 @@
 #include "TestHelpers.h"
 
 #include <emslam/apps/AppMain.h>
+#include <emslam/apps/EntropyVoxelObject.h>
+#include <emslam/apps/MapScene.h>
 #include <emslam/apps/MapperApp.h>
 #include <emslam/apps/SimApp.h>
 #include <emslam/maps/CEntropyVoxelMap.h>
@@ -24,9 +26,12 @@
 #include <unistd.h>
 
 #include <chrono>
+#include <cmath>
 #include <csignal>
 #include <filesystem>
 #include <fstream>
+#include <opencv2/imgcodecs.hpp>
+#include <opencv2/imgproc.hpp>
 #include <sstream>
 #include <string>
 #include <thread>
@@ -130,6 +135,30 @@ TEST(MapperApp, everyShippedConfigLoads)
     }
 }
 
+TEST(MapperApp, exportMaxHeightLoadsSavesAndRejectsNan)
+{
+    using Options = emslam::apps::Mapper::TOptions;
+    Options defaults;
+    EXPECT_TRUE(std::isinf(defaults.export_max_height));
+    mrpt::config::CConfigFileMemory saved;
+    defaults.saveToConfigFile(saved, "Mapper");
+    Options back;
+    back.export_max_height = 3.0;
+    back.loadFromConfigFile(mrpt::config::CConfigFileMemory(saved.getContent()), "Mapper");
+    EXPECT_TRUE(std::isinf(back.export_max_height) && back.export_max_height > 0);
+
+    back.loadFromConfigFile(
+        mrpt::config::CConfigFileMemory("[Mapper]\nexport_max_height = 1.25\n"), "Mapper");
+    EXPECT_DOUBLE_EQ(back.export_max_height, 1.25);
+    emslam::test::expectThrowContaining(
+        [&]
+        {
+            back.loadFromConfigFile(
+                mrpt::config::CConfigFileMemory("[Mapper]\nexport_max_height = nan\n"), "Mapper");
+        },
+        {"[Mapper] export_max_height"});
+}
+
 TEST(MapperApp, helpDoesNotRun)
 {
     MapperApp app;
@@ -164,6 +193,20 @@ TEST(MapperApp, mapsASimulatedRawlogAndWritesEveryOutput)
     // SceneViewer3D opens it with this camera: above the map, not inside it.
     EXPECT_TRUE(scene.followCamera());
     EXPECT_GT(scene.getViewport()->getCamera().getZoomDistance(), 5.0f);
+
+    // The drawings: ground truth (given) and entropy voxels in the scene,
+    // the floor plan, and the entropy map alone for SceneViewer3D.
+    EXPECT_TRUE(scene.getByName(emslam::apps::GROUND_TRUTH_NAME));
+    EXPECT_TRUE(scene.getByName(emslam::apps::ENTROPY_VOXELS_NAME));
+    EXPECT_TRUE(scene.getByName(emslam::apps::LEGEND_NAME));
+    const cv::Mat top = cv::imread(out + "/map_top.png");
+    ASSERT_FALSE(top.empty());
+    cv::Mat top_grey;
+    cv::cvtColor(top, top_grey, cv::COLOR_BGR2GRAY);
+    EXPECT_GT(cv::countNonZero(top_grey < 200), 500);
+    mrpt::opengl::COpenGLScene voxels;
+    EXPECT_TRUE(voxels.loadFromFile(out + "/entropy_map.3Dscene"));
+    EXPECT_TRUE(voxels.getByName(emslam::apps::ENTROPY_VOXELS_NAME));
 
     mrpt::io::CFileInputStream f(out + "/entropy_map.bin");
     auto obj = mrpt::serialization::archiveFrom(f).ReadObject();

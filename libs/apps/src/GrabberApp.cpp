@@ -1,6 +1,7 @@
 // SPDX-License-Identifier: BSD-3-Clause
 #include <emslam/apps/CommandLine.h>
 #include <emslam/apps/GrabberApp.h>
+#include <emslam/apps/LiveViewer.h>
 #include <emslam/apps/RawlogOutput.h>
 #include <emslam/apps/StopSignal.h>
 #include <emslam/hwdrivers/DeviceList.h>
@@ -277,6 +278,7 @@ public:
     }
 
     bool frameLimitReached() const { return m_limit_reached; }
+    void setViewer(LiveViewer* viewer) { m_viewer = viewer; }
 
 private:
     void writeOne(
@@ -293,6 +295,13 @@ private:
         if (is_stereo)
         {
             ++m_app.frames_written;
+            if (m_viewer && m_viewer->wantsSnapshot())
+            {
+                LiveViewSnapshot snap;
+                snap.image = dynamic_cast<mrpt::obs::CObservationStereoImages&>(obj).imageLeft;
+                snap.status = "stereo frames written: " + std::to_string(m_app.frames_written);
+                m_viewer->push(std::move(snap));
+            }
             if (m_app.max_frames && m_app.frames_written >= *m_app.max_frames)
             {
                 m_limit_reached = true;
@@ -310,6 +319,7 @@ private:
         m_pending;
     bool m_limit_reached{false};
     mrpt::Clock::time_point m_cutoff{};
+    LiveViewer* m_viewer{nullptr};
 };
 
 /** The status line: observations and rate per sensor, dropped frames, size. */
@@ -421,6 +431,8 @@ void GrabberApp::initialize(int argc, const char** argv)
         "List the IEEE-1394 / USB cameras (libdc1394) and USB devices (libusb), then exit.", cmd,
         false);
     TCLAP::SwitchArg arg_quiet("q", "quiet", "No status line or summary.", cmd, false);
+    TCLAP::SwitchArg arg_viewer(
+        "", "viewer", "Show the left images live in a window (no display: a warning).", cmd, false);
 
     quit_requested = false;
     if (!parseCommandLine(cmd, PROGRAM, argc, argv))
@@ -430,6 +442,7 @@ void GrabberApp::initialize(int argc, const char** argv)
     }
     list_devices = arg_list.getValue();
     quiet = arg_quiet.getValue();
+    viewer = arg_viewer.getValue();
     config_file = arg_cfg.getValue().empty() ? std::string() : arg_cfg.getValue().front();
     output_file = arg_out.getValue();
     max_frames.reset();
@@ -547,6 +560,12 @@ void GrabberApp::run()
     };
 
     Session session(*this, slots, out);
+    std::unique_ptr<LiveViewer> live;
+    if (viewer)
+    {
+        live = std::make_unique<LiveViewer>(LiveViewer::Options{PROGRAM});
+        session.setViewer(live.get());
+    }
     StatusLine status(!quiet);
     auto reportEnds = [&]
     {

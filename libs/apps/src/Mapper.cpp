@@ -77,6 +77,7 @@ void Mapper::TOptions::loadFromConfigFile(
 {
     MRPT_LOAD_CONFIG_VAR(egomotion_only, bool, c, s);
     MRPT_LOAD_CONFIG_VAR(map_cell_size, double, c, s);
+    MRPT_LOAD_CONFIG_VAR(export_max_height, double, c, s);
     validate();
 }
 
@@ -85,6 +86,8 @@ void Mapper::TOptions::saveToConfigFile(
 {
     MRPT_SAVE_CONFIG_VAR_COMMENT(egomotion_only, "egomotion only: the map is never rectified");
     MRPT_SAVE_CONFIG_VAR_COMMENT(map_cell_size, "[m] map.ply cell per frame (<= 0: every point)");
+    MRPT_SAVE_CONFIG_VAR_COMMENT(
+        export_max_height, "[m] above the first camera: map.3Dscene / map_top.png cut (inf: none)");
 }
 
 void Mapper::TOptions::validate() const
@@ -92,6 +95,12 @@ void Mapper::TOptions::validate() const
     if (!std::isfinite(map_cell_size))
     {
         throw std::invalid_argument("[Mapper] map_cell_size: must be a finite number");
+    }
+    if (std::isnan(export_max_height) ||
+        export_max_height == -std::numeric_limits<double>::infinity())
+    {
+        throw std::invalid_argument(
+            "[Mapper] export_max_height: must be a number of metres or inf (no cut)");
     }
 }
 
@@ -149,6 +158,7 @@ bool Mapper::process(const mrpt::obs::CObservation& obs)
     r.points = f.size();
     m_image_width = f.intensity.cols;
     m_image_height = f.intensity.rows;
+    m_last_image = f.intensity;
 
     const auto ego = m_egomotion_estimator.process(f);
     r.ms_egomotion = ego.ms_total;
@@ -227,6 +237,21 @@ void Mapper::finish()
     m_frame_clouds.clear();
     // Overlapping frames see the same surfaces: one point per cell in the end too.
     m_map_cloud = voxelDownsample(m_map_cloud, m_p.mapper.map_cell_size);
+}
+
+const IntensityCloud* Mapper::lastAcceptedCloud() const
+{
+    if (m_records.empty() || !m_records.back().accepted)
+    {
+        return nullptr;
+    }
+    const auto it = m_frame_clouds.find(m_records.back().index);
+    return it == m_frame_clouds.end() ? nullptr : &it->second;
+}
+
+std::vector<emslam::rectify::TimedPose> Mapper::currentSlamPoses() const
+{
+    return m_runner->framePoses();
 }
 
 const emslam::CEntropyVoxelMap& Mapper::entropyMap() const

@@ -2,6 +2,7 @@
 #include <emslam/apps/CommandLine.h>
 #include <emslam/apps/ConfigValidation.h>
 #include <emslam/apps/MapperApp.h>
+#include <emslam/apps/MapperLiveFeed.h>
 #include <emslam/apps/MapperReport.h>
 #include <emslam/apps/ProgressLine.h>
 #include <emslam/apps/RawlogInput.h>
@@ -78,6 +79,8 @@ void MapperApp::initialize(int argc, const char** argv)
         "", "max-frames", withDefault("Stop after N stereo / RGB-D frames (0: all)", "0"), false, 0,
         "N", cmd);
     TCLAP::SwitchArg quiet("q", "quiet", "No progress line", cmd);
+    TCLAP::SwitchArg viewer(
+        "", "viewer", "Show the run live in a window (map, trajectories, camera, image)", cmd);
 
     if (!parseCommandLine(cmd, PROGRAM, argc, argv))
     {
@@ -91,6 +94,7 @@ void MapperApp::initialize(int argc, const char** argv)
     m_egomotion_only = egomotion_only.getValue();
     m_max_frames = max_frames.getValue();
     m_quiet = quiet.getValue();
+    m_viewer = viewer.getValue();
     loadConfig(params, m_config, sets.getValue());
 
     // Everything a run needs is checked here, before any long work.
@@ -140,6 +144,7 @@ void MapperApp::run()
     StopSignal::clear();
     const StopSignalGuard signals;
     ProgressLine progress(PROGRAM, 1, !m_quiet);
+    const auto live = m_viewer ? std::make_unique<MapperLiveFeed>(PROGRAM) : nullptr;
     std::vector<mrpt::obs::CObservation::Ptr> batch;
     bool done = false;
     while (!done && in.next(batch))
@@ -156,6 +161,10 @@ void MapperApp::run()
             {
                 ++m_info.ignored_observations;
                 continue;
+            }
+            if (live)
+            {
+                live->update(*m_mapper);
             }
             progress.updateFraction(
                 m_mapper->frameCount(), in.fractionRead(), energyText(m_mapper->currentEnergy()));
@@ -208,8 +217,10 @@ void MapperApp::writeOutputs(const emslam::stereo::TumTrajectory& ground_truth)
     m.egomotionTrajectory().saveToFile(joinPath(m_out, "trajectory_egomotion.tum"));
     m.slamTrajectory().saveToFile(joinPath(m_out, "trajectory_slam.tum"));
     savePly(m.mapCloud(), joinPath(m_out, "map.ply"));
-    writeScene(m, joinPath(m_out, "map.3Dscene"));
+    writeScene(m, ground_truth, joinPath(m_out, "map.3Dscene"));
+    writeTopViewPng(m, ground_truth, joinPath(m_out, "map_top.png"));
     writeEntropyMap(m, joinPath(m_out, "entropy_map.bin"));
+    writeEntropyMapView(m, joinPath(m_out, "entropy_map.3Dscene"));
     writeStatsCsv(m, joinPath(m_out, "stats.csv"));
     writeSummaryJson(m, m_info, joinPath(m_out, "summary.json"));
     writeEffectiveIni(m.parameters(), joinPath(m_out, "effective.ini"));

@@ -1,17 +1,14 @@
 // SPDX-License-Identifier: BSD-3-Clause
 #include <emslam/apps/AtomicTextFile.h>
+#include <emslam/apps/EntropyVoxelObject.h>
 #include <emslam/apps/Json.h>
+#include <emslam/apps/MapScene.h>
+#include <emslam/apps/MapStyle.h>
+#include <emslam/apps/MapTopView.h>
 #include <emslam/apps/MapperOutputs.h>
 #include <emslam/maps/EntropyEnergy.h>
 
 #include <mrpt/io/CFileOutputStream.h>
-#include <mrpt/math/CMatrixFixed.h>
-#include <mrpt/opengl/CGridPlaneXY.h>
-#include <mrpt/opengl/COpenGLScene.h>
-#include <mrpt/opengl/CPointCloudColoured.h>
-#include <mrpt/opengl/CSetOfLines.h>
-#include <mrpt/opengl/CSetOfObjects.h>
-#include <mrpt/opengl/stock_objects.h>
 #include <mrpt/serialization/CArchive.h>
 
 #include <algorithm>
@@ -51,60 +48,6 @@ std::string fixed(double v, int decimals)
     return buf;
 }
 
-/** Camera frame (x right, y down, z forward) → viewer frame (Z up). */
-mrpt::poses::CPose3D viewerFromCamera()
-{
-    mrpt::math::CMatrixDouble33 R;
-    R.setZero();
-    R(0, 2) = 1;   // forward → X
-    R(1, 0) = -1;  // right → −Y
-    R(2, 1) = -1;  // down → −Z
-    mrpt::poses::CPose3D T;
-    T.setRotationMatrix(R);
-    return T;
-}
-
-mrpt::opengl::CSetOfLines::Ptr trajectoryLines(
-    const emslam::stereo::TumTrajectory& t, float r, float g, float b)
-{
-    auto lines = mrpt::opengl::CSetOfLines::Create();
-    lines->setColor(r, g, b);
-    lines->setLineWidth(2.0f);
-    for (std::size_t i = 1; i < t.size(); ++i)
-    {
-        const auto& p = t.poses[i - 1].pose;
-        const auto& q = t.poses[i].pose;
-        lines->appendLine(p.x(), p.y(), p.z(), q.x(), q.y(), q.z());
-    }
-    return lines;
-}
-/** Opens SceneViewer3D looking down at the whole trajectory (it takes the
- * scene's camera when followCamera is set), not from inside the map. */
-void lookAtMap(
-    mrpt::opengl::COpenGLScene& scene, const Mapper& m, const mrpt::poses::CPose3D& T_viewer_world)
-{
-    const auto& t = m.slamTrajectory().empty() ? m.egomotionTrajectory() : m.slamTrajectory();
-    if (t.empty())
-    {
-        return;
-    }
-    mrpt::math::TPoint3D lo(HUGE_VAL, HUGE_VAL, HUGE_VAL), hi(-HUGE_VAL, -HUGE_VAL, -HUGE_VAL);
-    for (const auto& p : t.poses)
-    {
-        const auto q = (T_viewer_world + p.pose).asTPose().translation();
-        lo = {std::min(lo.x, q.x), std::min(lo.y, q.y), std::min(lo.z, q.z)};
-        hi = {std::max(hi.x, q.x), std::max(hi.y, q.y), std::max(hi.z, q.z)};
-    }
-    const double extent = std::max({hi.x - lo.x, hi.y - lo.y, 5.0});
-    auto& cam = scene.getViewport()->getCamera();
-    cam.setPointingAt(
-        static_cast<float>(0.5 * (lo.x + hi.x)), static_cast<float>(0.5 * (lo.y + hi.y)),
-        static_cast<float>(0.5 * (lo.z + hi.z)));
-    cam.setZoomDistance(static_cast<float>(1.5 * extent));
-    cam.setElevationDegrees(70.0f);
-    cam.setAzimuthDegrees(-90.0f);
-    scene.enableFollowCamera(true);
-}
 }  // namespace
 
 double loopGap(const emslam::stereo::TumTrajectory& t)
@@ -250,33 +193,31 @@ void writeSummaryJson(const Mapper& m, const MapperRunInfo& info, const std::str
     f.commit();
 }
 
-void writeScene(const Mapper& m, const std::string& file)
+MapDrawingContent mapDrawingContent(
+    const Mapper& m, const emslam::stereo::TumTrajectory& ground_truth_in_map)
 {
-    auto world = mrpt::opengl::CSetOfObjects::Create();
-    world->setPose(viewerFromCamera());
+    MapDrawingContent c;
+    c.cloud = &m.mapCloud();
+    c.egomotion = &m.egomotionTrajectory();
+    c.slam = &m.slamTrajectory();
+    c.ground_truth = ground_truth_in_map.empty() ? nullptr : &ground_truth_in_map;
+    c.entropy_map = &m.entropyMap();
+    c.max_height = m.parameters().mapper.export_max_height;
+    return c;
+}
 
-    auto cloud = mrpt::opengl::CPointCloudColoured::Create();
-    const auto& map = m.mapCloud();
-    for (std::size_t i = 0; i < map.size(); ++i)
-    {
-        const float g = static_cast<float>(map.intensity[i]) / 255.0f;
-        cloud->push_back(map.points[i].x, map.points[i].y, map.points[i].z, g, g, g);
-    }
-    cloud->setPointSize(2.0f);
-    world->insert(cloud);
-    world->insert(trajectoryLines(m.egomotionTrajectory(), 0.9f, 0.1f, 0.1f));
-    world->insert(trajectoryLines(m.slamTrajectory(), 0.1f, 0.8f, 0.1f));
-    world->insert(mrpt::opengl::stock_objects::CornerXYZ(0.5f));
+void writeScene(
+    const Mapper& m, const emslam::stereo::TumTrajectory& ground_truth, const std::string& file)
+{
+    const auto gt = groundTruthInMapFrame(ground_truth, m.egomotionTrajectory());
+    writeMapScene(mapDrawingContent(m, gt), file);
+}
 
-    mrpt::opengl::COpenGLScene scene;
-    scene.insert(mrpt::opengl::CGridPlaneXY::Create(-50, 50, -50, 50, 0, 5));
-    scene.insert(world);
-    lookAtMap(scene, m, viewerFromCamera());
-    const std::string tmp = file + ".partial";
-    if (!scene.saveToFile(tmp) || std::rename(tmp.c_str(), file.c_str()) != 0)
-    {
-        throw std::runtime_error("cannot write '" + file + "'");
-    }
+void writeTopViewPng(
+    const Mapper& m, const emslam::stereo::TumTrajectory& ground_truth, const std::string& file)
+{
+    const auto gt = groundTruthInMapFrame(ground_truth, m.egomotionTrajectory());
+    writeTopView(mapDrawingContent(m, gt), file);
 }
 
 void writeEntropyMap(const Mapper& m, const std::string& file)
@@ -295,6 +236,11 @@ void writeEntropyMap(const Mapper& m, const std::string& file)
     {
         throw std::runtime_error("cannot rename '" + tmp + "' to '" + file + "'");
     }
+}
+
+void writeEntropyMapView(const Mapper& m, const std::string& file)
+{
+    writeEntropyMapScene(m.entropyMap(), 50000, file);
 }
 
 MapperReportData makeReportData(

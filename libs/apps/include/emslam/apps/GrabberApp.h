@@ -19,7 +19,7 @@ namespace emslam::apps
  * observations-only rawlog with a fixed name.
  *
  * \code
- * emslam-grabber CONFIG.ini [-o OUT.rawlog] [--frames N | --seconds S] [--quiet]
+ * emslam-grabber CONFIG.ini [-o OUT.rawlog] [--frames N | --seconds S] [--quiet] [--viewer]
  * emslam-grabber --list-devices
  * \endcode
  *
@@ -79,6 +79,8 @@ public:
     bool list_devices{false};
     /** No status line or summary. */
     bool quiet{false};
+    /** Show the left image of the stereo frames live (LiveViewer). */
+    bool viewer{false};
     /** @} */
 
     /** Per-sensor results. */

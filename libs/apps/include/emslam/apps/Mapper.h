@@ -17,8 +17,10 @@
 #include <mrpt/poses/CPose3D.h>
 
 #include <cstddef>
+#include <limits>
 #include <map>
 #include <memory>
+#include <opencv2/core.hpp>
 #include <string>
 #include <vector>
 
@@ -53,6 +55,13 @@ public:
          * frame keeps one point per cell, and so does the final map (≤ 0:
          * every point). Bounds the memory of the map cloud. (Default: 0.1) */
         double map_cell_size{0.1};
+        /** Ceiling cut of map.3Dscene and map_top.png [m]: cloud points
+         * higher than this above the first camera (along its −y, the
+         * world's up) are left out, so the floor plan shows from above.
+         * E.g. a camera 1.2 m above the floor under a 3 m ceiling: 1.5.
+         * `inf` (or absent): no cut. map.ply always keeps every point.
+         * (Default: inf) */
+        double export_max_height{std::numeric_limits<double>::infinity()};
     };
 
     /** Every parameter the mapper uses, one INI section each. */
@@ -109,6 +118,19 @@ public:
     /** Egomotion pose of every processed frame (T_world_cam, world = first camera). */
     const emslam::stereo::TumTrajectory& egomotionTrajectory() const { return m_egomotion; }
 
+    /** @name Live state, for viewers (valid until the next process())
+     * @{ */
+    /** Reference (left) image of the last processed frame (shares its
+     * pixels; empty before the first frame). */
+    const cv::Mat& lastImage() const { return m_last_image; }
+    /** Map cloud (own camera frame) of the last processed frame if it was
+     * accepted, else nullptr. */
+    const IntensityCloud* lastAcceptedCloud() const;
+    /** World poses of the accepted frames as rectified so far (a copy;
+     * thread-safe; AnyTime: buffered frames not yet included). */
+    std::vector<emslam::rectify::TimedPose> currentSlamPoses() const;
+    /** @} */
+
     /** @name Results, valid after finish()
      * @{ */
     /** Every accepted frame after the final rectification. */
@@ -154,6 +176,7 @@ private:
     IntensityCloud m_map_cloud;
     std::vector<emslam::rectify::RectificationStats> m_rectifications;
     int m_image_width{0}, m_image_height{0};
+    cv::Mat m_last_image;
     bool m_finished{false};
 };
 

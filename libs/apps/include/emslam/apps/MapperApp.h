@@ -15,13 +15,17 @@ namespace emslam::apps
  * egomotion → space sampling → global rectification → compression) and
  * writes, to the output folder:
  * `trajectory_egomotion.tum`, `trajectory_slam.tum`, `map.ply`,
- * `map.3Dscene`, `entropy_map.bin`, `stats.csv`, `summary.json`,
+ * `map.3Dscene`, `map_top.png`, `entropy_map.bin`, `entropy_map.3Dscene`,
+ * `stats.csv`, `summary.json`,
  * `effective.ini` and `report.html`.
  *
  * \code
  * emslam-mapper CONFIG.ini DATASET.rawlog --out DIR [--egomotion-only]
  *   [--gt GT.tum] [--set SECTION.key=value ...] [--max-frames N] [--quiet]
+ *   [--viewer]
  * \endcode
+ * - `--viewer` shows the run live (LiveViewer); without a display it warns
+ *   and the run goes on.
  * - The configuration is checked before any work: an unknown section or key
  *   (with the closest valid name), or a bad value, stops the run.
  * - Ctrl-C (SIGINT) or SIGTERM stops after the current frame; every output
@@ -56,6 +60,7 @@ private:
 
     bool m_help_requested{false};
     bool m_quiet{false};
+    bool m_viewer{false};
     bool m_egomotion_only{false};
     std::string m_config, m_rawlog, m_out, m_gt;
     std::size_t m_max_frames{0};

@@ -1,6 +1,7 @@
 // SPDX-License-Identifier: BSD-3-Clause
 #pragma once
 
+#include <emslam/apps/MapDrawingContent.h>
 #include <emslam/apps/Mapper.h>
 #include <emslam/apps/TrajectoryMetrics.h>
 
@@ -56,14 +57,32 @@ void writeStatsCsv(const Mapper& m, const std::string& file);
  * rectification totals, final energy, loop gaps, run info. */
 void writeSummaryJson(const Mapper& m, const MapperRunInfo& info, const std::string& file);
 
-/** map.3Dscene for the stock SceneViewer3D: the map cloud, the egomotion
- * (red) and SLAM (green) trajectories and a camera frustum at the start,
- * turned so that the world's up (−y of the first camera) is the viewer's +Z. */
-void writeScene(const Mapper& m, const std::string& file);
+/** What the map drawings of a finished mapper show: the map cloud, the
+ * egomotion and SLAM trajectories, `ground_truth` (already in the map frame,
+ * see groundTruthInMapFrame(); may be empty), the entropy map, and the
+ * `[Mapper] export_max_height` cut. `ground_truth` must outlive the result. */
+MapDrawingContent mapDrawingContent(
+    const Mapper& m, const emslam::stereo::TumTrajectory& ground_truth_in_map);
+
+/** map.3Dscene for the stock SceneViewer3D (see buildMapScene()): the cloud
+ * coloured by height, the egomotion (red), SLAM (green) and ground-truth
+ * (blue, if not empty) trajectories, the entropy voxels and a legend, turned
+ * so that the world's up (−y of the first camera) is the viewer's +Z. */
+void writeScene(
+    const Mapper& m, const emslam::stereo::TumTrajectory& ground_truth, const std::string& file);
+
+/** map_top.png: the floor plan of the map with the trajectories (see
+ * renderTopView()). */
+void writeTopViewPng(
+    const Mapper& m, const emslam::stereo::TumTrajectory& ground_truth, const std::string& file);
 
 /** entropy_map.bin: the serialized CEntropyVoxelMap (an MRPT CArchive of one
  * object; read back with `archiveFrom(stream).ReadObject()`). */
 void writeEntropyMap(const Mapper& m, const std::string& file);
+
+/** entropy_map.3Dscene: the entropy map's 3D cells for SceneViewer3D (see
+ * writeEntropyMapScene()), at most 50000. */
+void writeEntropyMapView(const Mapper& m, const std::string& file);
 
 /** The report data of a finished mapper (ground truth optional). */
 MapperReportData makeReportData(

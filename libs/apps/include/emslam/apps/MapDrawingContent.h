@@ -1,0 +1,35 @@
+// SPDX-License-Identifier: BSD-3-Clause
+#pragma once
+
+#include <emslam/apps/IntensityCloud.h>
+#include <emslam/maps/CEntropyVoxelMap.h>
+#include <emslam/stereo/TumTrajectory.h>
+
+#include <cstddef>
+#include <limits>
+
+namespace emslam::apps
+{
+/** What a map drawing (map.3Dscene, map_top.png) shows; everything in the map
+ * frame (the first camera's: x right, y down, z forward). Null pointers are
+ * left out of the drawing. The pointees must outlive the call.
+ * \ingroup emslam_apps_grp \sa buildMapScene(), renderTopView() */
+struct MapDrawingContent
+{
+    const IntensityCloud* cloud{nullptr};                        //!< the map cloud
+    const emslam::stereo::TumTrajectory* egomotion{nullptr};     //!< red
+    const emslam::stereo::TumTrajectory* slam{nullptr};          //!< green
+    const emslam::stereo::TumTrajectory* ground_truth{nullptr};  //!< blue, map frame
+    const emslam::CEntropyVoxelMap* entropy_map{nullptr};        //!< its 3D cells
+    /** Cloud points higher than this above the first camera (along −y) are
+     * left out, e.g. to see the floor plan under a ceiling [m]; +inf: none. */
+    double max_height{std::numeric_limits<double>::infinity()};
+    /** At most this many (the heaviest) entropy cells are drawn. */
+    std::size_t max_voxels{20000};
+};
+
+/** The points of `cloud` at most `max_height` above the first camera (up is
+ * −y); +inf keeps every point. \ingroup emslam_apps_grp */
+IntensityCloud cutAboveHeight(const IntensityCloud& cloud, double max_height);
+
+}  // namespace emslam::apps

@@ -1,0 +1,137 @@
+// SPDX-License-Identifier: BSD-3-Clause
+#include <emslam/apps/CommandLine.h>
+#include <emslam/apps/EntropyVoxelObject.h>
+#include <emslam/apps/LiveViewer.h>
+#include <emslam/apps/MapStyle.h>
+#include <emslam/apps/MapViewApp.h>
+#include <emslam/stereo/ExceptionMessage.h>
+
+#include <mrpt/3rdparty/tclap/CmdLine.h>
+#include <mrpt/gui/CDisplayWindow3D.h>
+#include <mrpt/io/CFileGZInputStream.h>
+#include <mrpt/maps/CMetricMap.h>
+#include <mrpt/opengl/CSetOfObjects.h>
+#include <mrpt/serialization/CArchive.h>
+#include <mrpt/system/filesystem.h>
+
+#include <chrono>
+#include <stdexcept>
+#include <thread>
+
+namespace emslam::apps
+{
+namespace
+{
+constexpr const char* PROGRAM = "emslam-mapview";
+
+bool endsWith(const std::string& s, const std::string& tail)
+{
+    return s.size() >= tail.size() && s.compare(s.size() - tail.size(), tail.size(), tail) == 0;
+}
+}  // namespace
+
+void MapViewApp::initialize(int argc, const char** argv)
+{
+    TCLAP::CmdLine cmd(
+        "emslam-mapview: opens emslam's map files in a 3D window: entropy_map.bin (the entropy "
+        "voxels), any serialized MRPT metric map, or a .3Dscene (map.3Dscene).",
+        ' ', "0.1");
+    TCLAP::UnlabeledValueArg<std::string> file(
+        "file", "entropy_map.bin, a serialized metric map, or a .3Dscene", true, "", "FILE", cmd);
+    TCLAP::ValueArg<long long> max_cells(
+        "", "max-cells", "Entropy cells drawn at most (the heaviest; default 50000)", false, 50000,
+        "N", cmd);
+    if (!parseCommandLine(cmd, PROGRAM, argc, argv))
+    {
+        m_help_requested = true;
+        return;
+    }
+    if (max_cells.getValue() < 1)
+    {
+        throw std::invalid_argument("--max-cells must be >= 1");
+    }
+    m_file = file.getValue();
+    m_max_cells = static_cast<std::size_t>(max_cells.getValue());
+}
+
+mrpt::opengl::COpenGLScene::Ptr MapViewApp::loadScene(
+    const std::string& file, std::size_t max_cells)
+{
+    if (!mrpt::system::fileExists(file))
+    {
+        throw std::runtime_error("'" + file + "' does not exist");
+    }
+    if (endsWith(file, ".3Dscene"))
+    {
+        auto scene = mrpt::opengl::COpenGLScene::Create();
+        if (!scene->loadFromFile(file))
+        {
+            throw std::runtime_error("'" + file + "' is not a readable .3Dscene");
+        }
+        return scene;
+    }
+    mrpt::serialization::CSerializable::Ptr obj;
+    try
+    {
+        // Also reads uncompressed files (entropy_map.bin is not compressed).
+        mrpt::io::CFileGZInputStream f(file);
+        obj = mrpt::serialization::archiveFrom(f).ReadObject();
+    }
+    catch (const std::exception& e)
+    {
+        throw std::runtime_error(
+            "'" + file +
+            "' is not a serialized MRPT object: " + emslam::stereo::shortExceptionMessage(e));
+    }
+    if (const auto entropy = std::dynamic_pointer_cast<emslam::CEntropyVoxelMap>(obj))
+    {
+        return buildEntropyMapScene(*entropy, max_cells);
+    }
+    if (const auto map = std::dynamic_pointer_cast<mrpt::maps::CMetricMap>(obj))
+    {
+        auto drawing = mrpt::opengl::CSetOfObjects::Create();
+        map->getVisualizationInto(*drawing);
+        auto scene = mrpt::opengl::COpenGLScene::Create();
+        scene->insert(drawing);
+        return scene;
+    }
+    throw std::runtime_error(
+        "'" + file + "' holds a " + obj->GetRuntimeClass()->className +
+        ", not a metric map or a 3D scene");
+}
+
+void MapViewApp::run()
+{
+    if (m_help_requested)
+    {
+        return;
+    }
+    auto scene = loadScene(m_file, m_max_cells);
+    const std::string problem = LiveViewer::displayProblem();
+    if (!problem.empty())
+    {
+        throw std::runtime_error("cannot show '" + m_file + "': " + problem);
+    }
+    mrpt::gui::CDisplayWindow3D win(std::string(PROGRAM) + ": " + m_file, 1000, 700);
+    {
+        auto& shown = win.get3DSceneAndLock();
+        shown = scene;
+        win.unlockAccess3DScene();
+    }
+    // The window keeps its own camera; start it where the scene's looks from.
+    const auto& cam = scene->getViewport()->getCamera();
+    win.setCameraZoom(cam.getZoomDistance());
+    win.setCameraAzimuthDeg(cam.getAzimuthDegrees());
+    win.setCameraElevationDeg(cam.getElevationDegrees());
+    win.setCameraPointingToPoint(cam.getPointingAtX(), cam.getPointingAtY(), cam.getPointingAtZ());
+    win.addTextMessage(
+        0.01, 0.02, "mouse: left drag rotates, right drag / wheel zooms; close the window to quit",
+        0);
+    win.forceRepaint();
+    while (win.isOpen())
+    {
+        std::this_thread::sleep_for(std::chrono::milliseconds(100));
+    }
+}
+
+}  // namespace emslam::apps

@@ -1,0 +1,65 @@
+// SPDX-License-Identifier: BSD-3-Clause
+#include <emslam/apps/MapDrawingContent.h>
+#include <emslam/apps/MapperLiveFeed.h>
+
+#include <mrpt/core/format.h>
+
+namespace emslam::apps
+{
+namespace
+{
+LiveViewer::Options optionsFor(const std::string& title)
+{
+    LiveViewer::Options o;
+    o.title = title;
+    return o;
+}
+
+mrpt::math::TPoint3Df positionOf(const mrpt::poses::CPose3D& p)
+{
+    return {static_cast<float>(p.x()), static_cast<float>(p.y()), static_cast<float>(p.z())};
+}
+}  // namespace
+
+MapperLiveFeed::MapperLiveFeed(const std::string& title) : m_viewer(optionsFor(title)) {}
+
+void MapperLiveFeed::update(const Mapper& m)
+{
+    if (!m_viewer.active() || m.egomotionTrajectory().empty())
+    {
+        return;
+    }
+    const mrpt::poses::CPose3D& T_world_cam = m.egomotionTrajectory().poses.back().pose;
+    if (const IntensityCloud* cloud = m.lastAcceptedCloud())
+    {
+        IntensityCloud world;
+        world.appendTransformed(*cloud, T_world_cam);
+        // The same ceiling cut as map.3Dscene, so the trajectories stay visible.
+        m_viewer.addMapPoints(cutAboveHeight(world, m.parameters().mapper.export_max_height));
+    }
+    if (!m_viewer.wantsSnapshot())
+    {
+        return;
+    }
+    LiveViewSnapshot s;
+    s.egomotion.reserve(m.egomotionTrajectory().size());
+    for (const auto& p : m.egomotionTrajectory().poses)
+    {
+        s.egomotion.push_back(positionOf(p.pose));
+    }
+    for (const auto& p : m.currentSlamPoses())
+    {
+        s.slam.push_back(positionOf(p.T_world_frame));
+    }
+    s.camera = T_world_cam;
+    if (!m.lastImage().empty())
+    {
+        s.image = mrpt::img::CImage(m.lastImage(), mrpt::img::DEEP_COPY);
+    }
+    s.status = mrpt::format(
+        "frame %zu, accepted %zu, egomotion failures %zu, energy %.4f", m.frameCount(),
+        m.acceptedCount(), m.egomotionFailures(), m.currentEnergy());
+    m_viewer.push(std::move(s));
+}
+
+}  // namespace emslam::apps

@@ -1,0 +1,24 @@
+// SPDX-License-Identifier: BSD-3-Clause
+#pragma once
+
+#include <emslam/apps/MapDrawingContent.h>
+
+namespace emslam::test
+{
+/** A known map to draw: a 10 m x 6 m room seen by a camera 1 m above the
+ * floor (floor at y = +1, ceiling at y = −2 in the first camera's frame, so
+ * heights −1 .. 2 m), with walls; an egomotion loop around the room's
+ * middle, a SLAM loop 0.5 m inside it, a ground truth 0.5 m outside it, and
+ * an entropy map of the same points. */
+struct MapDrawingFixture
+{
+    MapDrawingFixture();
+
+    emslam::apps::IntensityCloud cloud;
+    emslam::stereo::TumTrajectory egomotion, slam, ground_truth;
+    emslam::CEntropyVoxelMap entropy_map;
+
+    /** Everything above, with no height cut. */
+    emslam::apps::MapDrawingContent content() const;
+};
+}  // namespace emslam::test

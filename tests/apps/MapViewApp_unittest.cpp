@@ -1,0 +1,64 @@
+// SPDX-License-Identifier: BSD-3-Clause
+// emslam-mapview's loading: entropy_map.bin and .3Dscene files become scenes
+// (the window itself is covered by the LiveViewer test); bad files fail
+// naming the file and the cause.
+#include "MapDrawingFixture.h"
+#include "TestData.h"
+#include "TestHelpers.h"
+
+#include <emslam/apps/EntropyVoxelObject.h>
+#include <emslam/apps/MapScene.h>
+#include <emslam/apps/MapViewApp.h>
+
+#include <mrpt/io/CFileOutputStream.h>
+#include <mrpt/obs/CObservationOdometry.h>
+#include <mrpt/opengl/CPointCloudColoured.h>
+#include <mrpt/serialization/CArchive.h>
+
+#include <gtest/gtest.h>
+
+using emslam::apps::MapViewApp;
+
+TEST(MapViewApp, opensEntropyMapBinAndScenes)
+{
+    const emslam::test::MapDrawingFixture f;
+    const std::string dir = emslam::test::makeTempDir("mapview");
+    {
+        mrpt::io::CFileOutputStream out(dir + "/entropy_map.bin");
+        mrpt::serialization::archiveFrom(out) << f.entropy_map;
+    }
+    const auto scene = MapViewApp::loadScene(dir + "/entropy_map.bin", 300);
+    const auto voxels = std::dynamic_pointer_cast<mrpt::opengl::CSetOfObjects>(
+        scene->getByName(emslam::apps::ENTROPY_VOXELS_NAME));
+    ASSERT_TRUE(voxels);
+    const auto cells =
+        std::dynamic_pointer_cast<mrpt::opengl::CPointCloudColoured>(*voxels->begin());
+    ASSERT_TRUE(cells);
+    EXPECT_EQ(cells->size(), 300U);  // bounded by --max-cells
+
+    emslam::apps::writeMapScene(f.content(), dir + "/map.3Dscene");
+    const auto map_scene = MapViewApp::loadScene(dir + "/map.3Dscene", 300);
+    EXPECT_TRUE(map_scene->getByName(emslam::apps::LEGEND_NAME));
+}
+
+TEST(MapViewApp, badFilesFailNamingTheFileAndCause)
+{
+    const std::string dir = emslam::test::makeTempDir("mapview_bad");
+    emslam::test::expectThrowContaining(
+        [&] { MapViewApp::loadScene(dir + "/none.bin", 10); }, {"none.bin", "does not exist"});
+    emslam::test::writeFile(dir + "/text.bin", "not a map\n");
+    emslam::test::expectThrowContaining(
+        [&] { MapViewApp::loadScene(dir + "/text.bin", 10); },
+        {"text.bin", "not a serialized MRPT object"});
+    {
+        mrpt::io::CFileOutputStream out(dir + "/odometry.bin");
+        mrpt::serialization::archiveFrom(out) << mrpt::obs::CObservationOdometry();
+    }
+    emslam::test::expectThrowContaining(
+        [&] { MapViewApp::loadScene(dir + "/odometry.bin", 10); },
+        {"odometry.bin", "CObservationOdometry", "not a metric map"});
+    emslam::test::writeFile(dir + "/bad.3Dscene", "not a scene\n");
+    emslam::test::expectThrowContaining(
+        [&] { MapViewApp::loadScene(dir + "/bad.3Dscene", 10); },
+        {"bad.3Dscene", "not a readable .3Dscene"});
+}
