@@ -1,6 +1,7 @@
 // SPDX-License-Identifier: BSD-3-Clause
 #include <emslam/apps/CommandLine.h>
 #include <emslam/apps/EvalApp.h>
+#include <emslam/apps/TrajectoryInput.h>
 #include <emslam/stereo/ExceptionMessage.h>
 
 #include <cmath>
@@ -8,42 +9,12 @@
 #include <filesystem>
 #include <fstream>
 #include <stdexcept>
+#include <utility>
 
 namespace emslam::apps
 {
 namespace
 {
-/** Loads a TUM file, with a message that says which input (`what`) failed and why. */
-emslam::stereo::TumTrajectory loadTrajectory(const std::string& file, const std::string& what)
-{
-    namespace fs = std::filesystem;
-    std::error_code ec;
-    if (!fs::exists(file, ec))
-    {
-        throw std::runtime_error(what + " file '" + file + "' does not exist");
-    }
-    if (fs::is_directory(file, ec))
-    {
-        throw std::runtime_error(what + " file '" + file + "' is a directory");
-    }
-    emslam::stereo::TumTrajectory t;
-    try
-    {
-        t.loadFromFile(file);
-    }
-    catch (const std::exception& e)
-    {
-        // The reader's message names the file and line; say which input it was.
-        throw std::runtime_error(
-            "cannot read " + what + ": " + emslam::stereo::shortExceptionMessage(e));
-    }
-    if (t.empty())
-    {
-        throw std::runtime_error(what + " file '" + file + "' has no poses");
-    }
-    return t;
-}
-
 /** "%.3f" or "n/a" for NaN (no drift segment fits). */
 std::string fmt(double v, const char* f = "%.4f")
 {
@@ -60,14 +31,36 @@ std::string fmt(double v, const char* f = "%.4f")
 void EvalApp::initialize(int argc, const char** argv)
 {
     TCLAP::CmdLine cmd(
-        "emslam-eval: an estimated trajectory against ground truth (both TUM: t tx ty tz qx qy "
-        "qz qw): ATE RMSE after alignment, KITTI drift, end-point error, loop gap, path length.",
+        "emslam-eval: an estimated trajectory against ground truth (each TUM, KITTI poses + "
+        "times or EuRoC ground-truth CSV, told from the content): ATE RMSE after alignment, "
+        "KITTI drift, end-point error, loop gap, path length.",
         ' ', "0.1");
     // Not TCLAP-required: its "required arguments missing" message names none.
     TCLAP::ValueArg<std::string> gt(
-        "", "gt", "(required) Ground-truth trajectory (TUM)", false, "", "FILE", cmd);
+        "", "gt", "(required) Ground-truth trajectory (TUM, KITTI or EuRoC CSV)", false, "", "FILE",
+        cmd);
     TCLAP::ValueArg<std::string> est(
-        "", "est", "(required) Estimated trajectory (TUM)", false, "", "FILE", cmd);
+        "", "est", "(required) Estimated trajectory (TUM, KITTI or EuRoC CSV)", false, "", "FILE",
+        cmd);
+    TCLAP::ValueArg<std::string> gt_format_arg(
+        "", "gt-format", "Format of --gt: auto (from the content), tum, kitti or euroc", false,
+        "auto", "auto|tum|kitti|euroc", cmd);
+    TCLAP::ValueArg<std::string> est_format_arg(
+        "", "est-format", "Format of --est: auto (from the content), tum, kitti or euroc", false,
+        "auto", "auto|tum|kitti|euroc", cmd);
+    TCLAP::ValueArg<std::string> gt_times(
+        "", "gt-times",
+        "Times file of a KITTI --gt (default: found beside it, e.g. sequences/NN/times.txt for "
+        "poses/NN.txt)",
+        false, "", "FILE", cmd);
+    TCLAP::ValueArg<std::string> est_times(
+        "", "est-times", "Times file of a KITTI --est (default: found beside it)", false, "",
+        "FILE", cmd);
+    TCLAP::ValueArg<double> kitti_time_offset(
+        "", "kitti-time-offset",
+        "UNIX time [s] added to KITTI sequence times (times.txt values below 1e9), as "
+        "emslam-import kitti does",
+        false, emslam::stereo::KittiSequence::DEFAULT_TIME_OFFSET, "SECONDS", cmd);
     TCLAP::ValueArg<std::string> align(
         "", "align", "Alignment before the ATE: se3 (rigid), sim3 (with scale) or none", false,
         "se3", "se3|sim3|none", cmd);
@@ -95,6 +88,25 @@ void EvalApp::initialize(int argc, const char** argv)
     }
     m_gt = gt.getValue();
     m_est = est.getValue();
+    for (auto [arg, o] :
+         {std::pair{&gt_format_arg, &m_gt_options}, {&est_format_arg, &m_est_options}})
+    {
+        try
+        {
+            o->format = emslam::stereo::parseTrajectoryFormat(arg->getValue());
+        }
+        catch (const std::invalid_argument& e)
+        {
+            throw std::invalid_argument("--" + arg->getName() + ": " + e.what());
+        }
+    }
+    m_gt_options.times_file = gt_times.getValue();
+    m_est_options.times_file = est_times.getValue();
+    if (!std::isfinite(kitti_time_offset.getValue()))
+    {
+        throw std::invalid_argument("--kitti-time-offset must be a finite number of seconds");
+    }
+    m_gt_options.kitti_time_offset = m_est_options.kitti_time_offset = kitti_time_offset.getValue();
     m_json = json.getValue();
     try
     {
@@ -123,11 +135,15 @@ void EvalApp::run()
     {
         return;
     }
-    const auto gt = loadTrajectory(m_gt, "ground-truth");
-    const auto est = loadTrajectory(m_est, "estimate");
+    const auto gt = loadTrajectoryInput(m_gt, "ground-truth", m_gt_options);
+    const auto est = loadTrajectoryInput(m_est, "estimate", m_est_options);
+    requireComparableTimes(gt, m_gt, est, m_est);
+    gt_format = gt.format;
+    est_format = est.format;
+    paired_by_index = !gt.timed;
     try
     {
-        metrics = TrajectoryMetrics::compute(gt, est, options);
+        metrics = TrajectoryMetrics::compute(gt.trajectory, est.trajectory, options);
     }
     catch (const std::runtime_error& e)
     {
@@ -141,6 +157,11 @@ void EvalApp::run()
         lengths = fmt(m.rel.lengths_m.front(), "%.1f") + ".." +
                   fmt(m.rel.lengths_m.back(), "%.1f") + " m";
     }
+    std::printf(
+        "formats            ground truth %s, estimate %s%s\n",
+        emslam::stereo::trajectoryFormatName(gt.format).c_str(),
+        emslam::stereo::trajectoryFormatName(est.format).c_str(),
+        paired_by_index ? " (no times: paired line by line)" : "");
     std::printf(
         "matched poses      %zu (ground truth %zu, estimate %zu, max dt %g s)\n"
         "alignment          %s (scale %.6f)\n"
