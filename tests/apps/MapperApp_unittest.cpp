@@ -6,6 +6,7 @@
 
 #include <emslam/apps/AppMain.h>
 #include <emslam/apps/MapperApp.h>
+#include <emslam/apps/RawlogInput.h>
 #include <emslam/apps/SimApp.h>
 #include <emslam/maps/CEntropyVoxelMap.h>
 #include <emslam/stereo/TrajectoryReader.h>
@@ -294,6 +295,57 @@ TEST(MapperApp, everyFrameHasASlamPoseAndTheKeyframesAreListed)
     }
     EXPECT_TRUE(std::filesystem::exists(out + "/trajectory_egomotion_kitti.txt"));
     EXPECT_TRUE(std::filesystem::exists(out + "/trajectory_egomotion_times.txt"));
+}
+
+// A frame without texture: its egomotion fails (and the next one's, measured
+// from it); such frames keep the SLAM pose of the frame before them.
+TEST(MapperApp, egomotionFailureFramesKeepThePreviousSlamPose)
+{
+    const std::string dir = emslam::test::makeTempDir("mapper_failure");
+    const std::string rawlog = dir + "/flat.rawlog";
+    {
+        emslam::apps::RawlogInput in(simulatedHall(16));
+        mrpt::io::CFileGZOutputStream out(rawlog);
+        auto arch = mrpt::serialization::archiveFrom(out);
+        std::vector<mrpt::obs::CObservation::Ptr> batch;
+        for (std::size_t i = 0; in.next(batch); i++)
+        {
+            for (const auto& o : batch)
+            {
+                auto stereo = std::dynamic_pointer_cast<mrpt::obs::CObservationStereoImages>(o);
+                ASSERT_TRUE(stereo);
+                if (i == 8)
+                {
+                    const auto w = stereo->imageLeft.getWidth();
+                    const auto h = stereo->imageLeft.getHeight();
+                    stereo->imageLeft = mrpt::img::CImage(w, h, mrpt::img::CH_GRAY);
+                    stereo->imageLeft.filledRectangle(
+                        0, 0, w - 1, h - 1, mrpt::img::TColor(100, 100, 100));
+                    stereo->imageRight = stereo->imageLeft;
+                }
+                arch << *stereo;
+            }
+        }
+    }
+    const std::string out = emslam::test::makeTempDir("mapper_failure_out");
+    MapperApp app;
+    initApp(app, {config("3dof-low-structured"), rawlog, "--out", out, "-q"});
+    app.run();
+    const auto& m = app.mapper();
+    ASSERT_EQ(m.frameCount(), 16U);
+    EXPECT_GE(m.egomotionFailures(), 1U);
+    EXPECT_FALSE(m.frames()[8].egomotion_ok);
+    const auto& slam = m.slamTrajectory().poses;
+    ASSERT_EQ(slam.size(), 16U);
+    for (std::size_t i = 1; i < slam.size(); i++)
+    {
+        if (!m.frames()[i].egomotion_ok)
+        {
+            EXPECT_FALSE(m.frames()[i].accepted) << i;
+            EXPECT_LT(emslam::test::maxPoseDifference(slam[i].pose, slam[i - 1].pose), 1e-12) << i;
+        }
+    }
+    EXPECT_EQ(emslam::stereo::TumTrajectory::fromFile(out + "/trajectory_slam.tum").size(), 16U);
 }
 
 TEST(MapperApp, egomotionOnlyNeverRectifiesAndCreatesMissingParentFolders)
