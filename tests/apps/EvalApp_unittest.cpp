@@ -4,7 +4,9 @@
 
 #include <emslam/apps/AppMain.h>
 #include <emslam/apps/EvalApp.h>
+#include <emslam/stereo/EurocTrajectory.h>
 #include <emslam/stereo/KittiSequence.h>
+#include <emslam/stereo/KittiTrajectory.h>
 #include <emslam/stereo/TumTrajectory.h>
 
 #include <gtest/gtest.h>
@@ -202,4 +204,131 @@ TEST(EvalApp, kitti06GroundTruth)
     const double t_rel = jsonValue(readFile(dir + "/se3.json"), "t_rel_percent");
     EXPECT_GE(t_rel, 1.0);
     EXPECT_LT(t_rel, 1.25);
+}
+
+// The same 40 m line as KITTI poses in the KITTI layout (times.txt in
+// sequence time) and as a EuRoC CSV: each is read against a TUM estimate.
+TEST(EvalApp, readsKittiAndEurocGroundTruth)
+{
+    const std::string dir = emslam::test::makeTempDir("eval_app_formats");
+    const TumTrajectory gt = line(1.0);
+    const TumTrajectory est = line(1.02);
+    std::filesystem::create_directories(dir + "/poses");
+    std::filesystem::create_directories(dir + "/sequences/00");
+    std::string poses, times, csv;
+    for (const auto& p : gt.poses)
+    {
+        poses += emslam::stereo::KittiTrajectory::formatLine(p.pose) + "\n";
+        times += std::to_string(p.t - 1000.0) + "\n";  // seconds from the start
+        csv += std::to_string(static_cast<long long>(std::llround(p.t * 1e9))) + "," +
+               std::to_string(p.pose.x()) + ",0,0,1,0,0,0\n";  // w first (header)
+    }
+    emslam::test::writeFile(dir + "/poses/00.txt", poses);
+    emslam::test::writeFile(dir + "/sequences/00/times.txt", times);
+    emslam::test::writeFile(
+        dir + "/gt.csv",
+        "#timestamp, p_RS_R_x [m], p_RS_R_y [m], p_RS_R_z [m], q_RS_w [], q_RS_x [], q_RS_y [], "
+        "q_RS_z []\n" +
+            csv);
+    est.saveToFile(dir + "/est.tum");
+
+    // KITTI: the times are found in sequences/00 and shifted to the estimate's clock.
+    const EvalRun k = runEval(
+        {"--gt", dir + "/poses/00.txt", "--est", dir + "/est.tum", "--kitti-time-offset", "1000",
+         "--json", dir + "/k.json"});
+    ASSERT_EQ(k.exit_code, 0) << k.err;
+    EXPECT_NE(k.out.find("ground truth kitti, estimate tum"), std::string::npos) << k.out;
+    const EvalRun e =
+        runEval({"--gt", dir + "/gt.csv", "--est", dir + "/est.tum", "--json", dir + "/e.json"});
+    ASSERT_EQ(e.exit_code, 0) << e.err;
+    EXPECT_NE(e.out.find("ground truth euroc"), std::string::npos) << e.out;
+    for (const char* json : {"/k.json", "/e.json"})
+    {
+        SCOPED_TRACE(json);
+        const std::string j = readFile(dir + json);
+        EXPECT_EQ(jsonValue(j, "matched_poses"), 41.0) << j;
+        EXPECT_NEAR(jsonValue(j, "path_length_m"), 40.0, 1e-6);
+        // As writesJsonWithKnownValues: a 2 % scale error.
+        EXPECT_NEAR(jsonValue(j, "ate_rmse_m"), 0.02 * std::sqrt(140.0), 1e-6);
+    }
+
+    // Without the offset the sequence times (0..4 s) meet no estimated stamp.
+    expectFailure(
+        {"--gt", dir + "/poses/00.txt", "--est", dir + "/est.tum"}, {"no timestamp", "00.txt"});
+    // Forced formats that do not fit the content name the file and line.
+    expectFailure(
+        {"--gt", dir + "/poses/00.txt", "--gt-format", "tum", "--est", dir + "/est.tum"},
+        {"ground-truth", "00.txt:1", "8 numbers"});
+    expectFailure(
+        {"--gt", dir + "/gt.csv", "--est", dir + "/est.tum", "--est-format", "kitti"},
+        {"estimate", "est.tum:1", "12 numbers"});
+    expectFailure(
+        {"--gt", dir + "/gt.csv", "--est", dir + "/est.tum", "--gt-format", "ply"},
+        {"--gt-format", "'ply'"});
+}
+
+// KITTI poses without times: an error against a timed estimate, paired line
+// by line against KITTI poses without times.
+TEST(EvalApp, kittiWithoutTimes)
+{
+    const std::string dir = emslam::test::makeTempDir("eval_app_untimed");
+    std::string gt, est;
+    for (const auto& p : line(1.0).poses)
+    {
+        gt += emslam::stereo::KittiTrajectory::formatLine(p.pose) + "\n";
+    }
+    for (const auto& p : line(1.02).poses)
+    {
+        est += emslam::stereo::KittiTrajectory::formatLine(p.pose) + "\n";
+    }
+    emslam::test::writeFile(dir + "/gt.txt", gt);
+    emslam::test::writeFile(dir + "/est.txt", est);
+    line(1.02).saveToFile(dir + "/est.tum");
+    expectFailure(
+        {"--gt", dir + "/gt.txt", "--est", dir + "/est.tum"},
+        {"ground truth", "gt.txt' has no times file", dir + "/gt_times.txt", "--gt-times"});
+    expectFailure(
+        {"--gt", dir + "/est.tum", "--est", dir + "/est.txt"},
+        {"estimate", "est.txt' has no times file", "--est-times"});
+    const EvalRun r =
+        runEval({"--gt", dir + "/gt.txt", "--est", dir + "/est.txt", "--json", dir + "/m.json"});
+    ASSERT_EQ(r.exit_code, 0) << r.err;
+    EXPECT_NE(r.out.find("paired line by line"), std::string::npos) << r.out;
+    const std::string j = readFile(dir + "/m.json");
+    EXPECT_EQ(jsonValue(j, "matched_poses"), 41.0);
+    EXPECT_NEAR(jsonValue(j, "ate_rmse_m"), 0.02 * std::sqrt(140.0), 1e-6);
+}
+
+// The real files as a user has them: poses/06.txt (times from
+// sequences/06/times.txt) and EuRoC's CSV, each against itself in TUM.
+TEST(EvalApp, realKittiAndEurocGroundTruthFiles)
+{
+    EMSLAM_REQUIRE_TEST_DATA(poses, "kitti-odometry/poses/06.txt");
+    EMSLAM_REQUIRE_TEST_DATA(seq_dir, "kitti-odometry/sequences/06");
+    EMSLAM_REQUIRE_TEST_DATA(euroc, "euroc-v101-rest/groundtruth_left_cam.csv");
+    const std::string dir = emslam::test::makeTempDir("eval_app_real");
+    // As emslam-import kitti writes it (--gt-out): UNIX times.
+    const emslam::stereo::KittiSequence seq(seq_dir, poses);
+    TumTrajectory k;
+    for (std::size_t i = 0; i < seq.size(); ++i)
+    {
+        k.add(seq.timestamp(i), seq.groundTruth(i));
+    }
+    k.saveToFile(dir + "/k06.tum");
+    emslam::stereo::EurocTrajectory::load(euroc).saveToFile(dir + "/euroc.tum");
+
+    const EvalRun kr =
+        runEval({"--gt", poses, "--est", dir + "/k06.tum", "--json", dir + "/k.json"});
+    ASSERT_EQ(kr.exit_code, 0) << kr.err;
+    const std::string kj = readFile(dir + "/k.json");
+    EXPECT_EQ(jsonValue(kj, "matched_poses"), 51.0);
+    EXPECT_NEAR(jsonValue(kj, "path_length_m"), 59.9, 0.05);
+    EXPECT_LT(jsonValue(kj, "ate_rmse_m"), 1e-6);
+
+    const EvalRun er =
+        runEval({"--gt", euroc, "--est", dir + "/euroc.tum", "--json", dir + "/e.json"});
+    ASSERT_EQ(er.exit_code, 0) << er.err;
+    const std::string ej = readFile(dir + "/e.json");
+    EXPECT_EQ(jsonValue(ej, "matched_poses"), 40.0);
+    EXPECT_LT(jsonValue(ej, "ate_rmse_m"), 1e-6);
 }

@@ -8,8 +8,10 @@
 #include <emslam/apps/EntropyVoxelObject.h>
 #include <emslam/apps/MapScene.h>
 #include <emslam/apps/MapperApp.h>
+#include <emslam/apps/RawlogInput.h>
 #include <emslam/apps/SimApp.h>
 #include <emslam/maps/CEntropyVoxelMap.h>
+#include <emslam/stereo/TrajectoryReader.h>
 #include <emslam/stereo/TumTrajectory.h>
 
 #include <mrpt/io/CFileGZOutputStream.h>
@@ -25,6 +27,7 @@
 #include <sys/wait.h>
 #include <unistd.h>
 
+#include <algorithm>
 #include <chrono>
 #include <cmath>
 #include <csignal>
@@ -175,8 +178,13 @@ TEST(MapperApp, mapsASimulatedRawlogAndWritesEveryOutput)
     const auto ego = emslam::stereo::TumTrajectory::fromFile(out + "/trajectory_egomotion.tum");
     const auto slam = emslam::stereo::TumTrajectory::fromFile(out + "/trajectory_slam.tum");
     EXPECT_EQ(ego.size(), 60U);
-    EXPECT_GT(slam.size(), 20U);
-    EXPECT_LT(slam.size(), 60U);  // space sampling drops the on-the-spot slow frames
+    EXPECT_EQ(slam.size(), 60U);  // every frame, keyframes or not
+    // Space sampling drops the on-the-spot slow frames: fewer keyframes.
+    const std::string keyframes = readText(out + "/keyframes.txt");
+    const std::size_t keyframe_lines =
+        countLinesStartingWith(keyframes, "") - countLinesStartingWith(keyframes, "#");
+    EXPECT_GT(keyframe_lines, 20U);
+    EXPECT_LT(keyframe_lines, 60U);
 
     // The map: a binary PLY whose size matches its header.
     const std::string ply = readText(out + "/map.ply");
@@ -243,6 +251,144 @@ TEST(MapperApp, mapsASimulatedRawlogAndWritesEveryOutput)
     // The serialized map holds the entropy; the energy adds the odometry prior.
     EXPECT_NEAR(again.mapper().finalEntropy(), map->energy(), 1e-9);
     EXPECT_GT(again.mapper().finalEnergy(), again.mapper().finalEntropy());
+}
+
+// Every frame gets a SLAM pose: keyframes their rectified pose, the others
+// their keyframe's pose composed with the egomotion since it.
+TEST(MapperApp, everyFrameHasASlamPoseAndTheKeyframesAreListed)
+{
+    const std::string rawlog = simulatedHall(60);
+    const std::string out = emslam::test::makeTempDir("mapper_every_frame");
+    MapperApp app;
+    initApp(
+        app, {config("3dof-low-structured"), rawlog, "--out", out, "-q", "--set",
+              "Rectifier.rectify_every=10", "--trajectory-format", "both"});
+    app.run();
+    const auto& m = app.mapper();
+    ASSERT_EQ(m.frameCount(), 60U);
+    ASSERT_EQ(m.slamTrajectory().size(), 60U);
+    ASSERT_EQ(m.keyframeTrajectory().size(), m.acceptedCount());
+    EXPECT_TRUE(m.hasEnergy());
+    // At least one rectification moved the keyframes off the egomotion.
+    ASSERT_GE(m.rectifications().size(), 2U);
+
+    // The keyframes are exactly the accepted frames.
+    std::vector<std::size_t> accepted;
+    for (const auto& r : m.frames())
+    {
+        if (r.accepted)
+        {
+            accepted.push_back(r.index);
+        }
+    }
+    EXPECT_EQ(m.keyframes(), accepted);
+    std::vector<std::size_t> listed;
+    {
+        std::istringstream in(readText(out + "/keyframes.txt"));
+        for (std::string line; std::getline(in, line);)
+        {
+            if (!line.empty() && line[0] != '#')
+            {
+                listed.push_back(std::stoul(line));
+                // frame_index, then its timestamp as in the trajectory files.
+                EXPECT_NE(line.find(" 1700000"), std::string::npos) << line;
+            }
+        }
+    }
+    EXPECT_EQ(listed, accepted);
+
+    const auto& slam = m.slamTrajectory().poses;
+    const auto& ego = m.egomotionTrajectory().poses;
+    double max_keyframe_move = 0;
+    for (std::size_t j = 0; j < accepted.size(); j++)
+    {
+        const std::size_t k = accepted[j];
+        EXPECT_LT(
+            emslam::test::maxPoseDifference(slam[k].pose, m.keyframeTrajectory().poses[j].pose),
+            1e-12)
+            << k;
+        EXPECT_DOUBLE_EQ(slam[k].t, ego[k].t);
+        max_keyframe_move =
+            std::max(max_keyframe_move, emslam::test::maxPoseDifference(slam[k].pose, ego[k].pose));
+    }
+    EXPECT_GT(max_keyframe_move, 1e-4);
+    for (std::size_t i = 0; i < slam.size(); i++)
+    {
+        const auto kf = std::upper_bound(accepted.begin(), accepted.end(), i) - 1;
+        const std::size_t k = *kf;
+        // T_world_i = T_world_k(SLAM) + (T_world_k(ego)^-1 + T_world_i(ego))
+        const auto expected = slam[k].pose + (ego[i].pose - ego[k].pose);
+        EXPECT_LT(emslam::test::maxPoseDifference(slam[i].pose, expected), 1e-9) << i;
+        EXPECT_DOUBLE_EQ(slam[i].t, ego[i].t);
+    }
+
+    // The files hold the same: TUM and KITTI, every frame.
+    const auto tum = emslam::stereo::TumTrajectory::fromFile(out + "/trajectory_slam.tum");
+    const auto kitti = emslam::stereo::loadTrajectory(out + "/trajectory_slam_kitti.txt");
+    ASSERT_EQ(tum.size(), 60U);
+    ASSERT_EQ(kitti.trajectory.size(), 60U);
+    EXPECT_EQ(kitti.times_file, out + "/trajectory_slam_times.txt");
+    for (std::size_t i = 0; i < slam.size(); i++)
+    {
+        EXPECT_NEAR(tum.poses[i].t, slam[i].t, 1e-9);
+        EXPECT_NEAR(kitti.trajectory.poses[i].t, slam[i].t, 1e-9);
+        EXPECT_LT(emslam::test::maxPoseDifference(tum.poses[i].pose, slam[i].pose), 1e-9);
+        EXPECT_LT(
+            emslam::test::maxPoseDifference(kitti.trajectory.poses[i].pose, slam[i].pose), 1e-9);
+    }
+    EXPECT_TRUE(std::filesystem::exists(out + "/trajectory_egomotion_kitti.txt"));
+    EXPECT_TRUE(std::filesystem::exists(out + "/trajectory_egomotion_times.txt"));
+}
+
+// A frame without texture: its egomotion fails (and the next one's, measured
+// from it); such frames keep the SLAM pose of the frame before them.
+TEST(MapperApp, egomotionFailureFramesKeepThePreviousSlamPose)
+{
+    const std::string dir = emslam::test::makeTempDir("mapper_failure");
+    const std::string rawlog = dir + "/flat.rawlog";
+    {
+        emslam::apps::RawlogInput in(simulatedHall(16));
+        mrpt::io::CFileGZOutputStream out(rawlog);
+        auto arch = mrpt::serialization::archiveFrom(out);
+        std::vector<mrpt::obs::CObservation::Ptr> batch;
+        for (std::size_t i = 0; in.next(batch); i++)
+        {
+            for (const auto& o : batch)
+            {
+                auto stereo = std::dynamic_pointer_cast<mrpt::obs::CObservationStereoImages>(o);
+                ASSERT_TRUE(stereo);
+                if (i == 8)
+                {
+                    const auto w = stereo->imageLeft.getWidth();
+                    const auto h = stereo->imageLeft.getHeight();
+                    stereo->imageLeft = mrpt::img::CImage(w, h, mrpt::img::CH_GRAY);
+                    stereo->imageLeft.filledRectangle(
+                        0, 0, w - 1, h - 1, mrpt::img::TColor(100, 100, 100));
+                    stereo->imageRight = stereo->imageLeft;
+                }
+                arch << *stereo;
+            }
+        }
+    }
+    const std::string out = emslam::test::makeTempDir("mapper_failure_out");
+    MapperApp app;
+    initApp(app, {config("3dof-low-structured"), rawlog, "--out", out, "-q"});
+    app.run();
+    const auto& m = app.mapper();
+    ASSERT_EQ(m.frameCount(), 16U);
+    EXPECT_GE(m.egomotionFailures(), 1U);
+    EXPECT_FALSE(m.frames()[8].egomotion_ok);
+    const auto& slam = m.slamTrajectory().poses;
+    ASSERT_EQ(slam.size(), 16U);
+    for (std::size_t i = 1; i < slam.size(); i++)
+    {
+        if (!m.frames()[i].egomotion_ok)
+        {
+            EXPECT_FALSE(m.frames()[i].accepted) << i;
+            EXPECT_LT(emslam::test::maxPoseDifference(slam[i].pose, slam[i - 1].pose), 1e-12) << i;
+        }
+    }
+    EXPECT_EQ(emslam::stereo::TumTrajectory::fromFile(out + "/trajectory_slam.tum").size(), 16U);
 }
 
 TEST(MapperApp, egomotionOnlyNeverRectifiesAndCreatesMissingParentFolders)
@@ -312,6 +458,18 @@ TEST(MapperApp, badInputsFailWithAClearMessage)
         {"Rectifer", "did you mean [Rectifier]"});
     initFails({cfg, rawlog, "--out", dir, "--set", "Rectifier.nc_max=0"}, {"nc_max"});
     initFails({cfg, rawlog, "--out", dir, "--set", "EntropyVoxelMap.energy=flat"}, {"flat"});
+    // The ground truth is read before any work: missing, garbled, KITTI without times.
+    initFails({cfg, rawlog, "--out", dir, "--gt", dir + "/no.tum"}, {"no.tum", "does not exist"});
+    emslam::test::writeFile(dir + "/seven.txt", "1 2 3 4 5 6 7\n");
+    initFails({cfg, rawlog, "--out", dir, "--gt", dir + "/seven.txt"}, {"seven.txt:1"});
+    emslam::test::writeFile(dir + "/poses.txt", "1 0 0 0 0 1 0 0 0 0 1 0\n");
+    initFails(
+        {cfg, rawlog, "--out", dir, "--gt", dir + "/poses.txt"},
+        {"poses.txt' has no times file", "--gt-times"});
+    initFails(
+        {cfg, rawlog, "--out", dir, "--gt", groundTruthOf(rawlog), "--gt-format", "kitti"},
+        {".tum:1", "12 numbers"});
+    initFails({cfg, rawlog, "--out", dir, "--trajectory-format", "g2o"}, {"g2o", "tum, kitti"});
 
     emslam::test::writeFile(dir + "/text.rawlog", "this is not a rawlog\n");
     runFails(

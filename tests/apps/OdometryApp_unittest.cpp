@@ -4,6 +4,7 @@
 
 #include <emslam/apps/OdometryApp.h>
 #include <emslam/stereo/KittiSequence.h>
+#include <emslam/stereo/TrajectoryReader.h>
 #include <emslam/stereo/TumTrajectory.h>
 
 #include <mrpt/img/CImage.h>
@@ -133,4 +134,60 @@ TEST(OdometryApp, failedStepKeepsPreviousPose)
     EXPECT_EQ(app.failures, 1u);
     ASSERT_EQ(app.trajectory.size(), 2u);
     EXPECT_TRUE(app.trajectory.poses[1].pose == mrpt::poses::CPose3D());
+}
+
+// --trajectory-format: KITTI poses + times beside the TUM file, or alone at -o.
+TEST(OdometryApp, writesKittiTrajectories)
+{
+    EMSLAM_REQUIRE_TEST_DATA(seq_dir, "kitti-odometry/sequences/06");
+    const std::string dir = emslam::test::makeTempDir("odometry_app_kitti");
+    const emslam::stereo::KittiSequence seq(seq_dir);
+    const std::string rawlog = dir + "/k3.rawlog";
+    {
+        mrpt::io::CFileGZOutputStream out(rawlog);
+        auto arch = mrpt::serialization::archiveFrom(out);
+        for (std::size_t i = 0; i < 3; i++)
+        {
+            arch << *seq.frame(i).obs;
+        }
+    }
+    const std::string cfg = emslam::test::sourceDir() + "/config/odometry/kitti.ini";
+    emslam::apps::OdometryApp both;
+    initApp(
+        both, {"--rawlog", rawlog, "-o", dir + "/t.tum", "--config", cfg, "--quiet",
+               "--trajectory-format", "both"});
+    both.run();
+    ASSERT_EQ(both.trajectory.size(), 3u);
+    const auto tum = emslam::stereo::TumTrajectory::fromFile(dir + "/t.tum");
+    const auto kitti = emslam::stereo::loadTrajectory(dir + "/t_kitti.txt");
+    EXPECT_EQ(kitti.format, emslam::stereo::TrajectoryFormat::Kitti);
+    EXPECT_EQ(kitti.times_file, dir + "/t_times.txt");
+    ASSERT_EQ(tum.size(), 3u);
+    ASSERT_EQ(kitti.trajectory.size(), 3u);
+    for (std::size_t i = 0; i < 3; i++)
+    {
+        // UNIX times as the importer gives them, the same in both files.
+        EXPECT_NEAR(kitti.trajectory.poses[i].t, seq.timestamp(i), 1e-6);
+        EXPECT_NEAR(tum.poses[i].t, kitti.trajectory.poses[i].t, 1e-9);
+        EXPECT_LT(
+            emslam::test::maxPoseDifference(tum.poses[i].pose, kitti.trajectory.poses[i].pose),
+            1e-9);
+    }
+    EXPECT_GT(kitti.trajectory.poses[2].pose.z(), 1.0);  // driving forward
+
+    emslam::apps::OdometryApp only;
+    initApp(
+        only, {"--rawlog", rawlog, "-o", dir + "/k_kitti.txt", "--config", cfg, "--quiet",
+               "--trajectory-format", "kitti"});
+    only.run();
+    EXPECT_TRUE(mrpt::system::fileExists(dir + "/k_times.txt"));
+    EXPECT_FALSE(mrpt::system::fileExists(dir + "/k_kitti.tum"));
+    EXPECT_EQ(emslam::stereo::loadTrajectory(dir + "/k_kitti.txt").trajectory.size(), 3u);
+
+    emslam::apps::OdometryApp bad;
+    emslam::test::expectThrowContaining(
+        [&] {
+            initApp(bad, {"--rawlog", rawlog, "-o", dir + "/x.tum", "--trajectory-format", "ply"});
+        },
+        {"--trajectory-format", "'ply'"});
 }

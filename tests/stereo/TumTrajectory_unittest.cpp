@@ -13,6 +13,7 @@
 #include <fstream>
 #include <sstream>
 #include <string>
+#include <vector>
 
 using emslam::stereo::TumPose;
 using emslam::stereo::TumTrajectory;
@@ -72,7 +73,37 @@ TEST(TumTrajectory, writeReadRoundTrip)
         ++lines;
     }
     EXPECT_EQ(lines, traj.size());
-    EXPECT_EQ(TumTrajectory::formatLine(traj.poses.back()), "3 0 0 0 0 0 0 1");
+    EXPECT_EQ(TumTrajectory::formatLine(traj.poses.back()), "3.000000000 0 0 0 0 0 0 1");
+}
+
+TEST(TumTrajectory, unixTimesAreWrittenFixedPointToTheNanosecond)
+{
+    // Whole seconds once came out as "1.7e+09", which TUM tools misread.
+    EXPECT_EQ(emslam::stereo::formatTimestamp(1.7e9), "1700000000.000000000");
+    EXPECT_EQ(emslam::stereo::formatTimestamp(1317384506.405868053), "1317384506.405868000");
+    // Not the double's binary noise ("1700000000.200000048").
+    EXPECT_EQ(emslam::stereo::formatTimestamp(1.7e9 + 0.2), "1700000000.200000000");
+    EXPECT_EQ(emslam::stereo::formatTimestamp(1.25e-9), "0.000000001");
+    EXPECT_EQ(emslam::stereo::formatTimestamp(0.1), "0.100000000");
+    TumTrajectory traj;
+    traj.add(1.7e9, mrpt::poses::CPose3D(1e-17, -2.5e-9, 3e20, 0.1, 0.2, 0.3));
+    traj.add(1.7e9 + 0.25, mrpt::poses::CPose3D());  // exact in a double
+    const std::string file = emslam::test::makeTempDir("tumtraj_fixed") + "/t.tum";
+    traj.saveToFile(file);
+    std::ifstream f(file);
+    std::vector<std::string> lines;
+    for (std::string l; std::getline(f, l);)
+    {
+        EXPECT_EQ(l.find('e'), std::string::npos) << l;
+        lines.push_back(l);
+    }
+    ASSERT_EQ(lines.size(), 2U);
+    EXPECT_EQ(lines[0].substr(0, 21), "1700000000.000000000 ");
+    EXPECT_EQ(lines[1].substr(0, 21), "1700000000.250000000 ");
+    const auto back = TumTrajectory::fromFile(file);
+    EXPECT_EQ(back.poses[1].t, 1.7e9 + 0.25);
+    EXPECT_DOUBLE_EQ(back.poses[0].pose.x(), 1e-17);  // exact: shortest fixed form
+    EXPECT_DOUBLE_EQ(back.poses[0].pose.z(), 3e20);
 }
 
 TEST(TumTrajectory, writesTumConventions)

@@ -1,6 +1,7 @@
 // SPDX-License-Identifier: BSD-3-Clause
 #include <emslam/apps/CommandLine.h>
 #include <emslam/apps/EvalApp.h>
+#include <emslam/apps/TrajectoryInput.h>
 #include <emslam/stereo/ExceptionMessage.h>
 
 #include <mrpt/core/format.h>
@@ -10,43 +11,13 @@
 #include <filesystem>
 #include <fstream>
 #include <stdexcept>
+#include <utility>
 
 namespace emslam::apps
 {
 namespace
 {
 constexpr const char* PROGRAM = "emslam-eval";
-
-/** Loads a TUM file, with a message that says which input (`what`) failed and why. */
-emslam::stereo::TumTrajectory loadTrajectory(const std::string& file, const std::string& what)
-{
-    namespace fs = std::filesystem;
-    std::error_code ec;
-    if (!fs::exists(file, ec))
-    {
-        throw std::runtime_error(what + " file '" + file + "' does not exist");
-    }
-    if (fs::is_directory(file, ec))
-    {
-        throw std::runtime_error(what + " file '" + file + "' is a directory");
-    }
-    emslam::stereo::TumTrajectory t;
-    try
-    {
-        t.loadFromFile(file);
-    }
-    catch (const std::exception& e)
-    {
-        // The reader's message names the file and line; say which input it was.
-        throw std::runtime_error(
-            "cannot read " + what + ": " + emslam::stereo::shortExceptionMessage(e));
-    }
-    if (t.empty())
-    {
-        throw std::runtime_error(what + " file '" + file + "' has no poses");
-    }
-    return t;
-}
 
 /** "%.3f" or "n/a" for NaN (no drift segment fits). */
 std::string fmt(double v, const char* f = "%.4f")
@@ -64,13 +35,33 @@ std::string fmt(double v, const char* f = "%.4f")
 void EvalApp::initialize(int argc, const char** argv)
 {
     TCLAP::CmdLine cmd(
-        "emslam-eval: an estimated trajectory against ground truth (both TUM: t tx ty tz qx qy "
-        "qz qw): ATE RMSE after alignment, KITTI drift, end-point error, loop gap, path length.",
+        "emslam-eval: an estimated trajectory against ground truth (each TUM, KITTI poses + "
+        "times or EuRoC ground-truth CSV, told from the content): ATE RMSE after alignment, "
+        "KITTI drift, end-point error, loop gap, path length.",
         ' ', "0.1");
     TCLAP::UnlabeledValueArg<std::string> gt(
-        "gt", "Ground-truth trajectory (TUM)", true, "", "GT.tum", cmd);
+        "gt", "Ground-truth trajectory (TUM, KITTI poses or EuRoC CSV)", true, "", "GT", cmd);
     TCLAP::UnlabeledValueArg<std::string> est(
-        "est", "Estimated trajectory (TUM)", true, "", "EST.tum", cmd);
+        "est", "Estimated trajectory (TUM, KITTI poses or EuRoC CSV)", true, "", "EST", cmd);
+    TCLAP::ValueArg<std::string> gt_format_arg(
+        "", "gt-format", "Format of GT: auto (from the content), tum, kitti or euroc", false,
+        "auto", "auto|tum|kitti|euroc", cmd);
+    TCLAP::ValueArg<std::string> est_format_arg(
+        "", "est-format", "Format of EST: auto (from the content), tum, kitti or euroc", false,
+        "auto", "auto|tum|kitti|euroc", cmd);
+    TCLAP::ValueArg<std::string> gt_times(
+        "", "gt-times",
+        "Times file of a KITTI GT (default: found beside it, e.g. sequences/NN/times.txt for "
+        "poses/NN.txt)",
+        false, "", "FILE", cmd);
+    TCLAP::ValueArg<std::string> est_times(
+        "", "est-times", "Times file of a KITTI EST (default: found beside it)", false, "",
+        "FILE", cmd);
+    TCLAP::ValueArg<double> kitti_time_offset(
+        "", "kitti-time-offset",
+        "UNIX time [s] added to KITTI sequence times (times.txt values below 1e9), as "
+        "emslam-import kitti does",
+        false, emslam::stereo::KittiSequence::DEFAULT_TIME_OFFSET, "SECONDS", cmd);
     TCLAP::ValueArg<std::string> align(
         "", "align",
         withDefault("Alignment before the ATE: se3 (rigid), sim3 (with scale) or none", "se3"),
@@ -97,6 +88,25 @@ void EvalApp::initialize(int argc, const char** argv)
     }
     m_gt = gt.getValue();
     m_est = est.getValue();
+    for (auto [arg, o] :
+         {std::pair{&gt_format_arg, &m_gt_options}, {&est_format_arg, &m_est_options}})
+    {
+        try
+        {
+            o->format = emslam::stereo::parseTrajectoryFormat(arg->getValue());
+        }
+        catch (const std::invalid_argument& e)
+        {
+            throw std::invalid_argument("--" + arg->getName() + ": " + e.what());
+        }
+    }
+    m_gt_options.times_file = gt_times.getValue();
+    m_est_options.times_file = est_times.getValue();
+    if (!std::isfinite(kitti_time_offset.getValue()))
+    {
+        throw std::invalid_argument("--kitti-time-offset must be a finite number of seconds");
+    }
+    m_gt_options.kitti_time_offset = m_est_options.kitti_time_offset = kitti_time_offset.getValue();
     m_json = json.getValue();
     try
     {
@@ -125,11 +135,15 @@ void EvalApp::run()
     {
         return;
     }
-    const auto gt = loadTrajectory(m_gt, "ground-truth");
-    const auto est = loadTrajectory(m_est, "estimate");
+    const auto gt = loadTrajectoryInput(m_gt, "ground-truth", m_gt_options);
+    const auto est = loadTrajectoryInput(m_est, "estimate", m_est_options);
+    requireComparableTimes(gt, m_gt, est, m_est);
+    gt_format = gt.format;
+    est_format = est.format;
+    paired_by_index = !gt.timed;
     try
     {
-        metrics = TrajectoryMetrics::compute(gt, est, options);
+        metrics = TrajectoryMetrics::compute(gt.trajectory, est.trajectory, options);
     }
     catch (const std::runtime_error& e)
     {
@@ -143,6 +157,11 @@ void EvalApp::run()
         lengths = fmt(m.rel.lengths_m.front(), "%.1f") + ".." +
                   fmt(m.rel.lengths_m.back(), "%.1f") + " m";
     }
+    std::printf(
+        "formats            ground truth %s, estimate %s%s\n",
+        emslam::stereo::trajectoryFormatName(gt.format).c_str(),
+        emslam::stereo::trajectoryFormatName(est.format).c_str(),
+        paired_by_index ? " (no times: paired line by line)" : "");
     std::printf(
         "matched poses      %zu (ground truth %zu, estimate %zu, max dt %g s)\n"
         "alignment          %s (scale %.6f)\n"

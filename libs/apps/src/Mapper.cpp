@@ -183,6 +183,16 @@ bool Mapper::process(const mrpt::obs::CObservation& obs)
     r.accepted = m_sampler.feed(action);
     if (r.accepted)
     {
+        m_last_keyframe = r.index;
+        m_T_keyframe_cur = mrpt::poses::CPose3D();
+    }
+    else
+    {
+        m_T_keyframe_cur = m_T_keyframe_cur + action;
+    }
+    m_links.push_back({m_last_keyframe, m_T_keyframe_cur});
+    if (r.accepted)
+    {
         const auto t_rect = Clock::now();
         addAccepted(f, r.index, r.timestamp);
         r.ms_rectification = msSince(t_rect);
@@ -205,6 +215,7 @@ void Mapper::addAccepted(const emslam::stereo::StereoFrame& f, std::size_t index
     if (progress.rectifications > 0)
     {
         m_energy = progress.energy;
+        m_has_energy = true;
     }
 }
 
@@ -222,12 +233,17 @@ void Mapper::finish()
         return;
     }
     m_energy = m_runner->trajectory().energy();
+    m_has_energy = true;
     m_entropy = m_runner->trajectory().entropy();
-    m_slam = {};
+    m_keyframe_slam = {};
+    m_keyframes.clear();
     m_map_cloud = {};
+    std::map<std::size_t, mrpt::poses::CPose3D> T_world_keyframe;
     for (const auto& fp : m_runner->framePoses())
     {
-        m_slam.add(fp.timestamp, fp.T_world_frame);
+        m_keyframe_slam.add(fp.timestamp, fp.T_world_frame);
+        m_keyframes.push_back(fp.frame_index);
+        T_world_keyframe[fp.frame_index] = fp.T_world_frame;
         const auto it = m_frame_clouds.find(fp.frame_index);
         if (it != m_frame_clouds.end())
         {
@@ -235,6 +251,18 @@ void Mapper::finish()
         }
     }
     m_frame_clouds.clear();
+    m_slam = {};
+    for (std::size_t i = 0; i < m_records.size(); i++)
+    {
+        const auto& link = m_links[i];
+        const auto it = T_world_keyframe.find(link.keyframe);
+        if (it == T_world_keyframe.end())
+        {
+            throw std::logic_error(
+                "Mapper::finish: keyframe " + std::to_string(link.keyframe) + " has no pose");
+        }
+        m_slam.add(m_records[i].timestamp, it->second + link.T_keyframe_frame);
+    }
     // Overlapping frames see the same surfaces: one point per cell in the end too.
     m_map_cloud = voxelDownsample(m_map_cloud, m_p.mapper.map_cell_size);
 }

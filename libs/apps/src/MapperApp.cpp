@@ -1,4 +1,5 @@
 // SPDX-License-Identifier: BSD-3-Clause
+#include <emslam/apps/AtomicTextFile.h>
 #include <emslam/apps/CommandLine.h>
 #include <emslam/apps/ConfigValidation.h>
 #include <emslam/apps/MapperApp.h>
@@ -7,6 +8,8 @@
 #include <emslam/apps/ProgressLine.h>
 #include <emslam/apps/RawlogInput.h>
 #include <emslam/apps/StopSignal.h>
+#include <emslam/apps/TrajectoryInput.h>
+#include <emslam/stereo/TrajectoryWriter.h>
 
 #include <mrpt/system/filesystem.h>
 
@@ -15,6 +18,7 @@
 #include <filesystem>
 #include <fstream>
 #include <stdexcept>
+#include <utility>
 #include <vector>
 
 namespace emslam::apps
@@ -42,11 +46,30 @@ void writeEffectiveIni(const Mapper::TParameters& p, const std::string& file)
     }
 }
 
-std::string energyText(double e)
+/** The progress line's energy: none before the first rectification gives one. */
+std::string energyText(const Mapper& m)
 {
+    if (!m.hasEnergy())
+    {
+        return {};
+    }
     char buf[48];
-    std::snprintf(buf, sizeof(buf), "energy %.4f", e);
+    std::snprintf(buf, sizeof(buf), "energy %.4f", m.currentEnergy());
     return buf;
+}
+
+/** keyframes.txt: the frames space sampling accepted (rectified), one per line. */
+void writeKeyframes(const Mapper& m, const std::string& file)
+{
+    AtomicTextFile f(file);
+    f.stream() << "# keyframes (accepted frames, rectified): frame_index timestamp; frame_index "
+                  "is the line of trajectory_slam.tum from 0\n";
+    const auto& frames = m.frames();
+    for (const auto i : m.keyframes())
+    {
+        f.stream() << i << ' ' << emslam::stereo::formatTimestamp(frames[i].timestamp) << '\n';
+    }
+    f.commit();
 }
 }  // namespace
 
@@ -72,7 +95,22 @@ void MapperApp::initialize(int argc, const char** argv)
         "", "egomotion-only", "No global rectification (same as --set Mapper.egomotion_only=true)",
         cmd);
     TCLAP::ValueArg<std::string> gt(
-        "", "gt", "Ground truth (TUM) for the report and summary.json", false, "", "GT.tum", cmd);
+        "", "gt",
+        "Ground truth for the report and summary.json: TUM, KITTI poses (+ times) or EuRoC CSV",
+        false, "", "GT", cmd);
+    TCLAP::ValueArg<std::string> gt_format(
+        "", "gt-format", "Format of --gt: auto (from the content), tum, kitti or euroc", false,
+        "auto", "auto|tum|kitti|euroc", cmd);
+    TCLAP::ValueArg<std::string> gt_times(
+        "", "gt-times",
+        "Times file of a KITTI --gt (default: found beside it, e.g. sequences/NN/times.txt for "
+        "poses/NN.txt)",
+        false, "", "FILE", cmd);
+    TCLAP::ValueArg<std::string> trajectory_format(
+        "", "trajectory-format",
+        "Trajectory files: tum (trajectory_*.tum), kitti (trajectory_*_kitti.txt + "
+        "trajectory_*_times.txt) or both",
+        false, "tum", "tum|kitti|both", cmd);
     TCLAP::MultiArg<std::string> sets(
         "", "set", "Override a parameter: SECTION.key=value", false, "SECTION.key=value", cmd);
     TCLAP::ValueArg<std::size_t> max_frames(
@@ -91,6 +129,23 @@ void MapperApp::initialize(int argc, const char** argv)
     m_rawlog = rawlog.getValue();
     m_out = out.getValue();
     m_gt = gt.getValue();
+    try
+    {
+        m_gt_options.format = emslam::stereo::parseTrajectoryFormat(gt_format.getValue());
+    }
+    catch (const std::invalid_argument& e)
+    {
+        throw std::invalid_argument(std::string("--gt-format: ") + e.what());
+    }
+    m_gt_options.times_file = gt_times.getValue();
+    try
+    {
+        m_trajectory_output = emslam::stereo::parseTrajectoryOutput(trajectory_format.getValue());
+    }
+    catch (const std::invalid_argument& e)
+    {
+        throw std::invalid_argument(std::string("--trajectory-format: ") + e.what());
+    }
     m_egomotion_only = egomotion_only.getValue();
     m_max_frames = max_frames.getValue();
     m_quiet = quiet.getValue();
@@ -108,9 +163,12 @@ void MapperApp::initialize(int argc, const char** argv)
     {
         throw std::runtime_error("rawlog '" + m_rawlog + "' does not exist");
     }
-    if (!m_gt.empty() && !mrpt::system::fileExists(m_gt))
+    m_ground_truth = {};
+    if (!m_gt.empty())
     {
-        throw std::runtime_error("ground truth '" + m_gt + "' does not exist");
+        // Read now: a bad ground truth stops the run before the long work.
+        m_ground_truth = loadTrajectoryInput(m_gt, "ground-truth", m_gt_options);
+        requireTimes(m_ground_truth, m_gt, "ground truth", "--gt-times");
     }
 }
 
@@ -124,9 +182,7 @@ void MapperApp::run()
     Mapper::TParameters p;
     p.loadFromConfigFile(params);
     p.mapper.egomotion_only = p.mapper.egomotion_only || m_egomotion_only;
-    const emslam::stereo::TumTrajectory ground_truth =
-        m_gt.empty() ? emslam::stereo::TumTrajectory{}
-                     : emslam::stereo::TumTrajectory::fromFile(m_gt);
+    const emslam::stereo::TumTrajectory& ground_truth = m_ground_truth.trajectory;
     RawlogInput in(m_rawlog);
     // Like mkdir -p: `--out runs/hall/seed1` creates the missing parents.
     std::error_code ec;
@@ -167,7 +223,7 @@ void MapperApp::run()
                 live->update(*m_mapper);
             }
             progress.updateFraction(
-                m_mapper->frameCount(), in.fractionRead(), energyText(m_mapper->currentEnergy()));
+                m_mapper->frameCount(), in.fractionRead(), energyText(*m_mapper));
         }
         done = done || StopSignal::requested();
     }
@@ -214,8 +270,16 @@ void MapperApp::writeOutputs(const emslam::stereo::TumTrajectory& ground_truth)
             TrajectoryMetrics::compute(ground_truth, m.egomotionTrajectory(), opts);
         m_info.slam_vs_gt = TrajectoryMetrics::compute(ground_truth, m.slamTrajectory(), opts);
     }
-    m.egomotionTrajectory().saveToFile(joinPath(m_out, "trajectory_egomotion.tum"));
-    m.slamTrajectory().saveToFile(joinPath(m_out, "trajectory_slam.tum"));
+    for (const auto& [name, t] :
+         {std::pair{"trajectory_egomotion", &m.egomotionTrajectory()},
+          std::pair{"trajectory_slam", &m.slamTrajectory()}})
+    {
+        const bool kitti_only = m_trajectory_output == emslam::stereo::TrajectoryOutput::Kitti;
+        emslam::stereo::saveTrajectory(
+            *t, joinPath(m_out, std::string(name) + (kitti_only ? "_kitti.txt" : ".tum")),
+            m_trajectory_output);
+    }
+    writeKeyframes(m, joinPath(m_out, "keyframes.txt"));
     savePly(m.mapCloud(), joinPath(m_out, "map.ply"));
     writeScene(m, ground_truth, joinPath(m_out, "map.3Dscene"));
     writeTopViewPng(m, ground_truth, joinPath(m_out, "map_top.png"));

@@ -5,6 +5,7 @@
 #include <emslam/apps/RawlogInput.h>
 #include <emslam/egomotion/EgomotionEstimator.h>
 #include <emslam/stereo/StereoFrontEnd.h>
+#include <emslam/stereo/TrajectoryWriter.h>
 
 #include <mrpt/img/CImage.h>
 #include <mrpt/serialization/CArchive.h>
@@ -30,6 +31,17 @@ mrpt::config::CConfigFileMemory knownParameters()
     emslam::egomotion::EgomotionEstimator::TParameters().saveToConfigFile(known, EGOMOTION_SECTION);
     return known;
 }
+
+/** 'a', 'b' */
+std::string quotedList(const std::vector<std::string>& files)
+{
+    std::string s;
+    for (const auto& f : files)
+    {
+        s += (s.empty() ? "'" : ", '") + f + "'";
+    }
+    return s;
+}
 }  // namespace
 
 void OdometryApp::initialize(int argc, const char** argv)
@@ -42,7 +54,15 @@ void OdometryApp::initialize(int argc, const char** argv)
         "rawlog", "Rawlog with CObservationStereoImages / CObservation3DRangeScan", true, "",
         "DATASET.rawlog", cmd);
     TCLAP::ValueArg<std::string> output(
-        "o", "output", "Output trajectory (TUM: t tx ty tz qx qy qz qw)", true, "", "OUT.tum", cmd);
+        "o", "output",
+        "Output trajectory: the TUM file (t tx ty tz qx qy qz qw), or with --trajectory-format "
+        "kitti the KITTI poses file (its times beside it, NAME_times.txt)",
+        true, "", "OUT.tum", cmd);
+    TCLAP::ValueArg<std::string> trajectory_format(
+        "", "trajectory-format",
+        "tum, kitti (3x4 poses + times) or both (TUM at FILE, KITTI beside it as "
+        "FILE-stem_kitti.txt + FILE-stem_times.txt)",
+        false, "tum", "tum|kitti|both", cmd);
     TCLAP::ValueArg<std::string> config(
         "c", "config",
         withDefault("INI file with [Stereo] and [Egomotion] sections", "the built-in defaults"),
@@ -61,6 +81,14 @@ void OdometryApp::initialize(int argc, const char** argv)
     }
     m_rawlog = rawlog.getValue();
     m_output = output.getValue();
+    try
+    {
+        m_trajectory_output = emslam::stereo::parseTrajectoryOutput(trajectory_format.getValue());
+    }
+    catch (const std::invalid_argument& e)
+    {
+        throw std::invalid_argument(std::string("--trajectory-format: ") + e.what());
+    }
     m_max_frames = max_frames.getValue();
     m_quiet = quiet.getValue();
     loadConfig(params, config.getValue(), sets.getValue());
@@ -162,7 +190,7 @@ void OdometryApp::run()
         throw std::runtime_error(
             "no stereo or RGB-D observation found in rawlog '" + m_rawlog + "'");
     }
-    trajectory.saveToFile(m_output);
+    const auto written = emslam::stereo::saveTrajectory(trajectory, m_output, m_trajectory_output);
 
     const double n = static_cast<double>(frames_processed);
     mean_ms_stereo = sum_stereo / n;
@@ -185,10 +213,10 @@ void OdometryApp::run()
         "mean ms per frame: stereo %.1f, features %.1f, descriptors %.1f, matching %.1f, LWO "
         "%.1f, pose %.1f, egomotion total %.1f\n"
         "final pose: x %.3f y %.3f z %.3f m (%.3f m from the start); trajectory written to "
-        "'%s'\n",
+        "%s\n",
         frames_processed, failures, mean_initial_matches, mean_final_matches, mean_ms_stereo,
         mean_ms_features, mean_ms_descriptors, mean_ms_matching, mean_ms_lwo, mean_ms_pose,
-        mean_ms_egomotion, T.x(), T.y(), T.z(), T.norm(), m_output.c_str());
+        mean_ms_egomotion, T.x(), T.y(), T.z(), T.norm(), quotedList(written).c_str());
 }
 
 }  // namespace emslam::apps

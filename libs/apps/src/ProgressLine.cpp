@@ -21,13 +21,22 @@ ProgressLine::ProgressLine(std::string program, std::size_t total, bool enabled)
 {
 }
 
+std::size_t ProgressLine::extrapolateTotal(std::size_t done, double fraction)
+{
+    fraction = std::clamp(fraction, 0.0, 1.0);
+    return fraction > 0
+               ? static_cast<std::size_t>(std::lround(static_cast<double>(done) / fraction))
+               : 0;
+}
+
 void ProgressLine::updateFraction(std::size_t done, double fraction, const std::string& extra)
 {
+    fraction = std::clamp(fraction, 0.0, 1.0);
+    m_estimated_total = extrapolateTotal(done, fraction);
     if (!m_enabled)
     {
         return;
     }
-    fraction = std::clamp(fraction, 0.0, 1.0);
     const int pct = static_cast<int>(100.0 * fraction);
     // Off a terminal: one line per 10 %, the 100 % line once.
     if (!m_tty && pct / 10 <= m_last_decile && (fraction < 1.0 || m_last_decile == 10))
@@ -39,7 +48,7 @@ void ProgressLine::updateFraction(std::size_t done, double fraction, const std::
         std::chrono::duration<double>(std::chrono::steady_clock::now().time_since_epoch()).count();
     const double elapsed = now - m_start;
     const double fps = elapsed > 0 ? static_cast<double>(done) / elapsed : 0.0;
-    const auto total = fraction > 0 ? static_cast<std::size_t>(std::lround(done / fraction)) : 0;
+    const auto total = m_estimated_total;
     const double eta = fraction > 0 ? elapsed * (1.0 - fraction) / fraction : 0.0;
     const auto eta_s = static_cast<long>(std::lround(eta));
     std::fprintf(

@@ -10,6 +10,7 @@
 
 #include <algorithm>
 #include <cstdio>
+#include <fstream>
 #include <stdexcept>
 
 namespace emslam::apps
@@ -43,6 +44,37 @@ public:
     uint64_t getPosition() const override { return file.getPosition(); }
 };
 
+namespace
+{
+/** The ISIZE field of a gz file (its last 4 bytes, little-endian), or empty
+ * if the file does not start with the gzip magic bytes. */
+std::optional<std::uint32_t> gzipTrailerSize(const std::string& file, std::uint64_t& file_size)
+{
+    std::ifstream f(file, std::ios::binary | std::ios::ate);
+    if (!f)
+    {
+        return std::nullopt;
+    }
+    file_size = static_cast<std::uint64_t>(f.tellg());
+    unsigned char magic[2] = {0, 0}, trailer[4] = {0, 0, 0, 0};
+    f.seekg(0);
+    f.read(reinterpret_cast<char*>(magic), 2);
+    if (!f || magic[0] != 0x1f || magic[1] != 0x8b || file_size < 18)
+    {
+        return std::nullopt;
+    }
+    f.seekg(static_cast<std::streamoff>(file_size - 4));
+    f.read(reinterpret_cast<char*>(trailer), 4);
+    if (!f)
+    {
+        return std::nullopt;
+    }
+    return static_cast<std::uint32_t>(trailer[0]) | (static_cast<std::uint32_t>(trailer[1]) << 8) |
+           (static_cast<std::uint32_t>(trailer[2]) << 16) |
+           (static_cast<std::uint32_t>(trailer[3]) << 24);
+}
+}  // namespace
+
 RawlogInput::RawlogInput(const std::string& file)
     : m_file(file), m_stream(std::make_unique<CountingStream>())
 {
@@ -54,6 +86,7 @@ RawlogInput::RawlogInput(const std::string& file)
     {
         throw std::runtime_error("cannot open rawlog '" + file + "'");
     }
+    m_isize = gzipTrailerSize(file, m_file_size);
     mrpt::img::CImage::setImagesPathBase(mrpt::obs::CRawlog::detectImagesDirectory(file));
     m_archive =
         std::make_unique<mrpt::serialization::CArchiveStreamBase<CountingStream>>(*m_stream);
@@ -113,15 +146,44 @@ void RawlogInput::warnIfEndedEarly(const std::string& program) const
     }
 }
 
+std::uint64_t RawlogInput::estimateUncompressedSize(
+    std::uint32_t isize, std::uint64_t compressed_size, std::uint64_t position)
+{
+    constexpr std::uint64_t WRAP = std::uint64_t{1} << 32;
+    // Deflate's worst case: stored blocks, 5 bytes per 16 KiB, plus header and trailer.
+    const std::uint64_t overhead = 64 + compressed_size / 1000;
+    const std::uint64_t floor =
+        std::max(position, compressed_size > overhead ? compressed_size - overhead : 0);
+    std::uint64_t size = isize;
+    while (size < floor)
+    {
+        size += WRAP;
+    }
+    return size;
+}
+
+std::uint64_t RawlogInput::bytesRead() const
+{
+    return m_stream->consumed;
+}
+
+std::uint64_t RawlogInput::totalBytes() const
+{
+    if (!m_isize)
+    {
+        return m_file_size;
+    }
+    return estimateUncompressedSize(*m_isize, m_file_size, m_stream->consumed);
+}
+
 double RawlogInput::fractionRead() const
 {
-    const auto total = m_stream->file.getTotalBytesCount();
-    if (total == 0)
+    const auto total = totalBytes();
+    if (m_ended || total == 0)
     {
         return m_ended ? 1.0 : 0.0;
     }
-    return std::min(
-        1.0, static_cast<double>(m_stream->file.getPosition()) / static_cast<double>(total));
+    return std::min(1.0, static_cast<double>(m_stream->consumed) / static_cast<double>(total));
 }
 
 }  // namespace emslam::apps

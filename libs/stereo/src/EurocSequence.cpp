@@ -39,22 +39,6 @@ std::vector<std::string> splitComma(std::string_view line)
     return out;
 }
 
-/** "1403715274312143104" or "1403715274312143104.0000": integer nanoseconds. */
-bool parseNs(std::string_view s, std::int64_t& v)
-{
-    const auto dot = s.find('.');
-    if (dot == std::string_view::npos)
-    {
-        return parseInt64(s, v);
-    }
-    const std::string_view frac = s.substr(dot + 1);
-    if (!std::all_of(frac.begin(), frac.end(), [](char c) { return c >= '0' && c <= '9'; }))
-    {
-        return false;
-    }
-    return parseInt64(s.substr(0, dot), v);
-}
-
 /** Opens the EuRoC CSV file `file` (throws "Cannot open EuRoC <what> '<file>'"
  * if it cannot) and calls `on_row(fields, line, line_no)` for every line that is
  * not blank or a `#` comment: `fields` are its comma-separated fields,
@@ -133,7 +117,7 @@ std::vector<EurocSequence::GtRow> EurocSequence::readGroundTruthCsv(const std::s
             }
             GtRow row;
             double v[7];
-            bool ok = parseNs(fields[0], row.t_ns);
+            bool ok = parseNanoseconds(fields[0], row.t_ns);
             for (int k = 0; k < 7 && ok; k++)
             {
                 ok = parseDouble(fields[k + 1], v[k]) && std::isfinite(v[k]);

@@ -3,6 +3,7 @@
 
 #include <emslam/stereo/CalibrationReaders.h>
 #include <emslam/stereo/KittiSequence.h>
+#include <emslam/stereo/KittiTrajectory.h>
 #include <emslam/stereo/TextParsing.h>
 
 #include <mrpt/core/Clock.h>
@@ -44,50 +45,7 @@ std::string imageFile(const std::string& dir, const char* sub, std::size_t i)
 
 std::vector<mrpt::poses::CPose3D> KittiSequence::readPosesFile(const std::string& file)
 {
-    std::ifstream f(file);
-    if (!f.is_open())
-    {
-        THROW_EXCEPTION_FMT("Cannot open KITTI poses file '%s'", file.c_str());
-    }
-    std::vector<mrpt::poses::CPose3D> poses;
-    std::vector<double> v;
-    std::string line;
-    std::size_t line_no = 0;
-    while (std::getline(f, line))
-    {
-        ++line_no;
-        if (isBlank(line))
-        {
-            continue;
-        }
-        if (!parseNumbers(line, v) || v.size() != 12)
-        {
-            THROW_EXCEPTION_FMT(
-                "%s:%zu: expected 12 numbers (a 3x4 row-major pose matrix)", file.c_str(), line_no);
-        }
-        Eigen::Matrix3d M;
-        mrpt::math::CVectorFixedDouble<3> t;
-        for (int r = 0; r < 3; r++)
-        {
-            for (int c = 0; c < 3; c++)
-            {
-                M(r, c) = v[4 * r + c];
-            }
-            t[r] = v[4 * r + 3];
-        }
-        // Nearest rotation (the file rounds to 7 digits): U * V^T of the SVD.
-        const Eigen::JacobiSVD<Eigen::Matrix3d> svd(M, Eigen::ComputeFullU | Eigen::ComputeFullV);
-        const Eigen::Matrix3d Rn = svd.matrixU() * svd.matrixV().transpose();
-        if (!M.allFinite() || Rn.determinant() < 0 || (Rn - M).norm() > 1e-3)
-        {
-            THROW_EXCEPTION_FMT(
-                "%s:%zu: the 3x3 part is not a rotation matrix", file.c_str(), line_no);
-        }
-        mrpt::math::CMatrixDouble33 R;
-        R.asEigen() = Rn;
-        poses.emplace_back(R, t);
-    }
-    return poses;
+    return KittiTrajectory::readPoses(file);
 }
 
 void KittiSequence::open(const std::string& sequence_dir, const std::string& poses_file)
@@ -111,52 +69,8 @@ void KittiSequence::open(const std::string& sequence_dir, const std::string& pos
         }
     }
 
-    // times.txt
     const std::string times_file = sequence_dir + "/times.txt";
-    std::ifstream ft(times_file);
-    if (!ft.is_open())
-    {
-        THROW_EXCEPTION_FMT("Cannot open KITTI timestamps file '%s'", times_file.c_str());
-    }
-    std::vector<double> times;
-    {
-        std::string line;
-        std::vector<double> v;
-        std::size_t line_no = 0;
-        while (std::getline(ft, line))
-        {
-            ++line_no;
-            if (isBlank(line))
-            {
-                continue;
-            }
-            if (!parseNumbers(line, v) || v.size() != 1)
-            {
-                THROW_EXCEPTION_FMT(
-                    "%s:%zu: expected one timestamp [s], got '%s'", times_file.c_str(), line_no,
-                    line.c_str());
-            }
-            // Finite, in a range a clock can hold (1e10 s: year 2286), increasing.
-            if (!std::isfinite(v[0]) || v[0] < 0 || v[0] >= 1e10)
-            {
-                THROW_EXCEPTION_FMT(
-                    "%s:%zu: timestamp '%s' must be a finite number of seconds in [0, 1e10)",
-                    times_file.c_str(), line_no, line.c_str());
-            }
-            if (!times.empty() && !(v[0] > times.back()))
-            {
-                THROW_EXCEPTION_FMT(
-                    "%s:%zu: timestamp %.9g does not follow the previous one (%.9g): "
-                    "times must increase",
-                    times_file.c_str(), line_no, v[0], times.back());
-            }
-            times.push_back(v[0]);
-        }
-    }
-    if (times.empty())
-    {
-        THROW_EXCEPTION_FMT("KITTI timestamps file '%s' is empty", times_file.c_str());
-    }
+    std::vector<double> times = KittiTrajectory::readTimes(times_file);
     for (const char* sub : {"image_0", "image_1"})
     {
         const std::size_t n = countPngs(sequence_dir + "/" + sub);

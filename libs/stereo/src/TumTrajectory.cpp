@@ -7,6 +7,7 @@
 
 #include <charconv>
 #include <cmath>
+#include <cstdio>
 #include <fstream>
 #include <ostream>
 #include <sstream>
@@ -15,25 +16,50 @@ namespace emslam::stereo
 {
 namespace
 {
-/** Shortest decimal text that reads back to the same double. */
-std::string shortest(double v)
+/** Shortest fixed-point text that reads back to the same double (no exponent:
+ * some tools split numbers at `e`). */
+std::string shortestFixed(double v)
 {
-    char buf[64];
-    const auto res = std::to_chars(buf, buf + sizeof(buf), v);
+    char buf[400];  // the longest fixed form of a double (a denormal) fits
+    const auto res = std::to_chars(buf, buf + sizeof(buf), v, std::chars_format::fixed);
     return std::string(buf, res.ptr);
 }
 }  // namespace
+
+std::string formatTimestamp(double t)
+{
+    // UNIX times need 10 integer digits: the shortest form would be "1.7e+09"
+    // for whole seconds. The shortest fixed form reads back to the same double;
+    // padded to nine decimals it reads "...200000000", not the double's
+    // "...200000048" noise.
+    constexpr std::size_t DECIMALS = 9;
+    std::string s = shortestFixed(t);
+    const auto dot = s.find('.');
+    const std::size_t decimals = dot == std::string::npos ? 0 : s.size() - dot - 1;
+    if (decimals > DECIMALS)
+    {
+        char buf[400];
+        std::snprintf(buf, sizeof(buf), "%.9f", t);
+        return buf;
+    }
+    if (dot == std::string::npos)
+    {
+        s += '.';
+    }
+    s.append(DECIMALS - decimals, '0');
+    return s;
+}
 
 std::string TumTrajectory::formatLine(const TumPose& p)
 {
     mrpt::math::CQuaternionDouble q;
     p.pose.getAsQuaternion(q);
     q.ensurePositiveRealPart();
-    std::string s = shortest(p.t);
+    std::string s = formatTimestamp(p.t);
     for (const double v : {p.pose.x(), p.pose.y(), p.pose.z(), q.x(), q.y(), q.z(), q.r()})
     {
         s += ' ';
-        s += shortest(v);
+        s += shortestFixed(v);
     }
     return s;
 }

@@ -2,18 +2,23 @@
 #pragma once
 
 #include <emslam/apps/TrajectoryMetrics.h>
+#include <emslam/stereo/TrajectoryReader.h>
 
 #include <string>
 
 namespace emslam::apps
 {
-/** `emslam-eval`: measures an estimated trajectory against ground truth, both
- * in TUM format (see TrajectoryMetrics): ATE RMSE after alignment, KITTI
- * translational / rotational drift, end-point error, loop gap, path length,
- * matched poses. Prints them and optionally writes them as JSON.
+/** `emslam-eval`: measures an estimated trajectory against ground truth (see
+ * TrajectoryMetrics): ATE RMSE after alignment, KITTI translational /
+ * rotational drift, end-point error, loop gap, path length, matched poses.
+ * Prints them and optionally writes them as JSON. Each file is TUM, KITTI
+ * poses (with a times file, found beside it or given) or a EuRoC ground-truth
+ * CSV, told from its content (emslam::stereo::loadTrajectory()) or forced.
  *
  * \code
- * emslam-eval GT.tum EST.tum [--align se3|sim3|none] [--json OUT.json]
+ * emslam-eval GT EST [--gt-format auto|tum|kitti|euroc]
+ *   [--est-format auto|tum|kitti|euroc] [--gt-times TIMES] [--est-times TIMES]
+ *   [--kitti-time-offset SECONDS] [--align se3|sim3|none] [--json OUT.json]
  *   [--max-dt SECONDS] [--segment-step N]
  * \endcode
  * It has no INI parameters. \ingroup emslam_apps_grp \sa TrajectoryMetrics */
@@ -37,10 +42,16 @@ public:
 
     // ---- Result of run() ----
     TrajectoryMetrics metrics;
+    /** The formats read. */
+    emslam::stereo::TrajectoryFormat gt_format{emslam::stereo::TrajectoryFormat::Tum};
+    emslam::stereo::TrajectoryFormat est_format{emslam::stereo::TrajectoryFormat::Tum};
+    /** True if both were KITTI without times, paired line by line. */
+    bool paired_by_index{false};
 
 private:
     bool m_help_requested{false};
     std::string m_gt, m_est, m_json;
+    emslam::stereo::TrajectoryReadOptions m_gt_options, m_est_options;
 };
 
 }  // namespace emslam::apps

@@ -34,6 +34,12 @@ namespace emslam::apps
  *
  * Frames whose egomotion fails keep the previous pose (the action is taken
  * as the identity) and are counted; the next step is measured from them.
+ *
+ * Every frame gets a SLAM pose: the frames space sampling accepts (the
+ * keyframes) are rectified; any other frame is placed by its egomotion relative
+ * to the keyframe it was measured from: T_world_frame = T_world_keyframe
+ * (rectified) ⊕ T_keyframe_frame (the egomotion steps since that keyframe). A
+ * frame whose egomotion failed therefore sits where the frame before it sits.
  * \ingroup emslam_apps_grp \sa MapperApp */
 class Mapper
 {
@@ -108,8 +114,11 @@ public:
     /** One record per processed frame. */
     const std::vector<MapperFrameRecord>& frames() const { return m_records; }
     /** Energy of the map after the last rectification (or of the unrectified
-     * map in egomotion-only mode); 0 before any. */
+     * map in egomotion-only mode); 0 before any (see hasEnergy()). */
     double currentEnergy() const { return m_energy; }
+    /** True once currentEnergy() holds an energy (after the first
+     * rectification, or finish()). */
+    bool hasEnergy() const { return m_has_energy; }
 
     /** Size of the frames as processed (after any stereo scaling) [px]; 0 before the first. */
     int imageWidth() const { return m_image_width; }
@@ -133,8 +142,14 @@ public:
 
     /** @name Results, valid after finish()
      * @{ */
-    /** Every accepted frame after the final rectification. */
+    /** Every processed frame, in order: keyframes at their rectified poses,
+     * the other frames placed from their keyframe by the egomotion (see the
+     * class comment). */
     const emslam::stereo::TumTrajectory& slamTrajectory() const { return m_slam; }
+    /** The keyframes (accepted frames) only, at their rectified poses. */
+    const emslam::stereo::TumTrajectory& keyframeTrajectory() const { return m_keyframe_slam; }
+    /** Frame indices (as in frames()) of the keyframes, increasing. */
+    const std::vector<std::size_t>& keyframes() const { return m_keyframes; }
     /** Every rectification run. */
     const std::vector<emslam::rectify::RectificationStats>& rectifications() const
     {
@@ -166,10 +181,21 @@ private:
     emslam::rectify::SpaceSampler m_sampler;
     std::unique_ptr<emslam::rectify::RectificationRunner> m_runner;
     mrpt::poses::CPose3D m_T_world_cur;
-    emslam::stereo::TumTrajectory m_egomotion, m_slam;
+    emslam::stereo::TumTrajectory m_egomotion, m_slam, m_keyframe_slam;
+    /** Where a frame is measured from: its keyframe and the egomotion since. */
+    struct KeyframeLink
+    {
+        std::size_t keyframe{0};
+        mrpt::poses::CPose3D T_keyframe_frame;
+    };
+    std::vector<KeyframeLink> m_links;  //!< one per processed frame
+    mrpt::poses::CPose3D m_T_keyframe_cur;
+    std::size_t m_last_keyframe{0};
+    std::vector<std::size_t> m_keyframes;
     std::vector<MapperFrameRecord> m_records;
     std::size_t m_failures{0};
     double m_energy{0.0};
+    bool m_has_energy{false};
     double m_entropy{0.0};
     /** Per accepted frame (by frame index): its cloud in its camera frame. */
     std::map<std::size_t, IntensityCloud> m_frame_clouds;

@@ -3,6 +3,8 @@
 
 #include <emslam/apps/Mapper.h>
 #include <emslam/apps/MapperOutputs.h>
+#include <emslam/stereo/TrajectoryReader.h>
+#include <emslam/stereo/TrajectoryWriter.h>
 
 #include <mrpt/config/CConfigFileMemory.h>
 
@@ -14,15 +16,17 @@ namespace emslam::apps
 /** `emslam-mapper`: the main job. Streams a rawlog through Mapper (stereo →
  * egomotion → space sampling → global rectification → compression) and
  * writes, to the output folder:
- * `trajectory_egomotion.tum`, `trajectory_slam.tum`, `map.ply`,
- * `map.3Dscene`, `map_top.png`, `entropy_map.bin`, `entropy_map.3Dscene`,
- * `stats.csv`, `summary.json`,
- * `effective.ini` and `report.html`.
+ * `trajectory_egomotion.tum`, `trajectory_slam.tum` (a pose for every frame;
+ * or / and the KITTI `*_kitti.txt` + `*_times.txt`, `--trajectory-format`),
+ * `keyframes.txt`, `map.ply`, `map.3Dscene`, `map_top.png`, `entropy_map.bin`,
+ * `entropy_map.3Dscene`, `stats.csv`, `summary.json`, `effective.ini` and
+ * `report.html`.
  *
  * \code
  * emslam-mapper CONFIG.ini DATASET.rawlog --out DIR [--egomotion-only]
- *   [--gt GT.tum] [--set SECTION.key=value ...] [--max-frames N] [--quiet]
- *   [--viewer]
+ *   [--gt GT [--gt-format auto|tum|kitti|euroc] [--gt-times TIMES]]
+ *   [--trajectory-format tum|kitti|both] [--set SECTION.key=value ...]
+ *   [--max-frames N] [--quiet] [--viewer]
  * \endcode
  * - `--viewer` shows the run live (LiveViewer); without a display it warns
  *   and the run goes on.
@@ -63,6 +67,9 @@ private:
     bool m_viewer{false};
     bool m_egomotion_only{false};
     std::string m_config, m_rawlog, m_out, m_gt;
+    emslam::stereo::TrajectoryReadOptions m_gt_options;
+    emslam::stereo::LoadedTrajectory m_ground_truth;
+    emslam::stereo::TrajectoryOutput m_trajectory_output{emslam::stereo::TrajectoryOutput::Tum};
     std::size_t m_max_frames{0};
     std::unique_ptr<Mapper> m_mapper;
     MapperRunInfo m_info;

@@ -1,6 +1,7 @@
 // SPDX-License-Identifier: BSD-3-Clause
 #pragma once
 
+#include <emslam/stereo/TrajectoryWriter.h>
 #include <emslam/stereo/TumTrajectory.h>
 
 #include <mrpt/config/CConfigFileMemory.h>
@@ -14,12 +15,14 @@ namespace emslam::apps
  * rectification). Every stereo / RGB-D observation of a rawlog goes through
  * the stereo front-end and EgomotionEstimator::process(); the steps are
  * composed into the pose of the left camera in the first frame's left
- * camera, written as a TUM trajectory. A failed step keeps the previous pose
- * and is counted.
+ * camera, written as a TUM trajectory, KITTI poses + times, or both
+ * (`--trajectory-format`, emslam::stereo::saveTrajectory()). A failed step
+ * keeps the previous pose and is counted.
  *
  * \code
  * emslam-odometry IN.rawlog -o TRAJ.tum [--config X.ini]
- *   [--set Section.key=value ...] [--max-frames N] [--quiet]
+ *   [--trajectory-format tum|kitti|both] [--set Section.key=value ...]
+ *   [--max-frames N] [--quiet]
  * \endcode
  * Parameters: `[Stereo]` (StereoMatcher::TParameters) and `[Egomotion]`
  * (EgomotionEstimator::TParameters); see config/odometry/kitti.ini.
@@ -56,6 +59,7 @@ private:
     bool m_help_requested{false};
     bool m_quiet{false};
     std::string m_rawlog, m_output;
+    emslam::stereo::TrajectoryOutput m_trajectory_output{emslam::stereo::TrajectoryOutput::Tum};
     std::size_t m_max_frames{0};
 };
 

@@ -26,6 +26,15 @@ public:
      * total and the ETA extrapolated from the fraction. */
     void updateFraction(std::size_t done, double fraction, const std::string& extra = {});
 
+    /** The total of the last updateFraction() (even when printing is
+     * disabled): extrapolateTotal() of its arguments; 0 before any. */
+    std::size_t estimatedTotal() const { return m_estimated_total; }
+
+    /** round(done / fraction): the frame count at which the input ends if
+     * the frames still to come are the size of those done; 0 if `fraction`
+     * is 0. */
+    static std::size_t extrapolateTotal(std::size_t done, double fraction);
+
     /** Ends the in-place line on a terminal (call once, after the loop). */
     void finish();
 
@@ -35,6 +44,7 @@ private:
     bool m_enabled;
     bool m_tty;
     int m_last_decile{0};
+    std::size_t m_estimated_total{0};
     double m_start{0.0};  //!< [s] steady clock at construction
 };
 

@@ -9,6 +9,7 @@
 #include <cstddef>
 #include <cstdint>
 #include <memory>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -56,9 +57,25 @@ public:
     void warnIfEndedEarly(const std::string& program) const;
     /** Records (serialized objects) read completely so far. */
     std::size_t recordsRead() const { return m_records; }
-    /** Fraction of the file read so far, in [0, 1] (from the position in the
-     * compressed file for gz rawlogs): for progress and ETA. */
+    /** Fraction of the rawlog read so far, in [0, 1]: bytes of the
+     * uncompressed stream read / totalBytes(); 1 once the file has ended.
+     * For progress and ETA. */
     double fractionRead() const;
+    /** Bytes of the uncompressed stream read so far. */
+    std::uint64_t bytesRead() const;
+    /** Size of the uncompressed stream [bytes]: the file size of a plain
+     * rawlog; for a gz one, estimateUncompressedSize() of its trailer. */
+    std::uint64_t totalBytes() const;
+
+    /** The uncompressed size of a gz file whose trailer says `isize` (the
+     * size modulo 2^32, RFC 1952) and whose compressed size is
+     * `compressed_size`, once `position` uncompressed bytes were read: the
+     * smallest isize + k·2^32 that is at least the position and at least what
+     * the compressed size implies (deflate expands by < 0.1 % + a few bytes).
+     * Exact below 4 GiB; above, it may be 4 GiB short until the position
+     * passes it. */
+    static std::uint64_t estimateUncompressedSize(
+        std::uint32_t isize, std::uint64_t compressed_size, std::uint64_t position);
 
 private:
     class CountingStream;
@@ -66,6 +83,9 @@ private:
     std::unique_ptr<CountingStream> m_stream;
     std::unique_ptr<mrpt::serialization::CArchive> m_archive;
     std::size_t m_records{0};
+    std::uint64_t m_file_size{0};
+    /** The gz trailer's ISIZE; empty for a plain file. */
+    std::optional<std::uint32_t> m_isize;
     bool m_ended{false};
     bool m_ended_early{false};
     std::string m_end_reason;

@@ -54,6 +54,13 @@ bool parseDouble(std::string_view token, double& v);
  * \ingroup emslam_stereo_grp \sa parseDouble */
 bool parseInt64(std::string_view token, std::int64_t& v);
 
+/** Parses a nanosecond timestamp as EuRoC writes them: a decimal integer
+ * (parseInt64()), optionally followed by `.` and digits, which are dropped
+ * (`1403715274312143104.0000000000`). Returns false, leaving `v` unchanged,
+ * otherwise.
+ * \ingroup emslam_stereo_grp \sa parseInt64 */
+bool parseNanoseconds(std::string_view token, std::int64_t& v);
+
 /** Splits `line` into tokens at any run of the characters of `separators`
  * (leading and trailing separators ignored) and parses every token with
  * parseDouble(). `out` is cleared first and receives the numbers in order;

@@ -20,15 +20,23 @@ struct TumPose
     mrpt::poses::CPose3D pose;
 };
 
+/** A timestamp [s] as fixed-point text with nine decimals (nanoseconds), never
+ * in exponent notation: `1700000000.200000000`, `0.100000000`. The digits are
+ * those of the shortest text that reads back to the same double, padded with
+ * zeros (a double holds a UNIX time to ~0.2 µs), so reading it back is exact.
+ * \ingroup emslam_stereo_grp \sa TumTrajectory */
+std::string formatTimestamp(double t);
+
 /** A trajectory in the TUM RGB-D benchmark text format (Sturm et al., IROS
  * 2012): one pose per line, `timestamp tx ty tz qx qy qz qw`, separated by
  * spaces (or tabs, or commas when reading). Lines that are empty or start with
  * `#` are comments.
  *
- * Writing uses, for every number, the shortest decimal form that reads back to
- * the same `double`, so a write/read round trip is exact (up to the
- * quaternion conversion of the rotation, ~1e-16). Quaternions are written
- * with `qw >= 0`; reading normalizes them.
+ * Writing never uses exponent notation: the timestamp gets nine decimals
+ * (nanoseconds, formatTimestamp()), every other number the shortest fixed-point
+ * form that reads back to the same `double`, so a write/read round trip is
+ * exact (timestamps to 1 ns; the rotation up to its quaternion conversion,
+ * ~1e-16). Quaternions are written with `qw >= 0`; reading normalizes them.
  * \ingroup emslam_stereo_grp \sa TumPose */
 class TumTrajectory
 {

@@ -1,0 +1,145 @@
+// SPDX-License-Identifier: BSD-3-Clause
+#include <emslam/stereo/EurocTrajectory.h>
+#include <emslam/stereo/TextParsing.h>
+
+#include <mrpt/core/exceptions.h>
+#include <mrpt/math/CQuaternion.h>
+
+#include <algorithm>
+#include <cctype>
+#include <cmath>
+#include <cstdint>
+#include <fstream>
+#include <optional>
+#include <string_view>
+#include <vector>
+
+namespace emslam::stereo
+{
+namespace
+{
+std::vector<std::string> splitFields(std::string_view line)
+{
+    std::vector<std::string> out;
+    std::size_t start = 0;
+    while (true)
+    {
+        const auto p = line.find(',', start);
+        out.emplace_back(trimmed(line.substr(start, p == std::string_view::npos ? p : p - start)));
+        if (p == std::string_view::npos)
+        {
+            return out;
+        }
+        start = p + 1;
+    }
+}
+
+std::string lower(std::string s)
+{
+    std::transform(s.begin(), s.end(), s.begin(), [](unsigned char c) { return std::tolower(c); });
+    return s;
+}
+
+/** Whether a header line puts the quaternion's w before its x; empty if it
+ * names neither. */
+std::optional<bool> headerSaysWFirst(const std::string& header)
+{
+    const auto fields = splitFields(lower(header));
+    std::optional<std::size_t> w, x;
+    for (std::size_t i = 0; i < fields.size(); i++)
+    {
+        const auto& f = fields[i];
+        const auto name = f.substr(0, f.find(' '));  // drop a unit: "q_rs_w []"
+        if (!w && (name == "q_rs_w" || name == "qw"))
+        {
+            w = i;
+        }
+        if (!x && (name == "q_rs_x" || name == "qx"))
+        {
+            x = i;
+        }
+    }
+    if (!w || !x)
+    {
+        return std::nullopt;
+    }
+    return *w < *x;
+}
+}  // namespace
+
+TumTrajectory EurocTrajectory::load(const std::string& file)
+{
+    std::ifstream f(file);
+    if (!f.is_open())
+    {
+        THROW_EXCEPTION_FMT("Cannot open EuRoC ground-truth file '%s'", file.c_str());
+    }
+    TumTrajectory out;
+    std::optional<bool> w_first;
+    std::string line;
+    std::size_t line_no = 0;
+    while (std::getline(f, line))
+    {
+        ++line_no;
+        if (isBlank(line))
+        {
+            continue;
+        }
+        if (isCommentOrBlank(line))
+        {
+            if (!w_first)
+            {
+                w_first = headerSaysWFirst(std::string(trimmed(line).substr(1)));
+            }
+            continue;
+        }
+        const auto fields = splitFields(line);
+        if (fields.size() < 8)
+        {
+            THROW_EXCEPTION_FMT(
+                "%s:%zu: expected at least 8 comma-separated fields (timestamp_ns, position, "
+                "quaternion), got %zu in '%s'",
+                file.c_str(), line_no, fields.size(), line.c_str());
+        }
+        std::int64_t t_ns = 0;
+        double v[7];
+        bool ok = parseNanoseconds(fields[0], t_ns);
+        for (int k = 0; k < 7 && ok; k++)
+        {
+            ok = parseDouble(fields[k + 1], v[k]) && std::isfinite(v[k]);
+        }
+        if (!ok)
+        {
+            THROW_EXCEPTION_FMT(
+                "%s:%zu: not a number (timestamp in integer nanoseconds, then 7 finite numbers) "
+                "in '%s'",
+                file.c_str(), line_no, line.c_str());
+        }
+        const bool wf = w_first.value_or(fields.size() != 8);
+        const double qw = wf ? v[3] : v[6];
+        const double qx = wf ? v[4] : v[3];
+        const double qy = wf ? v[5] : v[4];
+        const double qz = wf ? v[6] : v[5];
+        const double norm = std::sqrt(qw * qw + qx * qx + qy * qy + qz * qz);
+        if (norm < 1e-9)
+        {
+            THROW_EXCEPTION_FMT("%s:%zu: zero quaternion", file.c_str(), line_no);
+        }
+        const mrpt::math::CQuaternionDouble q(qw / norm, qx / norm, qy / norm, qz / norm);
+        // Whole seconds and the rest apart: the double keeps more of the nanoseconds.
+        const double t =
+            static_cast<double>(t_ns / 1000000000) + 1e-9 * static_cast<double>(t_ns % 1000000000);
+        out.add(t, mrpt::poses::CPose3D(q, v[0], v[1], v[2]));
+    }
+    if (f.bad())
+    {
+        THROW_EXCEPTION_FMT("Error reading EuRoC ground-truth file '%s'", file.c_str());
+    }
+    if (out.empty())
+    {
+        THROW_EXCEPTION_FMT("EuRoC ground-truth file '%s' holds no pose", file.c_str());
+    }
+    return out;
+}
+
+}  // namespace emslam::stereo

@@ -1,0 +1,121 @@
+// SPDX-License-Identifier: BSD-3-Clause
+// RawlogInput's progress: the fraction of the uncompressed stream, so the
+// frame total extrapolated after the first frame is the real one.
+#include "TestData.h"
+#include "TestHelpers.h"
+
+#include <emslam/apps/ProgressLine.h>
+#include <emslam/apps/RawlogInput.h>
+#include <emslam/apps/RawlogOutput.h>
+
+#include <mrpt/io/CFileOutputStream.h>
+#include <mrpt/obs/CObservationStereoImages.h>
+#include <mrpt/serialization/CArchive.h>
+
+#include <gtest/gtest.h>
+
+#include <cstdint>
+#include <filesystem>
+#include <string>
+#include <vector>
+
+using emslam::apps::ProgressLine;
+using emslam::apps::RawlogInput;
+
+namespace
+{
+constexpr std::size_t FRAMES = 120;
+
+/** A stereo observation with smooth (well compressible) 160x120 images. */
+mrpt::obs::CObservationStereoImages frame(std::size_t i)
+{
+    mrpt::obs::CObservationStereoImages o;
+    o.timestamp = mrpt::Clock::fromDouble(1.7e9 + 0.1 * static_cast<double>(i));
+    o.sensorLabel = "STEREO";
+    for (auto* im : {&o.imageLeft, &o.imageRight})
+    {
+        im->resize(160, 120, mrpt::img::CH_GRAY);
+        for (int y = 0; y < 120; y++)
+        {
+            for (int x = 0; x < 160; x++)
+            {
+                *im->ptr<std::uint8_t>(x, y) = static_cast<std::uint8_t>((x + y + i) & 0xff);
+            }
+        }
+    }
+    return o;
+}
+
+/** Reads one record and returns the frame total a progress line extrapolates. */
+std::size_t totalAfterFirstFrame(const std::string& file)
+{
+    RawlogInput in(file);
+    std::vector<mrpt::obs::CObservation::Ptr> batch;
+    EXPECT_TRUE(in.next(batch));
+    EXPECT_EQ(batch.size(), 1U);
+    ProgressLine progress("test", 1, false);
+    progress.updateFraction(1, in.fractionRead());
+    // And the last frame brings the fraction to 1.
+    std::size_t n = 1;
+    while (in.next(batch))
+    {
+        n += batch.size();
+    }
+    EXPECT_EQ(n, FRAMES);
+    EXPECT_DOUBLE_EQ(in.fractionRead(), 1.0);
+    EXPECT_EQ(in.bytesRead(), in.totalBytes());
+    return progress.estimatedTotal();
+}
+}  // namespace
+
+TEST(RawlogInput, gzRawlogTotalAfterTheFirstFrameIsTheFrameCount)
+{
+    const std::string dir = emslam::test::makeTempDir("rawlog_input_gz");
+    const std::string file = dir + "/frames.rawlog";
+    {
+        emslam::apps::RawlogOutput out(file, 6);
+        for (std::size_t i = 0; i < FRAMES; i++)
+        {
+            out.archive() << frame(i);
+        }
+        out.commit();
+    }
+    // Compressed well below the stream: dividing by the file size was wrong.
+    const auto compressed = std::filesystem::file_size(file);
+    RawlogInput in(file);
+    EXPECT_GT(in.totalBytes(), 10 * compressed);
+    const std::size_t total = totalAfterFirstFrame(file);
+    EXPECT_NEAR(static_cast<double>(total), static_cast<double>(FRAMES), 0.01 * FRAMES);
+}
+
+TEST(RawlogInput, plainRawlogTotalAfterTheFirstFrameIsTheFrameCount)
+{
+    const std::string dir = emslam::test::makeTempDir("rawlog_input_plain");
+    const std::string file = dir + "/frames.rawlog";
+    {
+        mrpt::io::CFileOutputStream f(file);
+        auto a = mrpt::serialization::archiveFrom(f);
+        for (std::size_t i = 0; i < FRAMES; i++)
+        {
+            a << frame(i);
+        }
+    }
+    RawlogInput in(file);
+    EXPECT_EQ(in.totalBytes(), std::filesystem::file_size(file));
+    const std::size_t total = totalAfterFirstFrame(file);
+    EXPECT_NEAR(static_cast<double>(total), static_cast<double>(FRAMES), 0.01 * FRAMES);
+}
+
+TEST(RawlogInput, uncompressedSizeFromTheGzipTrailer)
+{
+    constexpr std::uint64_t GIB = std::uint64_t{1} << 30;
+    // Below 4 GiB the trailer is the size.
+    EXPECT_EQ(RawlogInput::estimateUncompressedSize(5000, 1200, 0), 5000U);
+    // Incompressible data: the stream is barely smaller than the file.
+    EXPECT_EQ(RawlogInput::estimateUncompressedSize(99990, 100000, 0), 99990U);
+    // 9 GiB compressed to 6 GiB: the trailer says 1 GiB (9 mod 4).
+    EXPECT_EQ(RawlogInput::estimateUncompressedSize(GIB, 6 * GIB, 0), 9 * GIB);
+    // 5 GiB compressed to 1 GiB: first taken as 1 GiB, then 5 GiB once read past it.
+    EXPECT_EQ(RawlogInput::estimateUncompressedSize(GIB, GIB - 100, 0), GIB);
+    EXPECT_EQ(RawlogInput::estimateUncompressedSize(GIB, GIB - 100, GIB + 1), 5 * GIB);
+}

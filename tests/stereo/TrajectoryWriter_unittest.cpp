@@ -1,0 +1,73 @@
+// SPDX-License-Identifier: BSD-3-Clause
+#include "TestData.h"
+#include "TestHelpers.h"
+
+#include <emslam/stereo/KittiTrajectory.h>
+#include <emslam/stereo/TrajectoryReader.h>
+#include <emslam/stereo/TrajectoryWriter.h>
+
+#include <gtest/gtest.h>
+
+#include <filesystem>
+#include <string>
+#include <vector>
+
+using emslam::stereo::saveTrajectory;
+using emslam::stereo::TrajectoryOutput;
+using emslam::stereo::TumTrajectory;
+
+namespace
+{
+TumTrajectory sample()
+{
+    TumTrajectory t;
+    for (int i = 0; i < 5; i++)
+    {
+        t.add(1700000000.0 + 0.1 * i, mrpt::poses::CPose3D(0.3 * i, 0, 1.0 * i, 0.01 * i, 0, 0));
+    }
+    return t;
+}
+}  // namespace
+
+TEST(TrajectoryWriter, writesTheChosenFormatsAndTheyReadBackEqual)
+{
+    const std::string dir = emslam::test::makeTempDir("traj_writer");
+    const auto t = sample();
+    EXPECT_EQ(
+        saveTrajectory(t, dir + "/a.tum", TrajectoryOutput::Tum),
+        std::vector<std::string>{dir + "/a.tum"});
+    EXPECT_EQ(
+        saveTrajectory(t, dir + "/b_kitti.txt", TrajectoryOutput::Kitti),
+        (std::vector<std::string>{dir + "/b_kitti.txt", dir + "/b_times.txt"}));
+    EXPECT_EQ(
+        saveTrajectory(t, dir + "/c.tum", TrajectoryOutput::Both),
+        (std::vector<std::string>{dir + "/c.tum", dir + "/c_kitti.txt", dir + "/c_times.txt"}));
+    for (const char* f : {"/a.tum", "/b_kitti.txt", "/c.tum", "/c_kitti.txt"})
+    {
+        SCOPED_TRACE(f);
+        const auto r = emslam::stereo::loadTrajectory(dir + f);
+        ASSERT_TRUE(r.timed);
+        ASSERT_EQ(r.trajectory.size(), t.size());
+        for (std::size_t i = 0; i < t.size(); i++)
+        {
+            EXPECT_NEAR(r.trajectory.poses[i].t, t.poses[i].t, 1e-9);
+            EXPECT_LT(
+                emslam::test::maxPoseDifference(r.trajectory.poses[i].pose, t.poses[i].pose),
+                1e-12);
+        }
+    }
+    EXPECT_FALSE(std::filesystem::exists(dir + "/a_kitti.txt"));
+    EXPECT_FALSE(std::filesystem::exists(dir + "/b_kitti.tum"));
+}
+
+TEST(TrajectoryWriter, outputNamesParse)
+{
+    EXPECT_EQ(emslam::stereo::parseTrajectoryOutput("tum"), TrajectoryOutput::Tum);
+    EXPECT_EQ(emslam::stereo::parseTrajectoryOutput("KITTI"), TrajectoryOutput::Kitti);
+    EXPECT_EQ(emslam::stereo::parseTrajectoryOutput("both"), TrajectoryOutput::Both);
+    emslam::test::expectThrowContaining(
+        [] { emslam::stereo::parseTrajectoryOutput("euroc"); }, {"'euroc'", "tum, kitti or both"});
+    EXPECT_EQ(
+        emslam::stereo::kittiFileBeside("out/trajectory_slam.tum"),
+        "out/trajectory_slam_kitti.txt");
+}
