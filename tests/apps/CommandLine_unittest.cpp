@@ -135,7 +135,7 @@ TEST(CommandLine, missingRequiredArgumentsAreNamed)
     expectInitFails<emslam::apps::StereoApp>(
         "emslam-stereo", {}, {"missing required argument <DATASET.rawlog | LEFT RIGHT CALIB.ini>"});
     expectInitFails<emslam::apps::EvalApp>(
-        "emslam-eval", {"gt.tum"}, {"missing required argument <EST.tum>"});
+        "emslam-eval", {"gt.tum"}, {"missing required argument <EST>"});
     expectInitFails<emslam::apps::ImportApp>(
         "emslam-import", {"kitti", "seq"}, {"missing required argument --output <OUT.rawlog>"});
     expectInitFails<emslam::apps::SimApp>(

@@ -144,8 +144,8 @@ TEST(EvalApp, badInputFailsWithMessage)
     expectFailure({gt, dir + "/late.tum"}, {"no timestamp", "late.tum"});
     expectFailure({gt, est, "--align", "affine"}, {"--align", "'affine'"});
     expectFailure({gt, est, "--max-dt", "0"}, {"--max-dt"});
-    expectFailure({}, {"missing required arguments <GT.tum>, <EST.tum>"});
-    expectFailure({gt}, {"missing required argument <EST.tum>"});
+    expectFailure({}, {"missing required arguments <GT>, <EST>"});
+    expectFailure({gt}, {"missing required argument <EST>"});
     expectFailure({gt, est, "--json", dir + "/no/such/dir/m.json"}, {"m.json"});
     // Unreadable (permissions): root reads anyway, so only checked as a user.
     if (::geteuid() != 0)

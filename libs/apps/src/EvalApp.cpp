@@ -44,10 +44,12 @@ void EvalApp::initialize(int argc, const char** argv)
     TCLAP::UnlabeledValueArg<std::string> est(
         "est", "Estimated trajectory (TUM, KITTI poses or EuRoC CSV)", true, "", "EST", cmd);
     TCLAP::ValueArg<std::string> gt_format_arg(
-        "", "gt-format", "Format of GT: auto (from the content), tum, kitti or euroc", false,
+        "", "gt-format",
+        withDefault("Format of GT: auto (from the content), tum, kitti or euroc", "auto"), false,
         "auto", "auto|tum|kitti|euroc", cmd);
     TCLAP::ValueArg<std::string> est_format_arg(
-        "", "est-format", "Format of EST: auto (from the content), tum, kitti or euroc", false,
+        "", "est-format",
+        withDefault("Format of EST: auto (from the content), tum, kitti or euroc", "auto"), false,
         "auto", "auto|tum|kitti|euroc", cmd);
     TCLAP::ValueArg<std::string> gt_times(
         "", "gt-times",
@@ -55,8 +57,8 @@ void EvalApp::initialize(int argc, const char** argv)
         "poses/NN.txt)",
         false, "", "FILE", cmd);
     TCLAP::ValueArg<std::string> est_times(
-        "", "est-times", "Times file of a KITTI EST (default: found beside it)", false, "",
-        "FILE", cmd);
+        "", "est-times", "Times file of a KITTI EST (default: found beside it)", false, "", "FILE",
+        cmd);
     TCLAP::ValueArg<double> kitti_time_offset(
         "", "kitti-time-offset",
         "UNIX time [s] added to KITTI sequence times (times.txt values below 1e9), as "
@@ -81,7 +83,7 @@ void EvalApp::initialize(int argc, const char** argv)
         false, options.segment_step, "N", cmd);
 
     if (!parseCommandLine(
-            cmd, PROGRAM, argc, argv, {{"--gt", "", 0, "GT.tum"}, {"--est", "", 1, "EST.tum"}}))
+            cmd, PROGRAM, argc, argv, {{"--gt", "", 0, "GT"}, {"--est", "", 1, "EST"}}))
     {
         m_help_requested = true;
         return;

@@ -99,7 +99,8 @@ void MapperApp::initialize(int argc, const char** argv)
         "Ground truth for the report and summary.json: TUM, KITTI poses (+ times) or EuRoC CSV",
         false, "", "GT", cmd);
     TCLAP::ValueArg<std::string> gt_format(
-        "", "gt-format", "Format of --gt: auto (from the content), tum, kitti or euroc", false,
+        "", "gt-format",
+        withDefault("Format of --gt: auto (from the content), tum, kitti or euroc", "auto"), false,
         "auto", "auto|tum|kitti|euroc", cmd);
     TCLAP::ValueArg<std::string> gt_times(
         "", "gt-times",
@@ -108,8 +109,10 @@ void MapperApp::initialize(int argc, const char** argv)
         false, "", "FILE", cmd);
     TCLAP::ValueArg<std::string> trajectory_format(
         "", "trajectory-format",
-        "Trajectory files: tum (trajectory_*.tum), kitti (trajectory_*_kitti.txt + "
-        "trajectory_*_times.txt) or both",
+        withDefault(
+            "Trajectory files: tum (trajectory_*.tum), kitti (trajectory_*_kitti.txt + "
+            "trajectory_*_times.txt) or both",
+            "tum"),
         false, "tum", "tum|kitti|both", cmd);
     TCLAP::MultiArg<std::string> sets(
         "", "set", "Override a parameter: SECTION.key=value", false, "SECTION.key=value", cmd);

@@ -60,8 +60,10 @@ void OdometryApp::initialize(int argc, const char** argv)
         true, "", "OUT.tum", cmd);
     TCLAP::ValueArg<std::string> trajectory_format(
         "", "trajectory-format",
-        "tum, kitti (3x4 poses + times) or both (TUM at FILE, KITTI beside it as "
-        "FILE-stem_kitti.txt + FILE-stem_times.txt)",
+        withDefault(
+            "tum, kitti (3x4 poses + times) or both (TUM at FILE, KITTI beside it as "
+            "FILE-stem_kitti.txt + FILE-stem_times.txt)",
+            "tum"),
         false, "tum", "tum|kitti|both", cmd);
     TCLAP::ValueArg<std::string> config(
         "c", "config",
