@@ -256,7 +256,7 @@ TEST(ImportApp, poseCountMismatchLeavesNoOutput)
     writeFile(root + "/poses.txt", "1 0 0 0 0 1 0 0 0 0 1 0\n");
     ImportApp app;
     initApp(
-        app, {"kitti", seq, "--poses", root + "/poses.txt", "-o", root + "/out.rawlog", "--gt-out",
+        app, {"kitti", seq, "--gt", root + "/poses.txt", "-o", root + "/out.rawlog", "--gt-out",
               root + "/out.tum", "-q"});
     try
     {
@@ -282,7 +282,7 @@ TEST(ImportApp, failureMidwayKeepsPreviousOutputAndRemovesPartials)
     writeFile(root + "/out.rawlog", "previous");
     ImportApp app;
     initApp(
-        app, {"kitti", seq, "--poses", root + "/poses.txt", "-o", root + "/out.rawlog", "--gt-out",
+        app, {"kitti", seq, "--gt", root + "/poses.txt", "-o", root + "/out.rawlog", "--gt-out",
               root + "/out.tum", "-q"});
     EXPECT_ANY_THROW(app.run());
     EXPECT_EQ(readFile(root + "/out.rawlog"), "previous");
@@ -292,7 +292,7 @@ TEST(ImportApp, failureMidwayKeepsPreviousOutputAndRemovesPartials)
     // The same sequence up to frame 2 imports fine.
     ImportApp ok;
     initApp(
-        ok, {"kitti", seq, "--poses", root + "/poses.txt", "-o", root + "/out.rawlog", "--gt-out",
+        ok, {"kitti", seq, "--gt", root + "/poses.txt", "-o", root + "/out.rawlog", "--gt-out",
              root + "/out.tum", "--last", "2", "-q"});
     ok.run();
     EXPECT_EQ(ok.frames_written, 3U);
@@ -312,13 +312,13 @@ TEST(ImportApp, badArgumentsThrow)
         {"kitti", seq, "-o", o, "--step", "0"},                  // step < 1
         {"kitti", seq, "-o", o, "--step", "two"},                // not a number
         {"kitti", seq, "-o", o, "--first", "2", "--last", "1"},  // empty range
-        {"kitti", seq, "-o", o, "--gt", "x.csv"},                // euroc option
-        {"euroc", seq, "-o", o, "--poses", "p.txt"},             // kitti option
+        {"tum", seq, "-o", o, "--gt", "x.csv"},                  // tum reads groundtruth.txt
+        {"tum", seq, "-o", o, "--poses", "p.txt"},               // old kitti spelling, tum
         {"kitti", seq, "-o", o, "--intrinsics", "1,2,3,4"},      // tum option
         {"tum", seq, "-o", o, "--intrinsics", "1,2,3"},          // 3 numbers
         {"kitti", seq, "-o", o, "--gt-out", root + "/g.tum"},    // no GT source
         {"euroc", seq, "-o", o, "--gt-out", root + "/g.tum"},    // no GT source
-        {"kitti", seq, "-o", o, "--poses", "p", "--gt-out", o},  // same file
+        {"kitti", seq, "-o", o, "--gt", "p", "--gt-out", o},     // same file
         {"kitti", seq, "-o", o, "--no-such-option"},             // unknown option
     };
     for (const auto& args : bad)
@@ -368,7 +368,7 @@ TEST(ImportApp, importsRealKittiPseudoLoopFrameList)
     const std::string out = emslam::test::makeTempDir("import_kitti_loop");
     ImportApp app;
     initApp(
-        app, {"kitti", seq, "--poses", poses, "-o", out + "/loop.rawlog", "--gt-out",
+        app, {"kitti", seq, "--gt", poses, "-o", out + "/loop.rawlog", "--gt-out",
               out + "/loop.tum", "--frames", "0:50:2,49:1:-2", "-q"});
     ASSERT_EQ(app.frames.size(), 51U);
     app.run();

@@ -284,8 +284,7 @@ void ImportApp::initialize(int argc, const char** argv)
         "ground truth into a TUM trajectory file. Outputs are written as <name>.partial and "
         "renamed only when the import succeeded. Examples: '" +
             std::string(PROGRAM) +
-            " kitti sequences/06 --poses poses/06.txt -o k06.rawlog --gt-out k06.tum', '" +
-            PROGRAM +
+            " kitti sequences/06 --gt poses/06.txt -o k06.rawlog --gt-out k06.tum', '" + PROGRAM +
             " euroc V1_01_easy/mav0 --gt groundtruth_left_cam.csv -o v101.rawlog --gt-out "
             "v101.tum', '" +
             PROGRAM + " tum rgbd_dataset_freiburg1_xyz -o fr1xyz.rawlog --gt-out fr1xyz.tum'.",
@@ -301,12 +300,12 @@ void ImportApp::initialize(int argc, const char** argv)
     TCLAP::ValueArg<std::string> arg_out(
         "o", "output", "Output rawlog file (gz-compressed, observations only).", true, "",
         "OUT.rawlog", cmd);
-    TCLAP::ValueArg<std::string> arg_poses(
-        "", "poses", "kitti: ground-truth poses file (poses/NN.txt).", false, "", "POSES.txt", cmd);
     TCLAP::ValueArg<std::string> arg_gt(
         "", "gt",
-        "euroc: ground truth of the left camera, 'timestamp_ns,x,y,z,qx,qy,qz,qw' per line.", false,
-        "", "GT.csv", cmd);
+        "Ground truth in the dataset's own format: kitti 'poses/NN.txt' (3x4 per frame), euroc "
+        "left-camera CSV 'timestamp_ns,x,y,z,qx,qy,qz,qw' (tum: groundtruth.txt is read from the "
+        "folder). --poses is its old kitti spelling.",
+        false, "", "GT", cmd);
     TCLAP::ValueArg<std::string> arg_gt_out(
         "", "gt-out",
         "Write the ground truth of the imported frames here (TUM format, left/colour camera "
@@ -345,7 +344,7 @@ void ImportApp::initialize(int argc, const char** argv)
     m_initialized = false;
     quit_requested = false;
     // Usage shows the program name, not the path it was started from.
-    if (!parseCommandLine(cmd, PROGRAM, argc, argv))
+    if (!parseCommandLine(cmd, PROGRAM, argc, argv, {{"--poses", "--gt", 0, "--gt"}}))
     {
         quit_requested = true;  // --help / --version: already printed
         return;
@@ -358,21 +357,17 @@ void ImportApp::initialize(int argc, const char** argv)
     }
     input_dir = arg_dir.getValue();
     output_file = arg_out.getValue();
-    kitti_poses_file = arg_poses.getValue();
-    euroc_gt_file = arg_gt.getValue();
+    kitti_poses_file = dataset == "kitti" ? arg_gt.getValue() : std::string{};
+    euroc_gt_file = dataset == "euroc" ? arg_gt.getValue() : std::string{};
     gt_out_file = arg_gt_out.getValue();
     tum_intrinsics = arg_intr.getValue();
     sensor_label = arg_label.getValue();
     quiet = arg_quiet.getValue();
     gz_level = arg_gz.getValue();
 
-    if (arg_poses.isSet() && dataset != "kitti")
+    if (arg_gt.isSet() && dataset == "tum")
     {
-        usageError("--poses is for kitti only (euroc: --gt; tum: groundtruth.txt is read)");
-    }
-    if (arg_gt.isSet() && dataset != "euroc")
-    {
-        usageError("--gt is for euroc only (kitti: --poses; tum: groundtruth.txt is read)");
+        usageError("--gt is for kitti and euroc (tum: groundtruth.txt in the folder is read)");
     }
     if (arg_intr.isSet() && dataset != "tum")
     {
@@ -431,7 +426,7 @@ void ImportApp::initialize(int argc, const char** argv)
     {
         if (dataset == "kitti" && kitti_poses_file.empty())
         {
-            usageError("--gt-out needs --poses for kitti");
+            usageError("--gt-out needs --gt (poses/NN.txt) for kitti");
         }
         if (dataset == "euroc" && euroc_gt_file.empty())
         {
