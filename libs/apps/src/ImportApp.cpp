@@ -344,7 +344,7 @@ void ImportApp::initialize(int argc, const char** argv)
     m_initialized = false;
     quit_requested = false;
     // Usage shows the program name, not the path it was started from.
-    if (!parseCommandLine(cmd, PROGRAM, argc, argv, {{"--poses", "--gt", 0, "--gt"}}))
+    if (!parseCommandLine(cmd, PROGRAM, argc, argv, {{"--poses", "--gt", 0, "POSES.txt"}}))
     {
         quit_requested = true;  // --help / --version: already printed
         return;
