@@ -144,6 +144,9 @@ TEST(EvalApp, badInputFailsWithMessage)
     expectFailure({gt, dir + "/late.tum"}, {"no timestamp", "late.tum"});
     expectFailure({gt, est, "--align", "affine"}, {"--align", "'affine'"});
     expectFailure({gt, est, "--max-dt", "0"}, {"--max-dt"});
+    expectFailure(
+        {gt, est, "--segment-step", "-1"}, {"--segment-step must be at least 1", "got -1"});
+    expectFailure({gt, est, "--segment-step", "0"}, {"--segment-step must be at least 1"});
     expectFailure({}, {"missing required arguments <GT>, <EST>"});
     expectFailure({gt}, {"missing required argument <EST>"});
     expectFailure({gt, est, "--json", dir + "/no/such/dir/m.json"}, {"m.json"});

@@ -14,6 +14,8 @@
 
 #include <gtest/gtest.h>
 
+#include <sys/stat.h>
+
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
@@ -494,4 +496,27 @@ TEST(ImportApp, realKittiFrameIndexBeyondTheSequence)
     emslam::test::expectThrowContaining(
         [&] { app.run(); }, {"frame index 51 is out of range", "51 frames (indexes 0..50)"});
     EXPECT_FALSE(fs::exists(out + "/k.rawlog"));
+}
+
+// --gt-out naming a folder (or -o a FIFO) is found before the import, not
+// after the rawlog was written.
+TEST(ImportApp, badOutputPathsFailBeforeTheImport)
+{
+    const std::string root = emslam::test::makeTempDir("import_outputs");
+    const std::string seq = writeKitti(root, 3);
+    fs::create_directory(root + "/gt_folder");
+    ImportApp app;
+    initApp(
+        app, {"kitti", seq, "--gt", root + "/poses.txt", "-o", root + "/out.rawlog", "--gt-out",
+              root + "/gt_folder", "-q"});
+    emslam::test::expectThrowContaining(
+        [&] { app.run(); }, {"gt_folder' exists and is a folder", "not a regular file"});
+    EXPECT_FALSE(fs::exists(root + "/out.rawlog"));
+    EXPECT_FALSE(hasPartialFiles(root));
+
+    ASSERT_EQ(::mkfifo((root + "/pipe.rawlog").c_str(), 0600), 0);
+    ImportApp fifo;
+    initApp(fifo, {"kitti", seq, "-o", root + "/pipe.rawlog", "-q"});
+    emslam::test::expectThrowContaining([&] { fifo.run(); }, {"pipe.rawlog' exists and is a FIFO"});
+    EXPECT_TRUE(fs::is_fifo(root + "/pipe.rawlog"));
 }

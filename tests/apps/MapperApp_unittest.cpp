@@ -24,6 +24,7 @@
 
 #include <gtest/gtest.h>
 
+#include <sys/stat.h>
 #include <sys/wait.h>
 #include <unistd.h>
 
@@ -470,6 +471,9 @@ TEST(MapperApp, badInputsFailWithAClearMessage)
         {cfg, rawlog, "--out", dir, "--gt", groundTruthOf(rawlog), "--gt-format", "kitti"},
         {".tum:1", "12 numbers"});
     initFails({cfg, rawlog, "--out", dir, "--trajectory-format", "g2o"}, {"g2o", "tum, kitti"});
+    initFails(
+        {cfg, rawlog, "--out", dir, "--max-frames", "-1"},
+        {"--max-frames must be at least 0", "got -1"});
 
     emslam::test::writeFile(dir + "/text.rawlog", "this is not a rawlog\n");
     runFails(
@@ -489,7 +493,7 @@ TEST(MapperApp, badInputsFailWithAClearMessage)
     }
     runFails(
         {cfg, dir + "/odometry.rawlog", "--out", dir + "/o2"},
-        {"no stereo or RGB-D observation", "odometry.rawlog", "3 observations"});
+        {"no usable stereo or RGB-D observation", "odometry.rawlog", "3 observations"});
 
     {
         // A stereo observation whose calibration is missing (all zero).
@@ -504,12 +508,125 @@ TEST(MapperApp, badInputsFailWithAClearMessage)
         o.leftCamera.nrows = o.rightCamera.nrows = 0;
         a << o;
     }
-    runFails({cfg, dir + "/nocalib.rawlog", "--out", dir + "/o3"}, {"calibration"});
+    runFails(
+        {cfg, dir + "/nocalib.rawlog", "--out", dir + "/o3"},
+        {"no usable stereo", "1 unusable ones skipped", "record 0", "calibration"});
+    // A run that fails before writing leaves no output folder behind.
+    EXPECT_FALSE(std::filesystem::exists(dir + "/o1"));
+    EXPECT_FALSE(std::filesystem::exists(dir + "/o2"));
+    EXPECT_FALSE(std::filesystem::exists(dir + "/o3"));
+}
+
+// Frame 20 with a 160x120 right image and frame 25 without calibration: both
+// are skipped with a warning each, and every other frame is mapped.
+TEST(MapperApp, unusableFramesAreSkippedAndTheOthersMapped)
+{
+    const std::string dir = emslam::test::makeTempDir("mapper_skip");
+    const std::string rawlog = dir + "/bad_frames.rawlog";
+    {
+        emslam::apps::RawlogInput in(simulatedHall(30));
+        mrpt::io::CFileGZOutputStream out(rawlog);
+        auto arch = mrpt::serialization::archiveFrom(out);
+        std::vector<mrpt::obs::CObservation::Ptr> batch;
+        for (std::size_t i = 0; in.next(batch); i++)
+        {
+            ASSERT_EQ(batch.size(), 1U);
+            auto stereo = std::dynamic_pointer_cast<mrpt::obs::CObservationStereoImages>(batch[0]);
+            ASSERT_TRUE(stereo);
+            if (i == 20)
+            {
+                cv::Mat small;
+                cv::resize(stereo->imageRight.asCvMatRef(), small, cv::Size(160, 120));
+                stereo->imageRight = mrpt::img::CImage(small, mrpt::img::DEEP_COPY);
+            }
+            if (i == 25)
+            {
+                stereo->leftCamera.ncols = stereo->rightCamera.ncols = 0;
+                stereo->leftCamera.nrows = stereo->rightCamera.nrows = 0;
+            }
+            arch << *stereo;
+        }
+    }
+    const std::string out = emslam::test::makeTempDir("mapper_skip_out");
+    MapperApp app;
+    initApp(app, {config("3dof-low-structured"), rawlog, "--out", out, "-q"});
+    testing::internal::CaptureStderr();
+    ASSERT_NO_THROW(app.run());
+    const std::string err = testing::internal::GetCapturedStderr();
+    EXPECT_EQ(app.mapper().frameCount(), 28U);
+    EXPECT_EQ(app.runInfo().skipped_observations, 2U);
+    EXPECT_NE(err.find("warning: skipping unusable observation at record 20"), std::string::npos)
+        << err;
+    EXPECT_NE(err.find("right image is 160x120"), std::string::npos) << err;
+    EXPECT_NE(err.find("record 25"), std::string::npos) << err;
+    const std::string json = readText(out + "/summary.json");
+    EXPECT_NE(json.find("\"skipped_observations\": 2,"), std::string::npos) << json;
+    EXPECT_NE(json.find("\"skipped_reasons\": [\"record 20: "), std::string::npos) << json;
+    EXPECT_NE(json.find("\"stopped_by_error\": null"), std::string::npos) << json;
+    EXPECT_EQ(emslam::stereo::TumTrajectory::fromFile(out + "/trajectory_slam.tum").size(), 28U);
+    EXPECT_NE(
+        readText(out + "/report.html").find("unusable observations skipped"), std::string::npos);
+}
+
+// Every input and output is checked in initialize(), before any work, and a
+// run that fails leaves no empty output folder.
+TEST(MapperApp, badPathsFailBeforeAnyWork)
+{
+    const std::string dir = emslam::test::makeTempDir("mapper_paths");
+    const std::string rawlog = simulatedHall(8);
+    const std::string cfg = config("3dof-low-structured");
+    const auto initFails =
+        [&](std::vector<std::string> args, std::initializer_list<std::string> parts)
+    {
+        MapperApp app;
+        emslam::test::expectThrowContaining([&] { initApp(app, args); }, parts);
+    };
+    initFails({"/dev/zero", rawlog, "--out", dir + "/o"}, {"'/dev/zero'", "character device"});
+    initFails({cfg, dir, "--out", dir + "/o"}, {"rawlog '" + dir + "' is a folder, not a file"});
+    const std::string fifo = dir + "/pipe";
+    ASSERT_EQ(::mkfifo(fifo.c_str(), 0600), 0);
+    initFails({cfg, rawlog, "--out", fifo}, {"pipe' is a FIFO", "not a folder"});
+    initFails({cfg, fifo, "--out", dir + "/o"}, {"pipe' is not a regular file"});
+    // Outputs inside --out that must not be replaced.
+    std::filesystem::create_directory(dir + "/full");
+    ASSERT_EQ(::mkfifo((dir + "/full/map.ply").c_str(), 0600), 0);
+    initFails({cfg, rawlog, "--out", dir + "/full"}, {"full/map.ply' exists and is a FIFO"});
+    std::filesystem::create_directory(dir + "/linked");
+    std::filesystem::create_symlink(rawlog, dir + "/linked/report.html");
+    initFails(
+        {cfg, rawlog, "--out", dir + "/linked"}, {"linked/report.html' exists and is a symbolic"});
+    // A folder nothing can be written into (root writes anywhere but in /proc).
+    const std::string ro = ::geteuid() == 0 ? std::string("/proc") : dir + "/ro";
+    if (ro != "/proc")
+    {
+        std::filesystem::create_directory(ro);
+        std::filesystem::permissions(
+            ro, std::filesystem::perms::owner_read | std::filesystem::perms::owner_exec);
+    }
+    initFails({cfg, rawlog, "--out", ro}, {"cannot write into folder '" + ro + "'"});
+    initFails({cfg, rawlog, "--out", ro + "/new"}, {"cannot write into folder '" + ro + "'"});
+
+    // An empty and a random rawlog: clear errors, and no output folder made.
+    emslam::test::writeFile(dir + "/empty.rawlog", "");
+    std::string noise(4096, '\0');
+    for (std::size_t i = 0; i < noise.size(); ++i)
+    {
+        noise[i] = static_cast<char>((i * 2654435761U) >> 13);
+    }
+    emslam::test::writeFile(dir + "/noise.rawlog", noise);
+    for (const char* name : {"empty", "noise"})
+    {
+        MapperApp app;
+        const std::string out = dir + "/out_" + name + "/run";
+        initApp(app, {cfg, dir + "/" + name + ".rawlog", "--out", out, "-q"});
+        EXPECT_ANY_THROW(app.run()) << name;
+        EXPECT_FALSE(std::filesystem::exists(dir + "/out_" + name)) << name;
+    }
 }
 
 #ifdef EMSLAM_MAPPER_EXE
 // Ctrl-C: the real executable stops after the current frame and still writes
-// every output for the frames mapped so far, exit code 0.
+// every output for the frames mapped so far, exit code 130 (128 + SIGINT).
 TEST(MapperApp, sigintStopsAndWritesTheOutputs)
 {
     const std::string rawlog = simulatedHall(300);
@@ -537,7 +654,7 @@ TEST(MapperApp, sigintStopsAndWritesTheOutputs)
     int status = 0;
     ::waitpid(pid, &status, 0);
     ASSERT_TRUE(WIFEXITED(status)) << readText(err);
-    EXPECT_EQ(WEXITSTATUS(status), 0) << readText(err);
+    EXPECT_EQ(WEXITSTATUS(status), 130) << readText(err);
     const std::string json = readText(out + "/summary.json");
     EXPECT_NE(json.find("\"interrupted\": true"), std::string::npos) << json;
     const auto ego = emslam::stereo::TumTrajectory::fromFile(out + "/trajectory_egomotion.tum");

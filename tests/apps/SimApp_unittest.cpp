@@ -12,6 +12,8 @@
 
 #include <gtest/gtest.h>
 
+#include <sys/stat.h>
+
 #include <filesystem>
 #include <fstream>
 #include <iterator>
@@ -179,4 +181,37 @@ TEST(SimApp, badIniFailsNamingTheKeyAndLeavesNoOutput)
     EXPECT_THROW(
         initApp(app2, {out + "/el.ini", "-o", out + "/x.rawlog", "--frames", "0"}),
         std::invalid_argument);
+}
+
+// `-o` naming a FIFO (as `/dev/null` would be) is refused before any
+// rendering and left as it is; a symbolic link is written through.
+TEST(SimApp, outputFifoIsRefusedAndASymbolicLinkIsWrittenThrough)
+{
+    const std::string out = emslam::test::makeTempDir("sim_app_special");
+    const std::string world = emslam::test::sourceDir() + HALL;
+    const std::string fifo = out + "/pipe.rawlog";
+    ASSERT_EQ(::mkfifo(fifo.c_str(), 0600), 0);
+    {
+        SimApp app;
+        initApp(app, {world, "-o", fifo, "--frames", "2", "-q"});
+        emslam::test::expectThrowContaining(
+            [&] { app.run(); }, {"pipe.rawlog' exists and is a FIFO", "not a regular file"});
+        EXPECT_EQ(app.frames_written, 0U);
+        EXPECT_TRUE(fs::is_fifo(fifo));
+    }
+    {
+        // --gt-out naming a folder fails before the rawlog is written.
+        SimApp app;
+        initApp(app, {world, "-o", out + "/a.rawlog", "--gt-out", out, "--frames", "2", "-q"});
+        emslam::test::expectThrowContaining([&] { app.run(); }, {"exists and is a folder"});
+        EXPECT_FALSE(fs::exists(out + "/a.rawlog"));
+    }
+    fs::create_directory(out + "/runs");
+    fs::create_symlink("runs/hall.rawlog", out + "/latest.rawlog");
+    SimApp app;
+    initApp(app, {world, "-o", out + "/latest.rawlog", "--frames", "2", "-q"});
+    app.run();
+    EXPECT_TRUE(fs::is_symlink(out + "/latest.rawlog"));
+    EXPECT_EQ(readRawlog(out + "/runs/hall.rawlog").size(), 2U);
+    EXPECT_FALSE(fs::exists(out + "/runs/hall.rawlog.partial"));
 }

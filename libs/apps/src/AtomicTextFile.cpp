@@ -1,5 +1,6 @@
 // SPDX-License-Identifier: BSD-3-Clause
 #include <emslam/apps/AtomicTextFile.h>
+#include <emslam/apps/OutputPathChecks.h>
 
 #include <filesystem>
 #include <stdexcept>
@@ -8,7 +9,7 @@
 namespace emslam::apps
 {
 AtomicTextFile::AtomicTextFile(std::string file)
-    : m_file(std::move(file)), m_tmp(m_file + ".partial")
+    : m_file(requireOutputFile(file, "output file")), m_tmp(m_file + ".partial")
 {
     m_out.open(m_tmp, std::ios::out | std::ios::binary | std::ios::trunc);
     if (!m_out)

@@ -1,8 +1,7 @@
 // SPDX-License-Identifier: BSD-3-Clause
 #include <emslam/apps/CommandLine.h>
 #include <emslam/apps/ConfigValidation.h>
-
-#include <mrpt/system/filesystem.h>
+#include <emslam/apps/InputFileChecks.h>
 
 #include <algorithm>
 #include <cstdio>
@@ -184,6 +183,18 @@ std::string withDefault(const std::string& description, const std::string& value
     return description + " (default: " + value + ")";
 }
 
+std::size_t countOption(
+    long long value, const std::string& flag, long long min, const std::string& program)
+{
+    if (value < min)
+    {
+        throw std::invalid_argument(
+            flag + " must be at least " + std::to_string(min) + " (got " + std::to_string(value) +
+            "); try " + program + " --help");
+    }
+    return static_cast<std::size_t>(value);
+}
+
 void requireValidOverrides(
     const std::vector<std::string>& sets, const mrpt::config::CConfigFileBase& reference)
 {
@@ -221,10 +232,7 @@ void loadConfig(
 {
     if (!config_file.empty())
     {
-        if (!mrpt::system::fileExists(config_file))
-        {
-            throw std::runtime_error("config file '" + config_file + "' does not exist");
-        }
+        requireInputFile(config_file, "config file", MAX_INI_BYTES);
         std::ifstream f(config_file);
         cfg.setContent(std::string(std::istreambuf_iterator<char>(f), {}));
     }

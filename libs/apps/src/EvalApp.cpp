@@ -76,11 +76,11 @@ void EvalApp::initialize(int argc, const char** argv)
             "Largest time difference of an associated pose pair [s]",
             mrpt::format("%g", options.max_dt)),
         false, options.max_dt, "SECONDS", cmd);
-    TCLAP::ValueArg<std::size_t> step(
+    TCLAP::ValueArg<long long> step(
         "", "segment-step",
         withDefault(
             "Drift segments start every N matched poses", std::to_string(options.segment_step)),
-        false, options.segment_step, "N", cmd);
+        false, static_cast<long long>(options.segment_step), "N", cmd);
 
     if (!parseCommandLine(
             cmd, PROGRAM, argc, argv, {{"--gt", "", 0, "GT"}, {"--est", "", 1, "EST"}}))
@@ -124,11 +124,7 @@ void EvalApp::initialize(int argc, const char** argv)
     {
         throw std::invalid_argument("--max-dt must be a positive number of seconds");
     }
-    if (step.getValue() == 0)
-    {
-        throw std::invalid_argument("--segment-step must be at least 1");
-    }
-    options.segment_step = step.getValue();
+    options.segment_step = countOption(step.getValue(), "--segment-step", 1, PROGRAM);
 }
 
 void EvalApp::run()

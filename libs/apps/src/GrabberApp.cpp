@@ -523,7 +523,7 @@ void GrabberApp::run()
 
     RawlogOutput::checkOutputFolders(out_file, {});
     RawlogOutput out(out_file, gz_level);
-    const std::string partial = out_file + ".partial";
+    const std::string partial = out.partialFile();
     if (!quiet)
     {
         std::cerr << PROGRAM << ": grabbing " << slots.size() << " sensor(s) into '" << out_file

@@ -457,6 +457,8 @@ void ImportApp::run()
     frames_without_gt = 0;
     output_bytes = 0;
     retimed = false;
+    // A bad output path must not cost a whole import.
+    RawlogOutput::checkOutputFolders(output_file, gt_out_file);
 
     // Open and validate the dataset.
     FrameSource src;
@@ -525,8 +527,6 @@ void ImportApp::run()
         std::adjacent_find(indices.begin(), indices.end(), std::greater_equal<>()) != indices.end();
     const double period = retimed ? medianFramePeriod(src) : 0.0;
     const double t0 = src.time(indices.front());
-
-    RawlogOutput::checkOutputFolders(output_file, gt_out_file);
 
     if (!quiet)
     {

@@ -1,6 +1,7 @@
 // SPDX-License-Identifier: BSD-3-Clause
 #include <emslam/apps/CommandLine.h>
 #include <emslam/apps/EntropyVoxelObject.h>
+#include <emslam/apps/InputFileChecks.h>
 #include <emslam/apps/LiveViewer.h>
 #include <emslam/apps/MapStyle.h>
 #include <emslam/apps/MapViewApp.h>
@@ -57,10 +58,7 @@ void MapViewApp::initialize(int argc, const char** argv)
 mrpt::opengl::COpenGLScene::Ptr MapViewApp::loadScene(
     const std::string& file, std::size_t max_cells)
 {
-    if (!mrpt::system::fileExists(file))
-    {
-        throw std::runtime_error("'" + file + "' does not exist");
-    }
+    requireInputFile(file, "map file");
     if (endsWith(file, ".3Dscene"))
     {
         auto scene = mrpt::opengl::COpenGLScene::Create();

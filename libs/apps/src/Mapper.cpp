@@ -147,9 +147,21 @@ bool Mapper::process(const mrpt::obs::CObservation& obs)
     }
     const auto t0 = Clock::now();
     emslam::stereo::StereoFrame f;
-    if (!m_front.process(obs, f))
+    try
     {
-        return false;
+        if (!m_front.process(obs, f))
+        {
+            return false;
+        }
+    }
+    catch (const std::bad_alloc&)
+    {
+        throw;  // not the observation's fault
+    }
+    catch (const std::exception& e)
+    {
+        // The front-end changes no mapper state: the caller may skip the frame.
+        throw UnusableObservation(emslam::stereo::shortExceptionMessage(e));
     }
     MapperFrameRecord r;
     r.index = m_records.size();

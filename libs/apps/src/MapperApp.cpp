@@ -2,13 +2,16 @@
 #include <emslam/apps/AtomicTextFile.h>
 #include <emslam/apps/CommandLine.h>
 #include <emslam/apps/ConfigValidation.h>
+#include <emslam/apps/InputFileChecks.h>
 #include <emslam/apps/MapperApp.h>
 #include <emslam/apps/MapperLiveFeed.h>
 #include <emslam/apps/MapperReport.h>
+#include <emslam/apps/OutputPathChecks.h>
 #include <emslam/apps/ProgressLine.h>
 #include <emslam/apps/RawlogInput.h>
 #include <emslam/apps/StopSignal.h>
 #include <emslam/apps/TrajectoryInput.h>
+#include <emslam/stereo/ExceptionMessage.h>
 #include <emslam/stereo/TrajectoryWriter.h>
 
 #include <mrpt/system/filesystem.h>
@@ -32,18 +35,41 @@ std::string joinPath(const std::string& dir, const std::string& name)
     return dir + "/" + name;
 }
 
+/** How many skipped observations are named on stderr and in summary.json. */
+constexpr std::size_t SKIPS_NAMED = 5;
+
+/** Every file the mapper may write into its output folder. */
+const std::vector<std::string>& outputNames()
+{
+    static const std::vector<std::string> names = {
+        "trajectory_egomotion.tum",
+        "trajectory_slam.tum",
+        "trajectory_egomotion_kitti.txt",
+        "trajectory_slam_kitti.txt",
+        "trajectory_egomotion_times.txt",
+        "trajectory_slam_times.txt",
+        "keyframes.txt",
+        "map.ply",
+        "map.3Dscene",
+        "map_top.png",
+        "entropy_map.bin",
+        "entropy_map.3Dscene",
+        "stats.csv",
+        "summary.json",
+        "effective.ini",
+        "report.html"};
+    return names;
+}
+
 void writeEffectiveIni(const Mapper::TParameters& p, const std::string& file)
 {
     mrpt::config::CConfigFileMemory cfg;
     p.saveToConfigFile(cfg);
-    std::ofstream out(file, std::ios::out | std::ios::trunc);
-    out << "# emslam-mapper: every parameter this run used (load it with emslam-mapper to "
-           "repeat the run)\n"
-        << cfg.getContent();
-    if (!out.flush())
-    {
-        throw std::runtime_error("cannot write '" + file + "'");
-    }
+    AtomicTextFile f(file);
+    f.stream() << "# emslam-mapper: every parameter this run used (load it with emslam-mapper to "
+                  "repeat the run)\n"
+               << cfg.getContent();
+    f.commit();
 }
 
 /** The progress line's energy: none before the first rectification gives one. */
@@ -116,7 +142,7 @@ void MapperApp::initialize(int argc, const char** argv)
         false, "tum", "tum|kitti|both", cmd);
     TCLAP::MultiArg<std::string> sets(
         "", "set", "Override a parameter: SECTION.key=value", false, "SECTION.key=value", cmd);
-    TCLAP::ValueArg<std::size_t> max_frames(
+    TCLAP::ValueArg<long long> max_frames(
         "", "max-frames", withDefault("Stop after N stereo / RGB-D frames (0: all)", "0"), false, 0,
         "N", cmd);
     TCLAP::SwitchArg quiet("q", "quiet", "No progress line", cmd);
@@ -150,7 +176,7 @@ void MapperApp::initialize(int argc, const char** argv)
         throw std::invalid_argument(std::string("--trajectory-format: ") + e.what());
     }
     m_egomotion_only = egomotion_only.getValue();
-    m_max_frames = max_frames.getValue();
+    m_max_frames = countOption(max_frames.getValue(), "--max-frames", 0, PROGRAM);
     m_quiet = quiet.getValue();
     m_viewer = viewer.getValue();
     loadConfig(params, m_config, sets.getValue());
@@ -162,13 +188,13 @@ void MapperApp::initialize(int argc, const char** argv)
     requireValidConfig(params, known);
     Mapper::TParameters p;
     p.loadFromConfigFile(params);
-    if (!mrpt::system::fileExists(m_rawlog))
-    {
-        throw std::runtime_error("rawlog '" + m_rawlog + "' does not exist");
-    }
+    requireInputFile(m_rawlog, "rawlog");
+    requireOutputFolder(m_out, "output folder");
+    requireReplaceableFiles(m_out, outputNames());
     m_ground_truth = {};
     if (!m_gt.empty())
     {
+        requireInputFile(m_gt, "ground-truth file");
         // Read now: a bad ground truth stops the run before the long work.
         m_ground_truth = loadTrajectoryInput(m_gt, "ground-truth", m_gt_options);
         requireTimes(m_ground_truth, m_gt, "ground truth", "--gt-times");
@@ -187,14 +213,6 @@ void MapperApp::run()
     p.mapper.egomotion_only = p.mapper.egomotion_only || m_egomotion_only;
     const emslam::stereo::TumTrajectory& ground_truth = m_ground_truth.trajectory;
     RawlogInput in(m_rawlog);
-    // Like mkdir -p: `--out runs/hall/seed1` creates the missing parents.
-    std::error_code ec;
-    std::filesystem::create_directories(m_out, ec);
-    if (ec || !std::filesystem::is_directory(m_out))
-    {
-        throw std::runtime_error(
-            "cannot create output folder '" + m_out + "'" + (ec ? ": " + ec.message() : ""));
-    }
     m_mapper = std::make_unique<Mapper>(p);
     m_info = {};
     m_info.rawlog = m_rawlog;
@@ -216,10 +234,27 @@ void MapperApp::run()
                 done = true;
                 break;
             }
-            if (!m_mapper->process(*o))
+            const std::size_t record = in.recordsRead() - 1;
+            try
             {
-                ++m_info.ignored_observations;
+                if (!m_mapper->process(*o))
+                {
+                    ++m_info.ignored_observations;
+                    continue;
+                }
+            }
+            catch (const Mapper::UnusableObservation& e)
+            {
+                skipObservation(record, e.what(), progress);
                 continue;
+            }
+            catch (const std::exception& e)
+            {
+                // The mapper cannot go on, but what it has is still worth writing.
+                m_info.stopped_by_error = "record " + std::to_string(record) + ": " +
+                                          emslam::stereo::shortExceptionMessage(e);
+                done = true;
+                break;
             }
             if (live)
             {
@@ -253,18 +288,77 @@ void MapperApp::run()
     }
     if (m_mapper->frameCount() == 0)
     {
+        if (!m_info.stopped_by_error.empty())
+        {
+            throw std::runtime_error(
+                "rawlog '" + m_rawlog + "', " + m_info.stopped_by_error + " (no output written)");
+        }
+        std::string skipped;
+        if (m_info.skipped_observations > 0)
+        {
+            skipped = "; " + std::to_string(m_info.skipped_observations) +
+                      " unusable ones skipped, first: " + m_info.skipped_reasons.front();
+        }
         throw std::runtime_error(
-            "no stereo or RGB-D observation in rawlog '" + m_rawlog + "' (" +
-            std::to_string(m_info.ignored_observations) + " observations of other classes)");
+            "no usable stereo or RGB-D observation in rawlog '" + m_rawlog + "' (" +
+            std::to_string(m_info.ignored_observations) + " observations of other classes" +
+            skipped + ")");
     }
-    m_mapper->finish();
-    m_info.seconds =
-        std::chrono::duration<double>(std::chrono::steady_clock::now() - t_start).count();
-    writeOutputs(ground_truth);
+    const auto finishAndWrite = [&]
+    {
+        m_mapper->finish();
+        m_info.seconds =
+            std::chrono::duration<double>(std::chrono::steady_clock::now() - t_start).count();
+        writeOutputs(ground_truth);
+    };
+    if (m_info.stopped_by_error.empty())
+    {
+        finishAndWrite();
+        return;
+    }
+    // An error stopped the run: write the frames mapped before it, as Ctrl-C does,
+    // and still fail.
+    const std::string what = "mapping stopped by an error at " + m_info.stopped_by_error;
+    std::fprintf(
+        stderr, "%s: %s; writing the outputs of the %zu frames before it\n", PROGRAM, what.c_str(),
+        m_mapper->frameCount());
+    try
+    {
+        finishAndWrite();
+    }
+    catch (const std::exception& e)
+    {
+        throw std::runtime_error(
+            what + " (and the outputs could not be written: " +
+            emslam::stereo::shortExceptionMessage(e) + ")");
+    }
+    throw std::runtime_error(
+        what + "; the outputs of the " + std::to_string(m_mapper->frameCount()) +
+        " frames before it are in '" + m_out + "'");
+}
+
+void MapperApp::skipObservation(
+    std::size_t record, const std::string& reason, ProgressLine& progress)
+{
+    const std::string named = "record " + std::to_string(record) + ": " + reason;
+    if (m_info.skipped_reasons.size() < SKIPS_NAMED)
+    {
+        m_info.skipped_reasons.push_back(named);
+    }
+    ++m_info.skipped_observations;
+    if (m_info.skipped_observations <= SKIPS_NAMED)
+    {
+        progress.finish();  // a warning never lands in the middle of the progress line
+        std::fprintf(
+            stderr, "%s: warning: skipping unusable observation at %s%s\n", PROGRAM, named.c_str(),
+            m_info.skipped_observations == SKIPS_NAMED ? " (further ones are only counted)" : "");
+    }
 }
 
 void MapperApp::writeOutputs(const emslam::stereo::TumTrajectory& ground_truth)
 {
+    // Made only now: a run that fails before leaves no empty folder behind.
+    createOutputFolder(m_out);
     const Mapper& m = *m_mapper;
     if (!ground_truth.empty())
     {
@@ -299,6 +393,10 @@ void MapperApp::writeOutputs(const emslam::stereo::TumTrajectory& ground_truth)
     if (m_info.ignored_observations > 0)
     {
         std::printf(", %zu other observations ignored", m_info.ignored_observations);
+    }
+    if (m_info.skipped_observations > 0)
+    {
+        std::printf(", %zu unusable observations skipped", m_info.skipped_observations);
     }
     std::printf(
         "), %zu rectifications, final energy %.4f, %.1f s\n", m.rectifications().size(),

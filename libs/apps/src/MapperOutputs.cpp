@@ -41,6 +41,16 @@ std::string nestedJson(const std::string& object)
     return out;
 }
 
+std::string jsonStringArray(const std::vector<std::string>& items)
+{
+    std::string out = "[";
+    for (std::size_t i = 0; i < items.size(); ++i)
+    {
+        out += (i > 0 ? ", " : "") + jsonString(items[i]);
+    }
+    return out + "]";
+}
+
 std::string fixed(double v, int decimals)
 {
     char buf[64];
@@ -154,6 +164,10 @@ void writeSummaryJson(const Mapper& m, const MapperRunInfo& info, const std::str
       << "  \"accepted_frames\": " << m.acceptedCount() << ",\n"
       << "  \"egomotion_failures\": " << m.egomotionFailures() << ",\n"
       << "  \"ignored_observations\": " << info.ignored_observations << ",\n"
+      << "  \"skipped_observations\": " << info.skipped_observations << ",\n"
+      << "  \"skipped_reasons\": " << jsonStringArray(info.skipped_reasons) << ",\n"
+      << "  \"stopped_by_error\": "
+      << (info.stopped_by_error.empty() ? "null" : jsonString(info.stopped_by_error)) << ",\n"
       << "  \"interrupted\": " << (info.interrupted ? "true" : "false") << ",\n"
       << "  \"input_ended_early\": "
       << (info.input_ended_early.empty() ? "null" : jsonString(info.input_ended_early)) << ",\n"
@@ -298,6 +312,23 @@ MapperReportData makeReportData(
     if (!info.input_ended_early.empty())
     {
         s.emplace_back("input ended early", info.input_ended_early);
+    }
+    if (info.skipped_observations > 0)
+    {
+        std::string first;
+        for (const auto& r : info.skipped_reasons)
+        {
+            first += (first.empty() ? "" : "; ") + r;
+        }
+        s.emplace_back(
+            "unusable observations skipped",
+            std::to_string(info.skipped_observations) + " (first: " + first + ")");
+    }
+    if (!info.stopped_by_error.empty())
+    {
+        s.emplace_back(
+            "stopped by an error",
+            info.stopped_by_error + ": outputs cover the frames processed until then");
     }
     if (info.interrupted)
     {

@@ -72,7 +72,7 @@ void OdometryApp::initialize(int argc, const char** argv)
     TCLAP::MultiArg<std::string> sets(
         "", "set", "Override a parameter: SECTION.key=value ([Stereo], [Egomotion])", false,
         "SECTION.key=value", cmd);
-    TCLAP::ValueArg<std::size_t> max_frames(
+    TCLAP::ValueArg<long long> max_frames(
         "", "max-frames", withDefault("Stop after N frames (0: all)", "0"), false, 0, "N", cmd);
     TCLAP::SwitchArg quiet("q", "quiet", "Print the summary only, not every frame", cmd);
 
@@ -91,7 +91,7 @@ void OdometryApp::initialize(int argc, const char** argv)
     {
         throw std::invalid_argument(std::string("--trajectory-format: ") + e.what());
     }
-    m_max_frames = max_frames.getValue();
+    m_max_frames = countOption(max_frames.getValue(), "--max-frames", 0, PROGRAM);
     m_quiet = quiet.getValue();
     loadConfig(params, config.getValue(), sets.getValue());
     // A typo or a non-number must not run silently on a default.

@@ -1,4 +1,5 @@
 // SPDX-License-Identifier: BSD-3-Clause
+#include <emslam/apps/InputFileChecks.h>
 #include <emslam/apps/RawlogInput.h>
 #include <emslam/stereo/ExceptionMessage.h>
 
@@ -78,10 +79,7 @@ std::optional<std::uint32_t> gzipTrailerSize(const std::string& file, std::uint6
 RawlogInput::RawlogInput(const std::string& file)
     : m_file(file), m_stream(std::make_unique<CountingStream>())
 {
-    if (!mrpt::system::fileExists(file))
-    {
-        throw std::runtime_error("rawlog '" + file + "' does not exist");
-    }
+    requireInputFile(file, "rawlog");
     if (!m_stream->file.open(file))
     {
         throw std::runtime_error("cannot open rawlog '" + file + "'");

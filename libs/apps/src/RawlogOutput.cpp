@@ -1,4 +1,5 @@
 // SPDX-License-Identifier: BSD-3-Clause
+#include <emslam/apps/OutputPathChecks.h>
 #include <emslam/apps/RawlogOutput.h>
 
 #include <mrpt/core/exceptions.h>
@@ -12,18 +13,6 @@ namespace emslam::apps
 {
 namespace
 {
-void checkOutputFolder(const std::string& file, const char* what)
-{
-    const fs::path parent = fs::path(file).parent_path();
-    std::error_code ec;
-    if (!parent.empty() && !fs::is_directory(parent, ec))
-    {
-        THROW_EXCEPTION_FMT(
-            "Folder '%s' of the %s '%s' does not exist", parent.string().c_str(), what,
-            file.c_str());
-    }
-}
-
 void removeQuietly(const std::string& file)
 {
     if (!file.empty())
@@ -36,18 +25,19 @@ void removeQuietly(const std::string& file)
 
 void RawlogOutput::checkOutputFolders(const std::string& file, const std::string& gt_file)
 {
-    checkOutputFolder(file, "output file");
+    requireOutputFile(file, "output rawlog");
     if (!gt_file.empty())
     {
-        checkOutputFolder(gt_file, "ground-truth output file");
+        requireOutputFile(gt_file, "ground-truth output file");
     }
 }
 
 RawlogOutput::RawlogOutput(const std::string& file, int gz_level, const std::string& gt_file)
-    : m_file(file),
-      m_partial(file + ".partial"),
-      m_gt_file(gt_file),
-      m_gt_partial(gt_file.empty() ? std::string() : gt_file + ".partial")
+    : m_file(requireOutputFile(file, "output rawlog")),
+      m_partial(m_file + ".partial"),
+      m_gt_file(
+          gt_file.empty() ? std::string() : requireOutputFile(gt_file, "ground-truth output file")),
+      m_gt_partial(m_gt_file.empty() ? std::string() : m_gt_file + ".partial")
 {
     std::string err;
     if (!m_stream.open(m_partial, gz_level, err))

@@ -1,5 +1,6 @@
 // SPDX-License-Identifier: BSD-3-Clause
 #include <emslam/apps/CommandLine.h>
+#include <emslam/apps/InputFileChecks.h>
 #include <emslam/apps/ProgressLine.h>
 #include <emslam/apps/RawlogOutput.h>
 #include <emslam/apps/SimApp.h>
@@ -100,11 +101,7 @@ void SimApp::initialize(int argc, const char** argv)
     {
         usageError("--gt-out and --output name the same file");
     }
-    std::error_code ec;
-    if (!fs::is_regular_file(world_file, ec))
-    {
-        throw std::invalid_argument("world file '" + world_file + "' does not exist");
-    }
+    requireInputFile(world_file, "world file", MAX_INI_BYTES);
     std::ifstream in(world_file);
     std::stringstream ss;
     ss << in.rdbuf();

@@ -1,6 +1,7 @@
 // SPDX-License-Identifier: BSD-3-Clause
 #include <emslam/apps/CommandLine.h>
 #include <emslam/apps/ConfigValidation.h>
+#include <emslam/apps/InputFileChecks.h>
 #include <emslam/apps/RawlogInput.h>
 #include <emslam/apps/StereoApp.h>
 #include <emslam/stereo/CalibrationReaders.h>
@@ -30,10 +31,7 @@ constexpr const char* PROGRAM = "emslam-stereo";
 
 void requireFile(const std::string& f, const std::string& what)
 {
-    if (!mrpt::system::fileExists(f))
-    {
-        throw std::runtime_error(what + " '" + f + "' does not exist");
-    }
+    requireInputFile(f, what);
 }
 
 cv::Mat readImage(const std::string& f, const std::string& what)
@@ -123,7 +121,7 @@ void StereoApp::initialize(int argc, const char** argv)
     TCLAP::ValueArg<std::string> calib_section(
         "", "calib-section", withDefault("Calibration section prefix in CALIB.ini", "CAMERA"),
         false, "CAMERA", "NAME", cmd);
-    TCLAP::ValueArg<std::size_t> max_frames(
+    TCLAP::ValueArg<long long> max_frames(
         "", "max-frames", withDefault("Stop after N frames of the rawlog (0: all)", "0"), false, 0,
         "N", cmd);
     TCLAP::ValueArg<std::string> config(
@@ -176,7 +174,7 @@ void StereoApp::initialize(int argc, const char** argv)
     m_right = in.size() == 3 ? in[1] : "";
     m_calib = in.size() == 3 ? in[2] : "";
     m_calib_section = calib_section.getValue();
-    m_max_frames = max_frames.getValue();
+    m_max_frames = countOption(max_frames.getValue(), "--max-frames", 0, PROGRAM);
     m_gt_disparity = gt.getValue();
     m_gt_scale = gt_scale.getValue();
     m_out_rawlog = out_rawlog.getValue();

@@ -9,9 +9,11 @@ namespace emslam::apps
 namespace
 {
 std::atomic<bool> g_stop_requested{false};
+std::atomic<int> g_signal{0};
 
-extern "C" void onStopSignal(int /*signum*/)
+extern "C" void onStopSignal(int signum)
 {
+    g_signal.store(signum);
     g_stop_requested.store(true);
 }
 }  // namespace
@@ -26,9 +28,15 @@ void StopSignal::request()
     g_stop_requested.store(true);
 }
 
+int StopSignal::receivedSignal()
+{
+    return g_signal.load();
+}
+
 void StopSignal::clear()
 {
     g_stop_requested.store(false);
+    g_signal.store(0);
 }
 
 struct StopSignalGuard::Saved

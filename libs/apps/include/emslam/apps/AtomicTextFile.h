@@ -9,12 +9,15 @@ namespace emslam::apps
 /** A text output written to `<file>.partial` and renamed to `file` by
  * commit(), so a reader never sees half a file and a failed run never
  * leaves one under the final name (the `.partial` file is removed if
- * commit() is never reached).
+ * commit() is never reached). A symbolic link is followed and its target
+ * written; anything else that is not a regular file is refused (see
+ * requireOutputFile()).
  * \ingroup emslam_apps_grp \sa writeTextAtomically() */
 class AtomicTextFile
 {
 public:
-    /** Throws std::runtime_error naming `file` if it cannot be created. */
+    /** Throws std::runtime_error naming `file` if it cannot be created, or
+     * if it exists and is not a regular file (a folder, a device, ...). */
     explicit AtomicTextFile(std::string file);
     ~AtomicTextFile();
     AtomicTextFile(const AtomicTextFile&) = delete;

@@ -59,6 +59,15 @@ std::vector<std::string> rewriteDeprecatedSpellings(
  * \ingroup emslam_apps_grp */
 std::string withDefault(const std::string& description, const std::string& value);
 
+/** `value`, given to the count option `flag` (e.g. "--max-frames"), once
+ * checked to be at least `min`: throws std::invalid_argument ("--segment-step
+ * must be at least 1 (got -1); try PROGRAM --help") otherwise. Count options
+ * are read as signed numbers and checked here: TCLAP reads "-1" into an
+ * unsigned one as a huge count, silently.
+ * \ingroup emslam_apps_grp */
+std::size_t countOption(
+    long long value, const std::string& flag, long long min, const std::string& program);
+
 /** Checks each `--set Section.key=value` item against `reference` (every
  * valid section and key, e.g. the parameter structs saved into it): the
  * section and key must exist (with a "did you mean" suggestion otherwise) and
@@ -76,7 +85,8 @@ void applyConfigOverrides(
 
 /** Fills `cfg` from the INI file `config_file` (when not empty), then applies
  * the `--set` overrides `sets` (see applyConfigOverrides()). Throws
- * std::runtime_error if the file does not exist.
+ * std::runtime_error if the file is not a regular file of at most
+ * MAX_INI_BYTES (see requireInputFile()).
  * \ingroup emslam_apps_grp */
 void loadConfig(
     mrpt::config::CConfigFileMemory& cfg,

@@ -21,6 +21,7 @@
 #include <map>
 #include <memory>
 #include <opencv2/core.hpp>
+#include <stdexcept>
 #include <string>
 #include <vector>
 
@@ -94,9 +95,20 @@ public:
     Mapper(const Mapper&) = delete;
     Mapper& operator=(const Mapper&) = delete;
 
+    /** What process() throws for an observation the stereo front-end
+     * cannot use (no right image, images of different sizes, missing or
+     * invalid calibration, ...): the mapper is left as it was, so the caller
+     * may skip the observation and go on. */
+    class UnusableObservation : public std::runtime_error
+    {
+    public:
+        using std::runtime_error::runtime_error;
+    };
+
     /** Processes one observation. Returns false (and does nothing) if it is
-     * neither stereo nor RGB-D. Throws on a stereo observation the front-end
-     * cannot use (no right image, wrong calibration size, ...). */
+     * neither stereo nor RGB-D. Throws UnusableObservation (and changes
+     * nothing) on one the front-end cannot use; any other exception leaves
+     * the mapper fit only for finish(). */
     bool process(const mrpt::obs::CObservation& obs);
 
     /** Ends the run: syncs the rectifier, runs the final rectification and

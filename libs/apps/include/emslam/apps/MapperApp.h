@@ -3,6 +3,7 @@
 
 #include <emslam/apps/Mapper.h>
 #include <emslam/apps/MapperOutputs.h>
+#include <emslam/apps/ProgressLine.h>
 #include <emslam/stereo/TrajectoryReader.h>
 #include <emslam/stereo/TrajectoryWriter.h>
 
@@ -36,6 +37,16 @@ namespace emslam::apps
  *   is still written for the frames processed so far.
  * - A rawlog cut in the middle of a record (or with a corrupt record) is
  *   processed up to its last complete record, with a warning.
+ * - An observation the stereo front-end cannot use (images of different
+ *   sizes, missing or invalid calibration, empty images) is skipped with a
+ *   warning naming its record, and counted in summary.json
+ *   (`skipped_observations`, `skipped_reasons`). Any other error stops the
+ *   run: the outputs of the frames mapped before it are still written, then
+ *   run() throws.
+ * - Inputs and outputs are checked in initialize(): the rawlog and config
+ *   must be regular files, `--out` a writable folder (or creatable), and no
+ *   output in it may be a folder, device, FIFO or symbolic link. The folder
+ *   is created only when the outputs are written.
  * \ingroup emslam_apps_grp \sa Mapper */
 class MapperApp
 {
@@ -46,7 +57,9 @@ public:
     void initialize(int argc, const char** argv);
     void initialize(int argc, char** argv) { initialize(argc, const_cast<const char**>(argv)); }
     /** Maps the rawlog and writes the outputs. Throws naming the file and the
-     * cause on bad input (missing rawlog, no stereo / RGB-D observation). */
+     * cause on bad input (unreadable rawlog, no usable stereo / RGB-D
+     * observation), or after writing the outputs when an error stopped the
+     * mapping. */
     void run();
 
     bool helpRequested() const { return m_help_requested; }
@@ -61,6 +74,9 @@ public:
 
 private:
     void writeOutputs(const emslam::stereo::TumTrajectory& ground_truth);
+    /** Counts an observation the mapper could not use and warns about the
+     * first few. */
+    void skipObservation(std::size_t record, const std::string& reason, ProgressLine& progress);
 
     bool m_help_requested{false};
     bool m_quiet{false};

@@ -17,9 +17,14 @@ struct MapperRunInfo
     std::string rawlog;
     std::string config;
     std::size_t ignored_observations{0};  //!< observations neither stereo nor RGB-D
-    bool interrupted{false};              //!< stopped by SIGINT / SIGTERM
-    std::string input_ended_early;        //!< truncated / corrupt rawlog: where and why
-    double seconds{0.0};                  //!< wall time of the run
+    std::size_t skipped_observations{0};  //!< stereo / RGB-D ones the front-end could not use
+    /** The first few skipped ones: "record N: cause". */
+    std::vector<std::string> skipped_reasons;
+    /** The error that stopped the run early ("record N: cause"), or "". */
+    std::string stopped_by_error;
+    bool interrupted{false};        //!< stopped by SIGINT / SIGTERM
+    std::string input_ended_early;  //!< truncated / corrupt rawlog: where and why
+    double seconds{0.0};            //!< wall time of the run
     /** Against the ground truth (--gt), when given. */
     std::optional<TrajectoryMetrics> egomotion_vs_gt, slam_vs_gt;
 };

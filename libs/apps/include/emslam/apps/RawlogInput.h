@@ -34,7 +34,8 @@ class RawlogInput
 {
 public:
     /** Opens `file`; throws std::runtime_error ("rawlog 'FILE' does not
-     * exist", "cannot open rawlog 'FILE'") if it cannot. */
+     * exist", "... is a folder, not a file", "cannot open rawlog 'FILE'"; see
+     * requireInputFile()) if it cannot. */
     explicit RawlogInput(const std::string& file);
     ~RawlogInput();
 

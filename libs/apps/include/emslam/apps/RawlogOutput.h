@@ -15,7 +15,9 @@ namespace emslam::apps
 /** A gz-compressed rawlog, and optionally its ground truth as a TUM file,
  * written to `FILE.partial` / `GT.partial` and renamed to `FILE` / `GT` by
  * commit(), so that a failed run never leaves a truncated output behind: the
- * destructor removes the `.partial` files unless commit() succeeded.
+ * destructor removes the `.partial` files unless commit() succeeded. An
+ * output that is a symbolic link is written through: its target gets the
+ * data and the link stays.
  * \code
  * RawlogOutput::checkOutputFolders(file, gt_file);  // before any work
  * RawlogOutput out(file, gz_level, gt_file);
@@ -26,8 +28,10 @@ namespace emslam::apps
 class RawlogOutput
 {
 public:
-    /** Throws (mrpt::ExceptionWithCallBackBase) if the folder of `file`, or
-     * of `gt_file` when it is not empty, does not exist. */
+    /** Checks `file`, and `gt_file` when it is not empty, with
+     * requireOutputFile() before any work: throws std::runtime_error if one
+     * exists and is not a regular file (or a symbolic link to one), or if its
+     * folder does not exist or is not writable. */
     static void checkOutputFolders(const std::string& file, const std::string& gt_file);
 
     /** Creates `file + ".partial"` with gzip level `gz_level` (0..9); throws
@@ -39,6 +43,9 @@ public:
 
     RawlogOutput(const RawlogOutput&) = delete;
     RawlogOutput& operator=(const RawlogOutput&) = delete;
+
+    /** Where the data goes until commit(): the output's `.partial` file. */
+    const std::string& partialFile() const { return m_partial; }
 
     /** The archive to serialize observations into. */
     mrpt::serialization::CArchive& archive() { return *m_archive; }

@@ -14,7 +14,10 @@ public:
     static bool requested();
     /** Raises the flag, as a signal does. */
     static void request();
-    /** Lowers the flag (at the start of a run). */
+    /** The signal that raised the flag (SIGINT, SIGTERM), or 0 if none did
+     * (not raised, or raised by request()). appMain() exits with 128 + it. */
+    static int receivedSignal();
+    /** Lowers the flag and forgets the signal (at the start of a run). */
     static void clear();
 };
 
