@@ -1,5 +1,6 @@
 // SPDX-License-Identifier: BSD-3-Clause
 #include <emslam/stereo/CalibrationReaders.h>
+#include <emslam/stereo/DataFile.h>
 #include <emslam/stereo/EurocSensorYaml.h>
 #include <emslam/stereo/ExceptionMessage.h>
 #include <emslam/stereo/TextParsing.h>
@@ -272,16 +273,12 @@ mrpt::img::TStereoCamera loadKittiCalibration(
             what, "image size must be given (got " + std::to_string(image_width) + "x" +
                       std::to_string(image_height) + ")");
     }
-    std::ifstream in(calib_txt);
-    if (!in)
-    {
-        fail(what, "cannot open file");
-    }
+    auto in = openTextFile(calib_txt, "KITTI calib.txt");
 
     std::optional<KittiProjection> p0, p1;
     std::string line;
     std::size_t line_no = 0;
-    while (std::getline(in, line))
+    while (readBoundedLine(in, line, calib_txt, line_no + 1))
     {
         line_no++;
         const std::string_view l = trimmed(line);  // also drops a CR of CRLF files

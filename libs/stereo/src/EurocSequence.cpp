@@ -2,6 +2,7 @@
 #include "ImageFile.h"
 
 #include <emslam/stereo/CalibrationReaders.h>
+#include <emslam/stereo/DataFile.h>
 #include <emslam/stereo/EurocSequence.h>
 #include <emslam/stereo/TextParsing.h>
 
@@ -46,14 +47,12 @@ std::vector<std::string> splitComma(std::string_view line)
 template <typename RowFn>
 void forEachCsvRow(const std::string& file, const char* what, RowFn&& on_row)
 {
-    std::ifstream f(file);
-    if (!f.is_open())
-    {
-        THROW_EXCEPTION_FMT("Cannot open EuRoC %s '%s'", what, file.c_str());
-    }
+    auto f = openTextFile(file, std::string("EuRoC ") + what);
     forEachDataLine(
-        f, [&](const std::string& line, std::size_t line_no)
-        { on_row(splitComma(line), line, line_no); });
+        f,
+        [&](const std::string& line, std::size_t line_no)
+        { on_row(splitComma(line), line, line_no); },
+        file);
 }
 
 constexpr const char* MAX_NS_TEXT = "9223372036854775807";

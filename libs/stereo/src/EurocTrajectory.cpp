@@ -1,4 +1,5 @@
 // SPDX-License-Identifier: BSD-3-Clause
+#include <emslam/stereo/DataFile.h>
 #include <emslam/stereo/EurocTrajectory.h>
 #include <emslam/stereo/TextParsing.h>
 
@@ -69,16 +70,12 @@ std::optional<bool> headerSaysWFirst(const std::string& header)
 
 TumTrajectory EurocTrajectory::load(const std::string& file)
 {
-    std::ifstream f(file);
-    if (!f.is_open())
-    {
-        THROW_EXCEPTION_FMT("Cannot open EuRoC ground-truth file '%s'", file.c_str());
-    }
+    auto f = openTextFile(file, "EuRoC ground-truth file");
     TumTrajectory out;
     std::optional<bool> w_first;
     std::string line;
     std::size_t line_no = 0;
-    while (std::getline(f, line))
+    while (readBoundedLine(f, line, file, line_no + 1))
     {
         ++line_no;
         if (isBlank(line))

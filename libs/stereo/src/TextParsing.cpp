@@ -1,4 +1,5 @@
 // SPDX-License-Identifier: BSD-3-Clause
+#include <emslam/stereo/DataFile.h>
 #include <emslam/stereo/TextParsing.h>
 
 #include <algorithm>
@@ -56,11 +57,12 @@ bool isCommentOrBlank(std::string_view line)
 
 void forEachDataLine(
     std::istream& in,
-    const std::function<void(const std::string& line, std::size_t line_no)>& on_line)
+    const std::function<void(const std::string& line, std::size_t line_no)>& on_line,
+    const std::string& source)
 {
     std::string line;
     std::size_t line_no = 0;
-    while (std::getline(in, line))
+    while (readBoundedLine(in, line, source, line_no + 1))
     {
         ++line_no;
         if (!isCommentOrBlank(line))

@@ -28,14 +28,16 @@ bool isBlank(std::string_view line);
  * \ingroup emslam_stereo_grp \sa isBlank */
 bool isCommentOrBlank(std::string_view line);
 
-/** Reads `in` to its end, line by line (`std::getline`), and calls
+/** Reads `in` to its end, line by line (readBoundedLine(): a line over
+ * MAX_LINE_BYTES throws, naming `source` and the line), and calls
  * `on_line(line, line_no)` for every line that is not isCommentOrBlank().
  * `line_no` counts every line of `in` from 1, skipped ones included, for
  * "file:line" messages; exceptions thrown by `on_line` propagate.
- * \ingroup emslam_stereo_grp \sa isCommentOrBlank */
+ * \ingroup emslam_stereo_grp \sa isCommentOrBlank, readBoundedLine */
 void forEachDataLine(
     std::istream& in,
-    const std::function<void(const std::string& line, std::size_t line_no)>& on_line);
+    const std::function<void(const std::string& line, std::size_t line_no)>& on_line,
+    const std::string& source = "input");
 
 /** Parses the whole of `token` as a `double` (`std::from_chars` general
  * format: decimal or exponent notation, `inf`, `nan`), also accepting one
