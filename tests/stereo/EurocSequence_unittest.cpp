@@ -12,6 +12,7 @@
 
 #include <cstdint>
 #include <filesystem>
+#include <limits>
 #include <opencv2/core.hpp>
 #include <opencv2/imgcodecs.hpp>
 #include <string>
@@ -260,4 +261,50 @@ TEST(EurocSequence, badGroundTruthThrows)
     writeFile(gt, std::to_string(T0) + ",0,0,0,0,0,0,0\n");
     expectThrowContaining([&] { EurocSequence s(mav0, gt); }, {"zero quaternion"});
     expectThrowContaining([&] { EurocSequence s(mav0, root + "/none.csv"); }, {"none.csv"});
+}
+
+// INT64_MIN stamps made fromNs() and |t_image - t_gt| overflow (undefined
+// behaviour, garbage times, exit 0): now they are refused, naming file and line.
+TEST(EurocSequence, timestampsOutsideTheNanosecondRangeAreRefused)
+{
+    const std::string root = emslam::test::makeTempDir("euroc_int64");
+    const std::string mav0 = writeSequence(root, 2);
+    const std::string csv = mav0 + "/cam0/data.csv";
+    const std::string png = std::to_string(T0) + ".png";
+    for (const std::string bad : {"-9223372036854775808", "-1", "9223372036854775808"})
+    {
+        writeFile(csv, "#timestamp [ns],filename\n" + bad + "," + png + "\n");
+        expectThrowContaining(
+            [&] { EurocSequence s(mav0); }, {csv + ":2", "'" + bad + "'", "nanoseconds"});
+    }
+    const std::string gt = root + "/bad_gt.csv";
+    writeFile(gt, "-9223372036854775808,1,2,3,0,0,0,1\n");
+    writeSequence(root, 2);
+    expectThrowContaining(
+        [&] { EurocSequence s(mav0, gt); }, {gt + ":1", "'-9223372036854775808'", "nanoseconds"});
+}
+
+// INT64_MAX is a valid stamp (year 2262): converted exactly, no overflow anywhere.
+TEST(EurocSequence, largestTimestampIsConvertedExactly)
+{
+    constexpr std::int64_t MAX_NS = std::numeric_limits<std::int64_t>::max();
+    const std::string root = emslam::test::makeTempDir("euroc_int64_max");
+    const std::string mav0 = writeSequence(root, 2);
+    for (int cam = 0; cam < 2; cam++)
+    {
+        writeFile(
+            mav0 + "/cam" + std::to_string(cam) + "/data.csv",
+            std::to_string(T0) + "," + std::to_string(T0) + ".png\n" + std::to_string(MAX_NS) +
+                "," + std::to_string(T0 + DT) + ".png\n");
+    }
+    // Ground truth at both ends of the range: neither is within 5 ms of an image.
+    const std::string gt = root + "/far_gt.csv";
+    writeFile(gt, "0,1,2,3,0,0,0,1\n" + std::to_string(MAX_NS - 10'000'000) + ",1,2,3,0,0,0,1\n");
+    EurocSequence s(mav0, gt);
+    ASSERT_EQ(s.size(), 2U);
+    EXPECT_EQ(s.timestampNs(1), MAX_NS);
+    EXPECT_EQ(s.framesWithoutGroundTruth(), 2U);
+    const auto f = s.frame(1);
+    // 9223372036854775807 ns = 92233720368547758 ticks of 100 ns, rest 7 ns rounded down.
+    EXPECT_EQ((f.obs->timestamp - mrpt::Clock::fromDouble(0.0)).count(), MAX_NS / 100);
 }

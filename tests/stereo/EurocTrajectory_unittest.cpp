@@ -93,6 +93,23 @@ TEST(EurocTrajectory, badRowsNameFileAndLine)
         [&] { EurocTrajectory::load(dir + "/header_only.csv"); }, {"header_only.csv", "no pose"});
 }
 
+// Stamps outside [0, INT64_MAX] ns are refused (INT64_MIN made differences overflow).
+TEST(EurocTrajectory, timestampsOutsideTheNanosecondRangeAreRefused)
+{
+    const std::string dir = emslam::test::makeTempDir("euroc_traj_int64");
+    for (const std::string bad : {"-9223372036854775808", "-5", "9223372036854775808"})
+    {
+        writeFile(dir + "/t.csv", "0,1,2,3,0,0,0,1\n" + bad + ",1,2,3,0,0,0,1\n");
+        expectThrowContaining(
+            [&] { EurocTrajectory::load(dir + "/t.csv"); },
+            {"t.csv:2", "'" + bad + "'", "nanoseconds"});
+    }
+    writeFile(dir + "/max.csv", "9223372036854775807,1,2,3,0,0,0,1\n");
+    const auto t = EurocTrajectory::load(dir + "/max.csv");
+    ASSERT_EQ(t.size(), 1U);
+    EXPECT_NEAR(t.poses[0].t, 9223372036.854775807, 1e-5);
+}
+
 // The real V1_01_easy excerpt: the left camera's poses (8 columns, w last).
 TEST(EurocTrajectory, readsTheEurocExcerpt)
 {

@@ -100,6 +100,26 @@ TEST(TextParsing, parseInt64RejectsOverflowAndGarbage)
     }
 }
 
+TEST(TextParsing, parseNanosecondsAcceptsTheInt64RangeFromZero)
+{
+    std::int64_t v = 5;
+    ASSERT_TRUE(parseNanoseconds("9223372036854775807", v));
+    EXPECT_EQ(v, std::numeric_limits<std::int64_t>::max());
+    ASSERT_TRUE(parseNanoseconds("0.000", v));
+    EXPECT_EQ(v, 0);
+    ASSERT_TRUE(parseNanoseconds("1403715274312143104.0000000000", v));
+    EXPECT_EQ(v, 1403715274312143104);
+    // Negative stamps would make the difference of two stamps overflow.
+    for (const char* bad :
+         {"-9223372036854775808", "-1", "-0", "-1.5", "9223372036854775808", "1e19", "12.3x", "",
+          ".5", "+1"})
+    {
+        v = 5;
+        EXPECT_FALSE(parseNanoseconds(bad, v)) << "'" << bad << "'";
+        EXPECT_EQ(v, 5) << "'" << bad << "'";
+    }
+}
+
 TEST(TextParsing, parseNumbersSplitsOnBlanks)
 {
     std::vector<double> v;

@@ -13,7 +13,6 @@
 #include <numeric>
 #include <sstream>
 #include <stdexcept>
-#include <tuple>
 
 namespace emslam::apps
 {
@@ -71,53 +70,6 @@ std::string alignmentName(Alignment a)
             return "sim3";
     }
     return "?";
-}
-
-AssociatedPoses associateByTimestamp(
-    const emslam::stereo::TumTrajectory& gt,
-    const emslam::stereo::TumTrajectory& est,
-    double max_dt)
-{
-    const auto og = timeOrder(gt);
-    // Candidate pairs (|dt|, i_est, i_gt): for each estimated pose, every
-    // ground-truth pose within max_dt (a window found by binary search).
-    std::vector<std::tuple<double, std::size_t, std::size_t>> cand;
-    for (std::size_t e = 0; e < est.size(); ++e)
-    {
-        const double te = est.poses[e].t;
-        auto it = std::lower_bound(
-            og.begin(), og.end(), te - max_dt,
-            [&](std::size_t g, double t) { return gt.poses[g].t < t; });
-        for (; it != og.end() && gt.poses[*it].t <= te + max_dt; ++it)
-        {
-            cand.emplace_back(std::abs(gt.poses[*it].t - te), e, *it);
-        }
-    }
-    std::stable_sort(
-        cand.begin(), cand.end(),
-        [](const auto& a, const auto& b) { return std::get<0>(a) < std::get<0>(b); });
-    std::vector<bool> used_e(est.size(), false), used_g(gt.size(), false);
-    std::vector<std::pair<std::size_t, std::size_t>> pairs;
-    for (const auto& [dt, e, g] : cand)
-    {
-        if (!used_e[e] && !used_g[g])
-        {
-            used_e[e] = used_g[g] = true;
-            pairs.emplace_back(e, g);
-        }
-    }
-    std::sort(
-        pairs.begin(), pairs.end(),
-        [&](const auto& a, const auto& b) { return est.poses[a.first].t < est.poses[b.first].t; });
-    AssociatedPoses out;
-    for (const auto& [e, g] : pairs)
-    {
-        out.t_est.push_back(est.poses[e].t);
-        out.est.push_back(est.poses[e].pose);
-        out.t_gt.push_back(gt.poses[g].t);
-        out.gt.push_back(gt.poses[g].pose);
-    }
-    return out;
 }
 
 mrpt::poses::CPose3D SimilarityTransform::apply(const mrpt::poses::CPose3D& T_ref_body) const

@@ -1,5 +1,7 @@
 // SPDX-License-Identifier: BSD-3-Clause
 #include <emslam/stereo/CalibrationReaders.h>
+#include <emslam/stereo/DataFile.h>
+#include <emslam/stereo/EurocSensorYaml.h>
 #include <emslam/stereo/ExceptionMessage.h>
 #include <emslam/stereo/TextParsing.h>
 
@@ -13,7 +15,6 @@
 #include <cmath>
 #include <filesystem>
 #include <fstream>
-#include <opencv2/core.hpp>
 #include <optional>
 #include <sstream>
 #include <stdexcept>
@@ -116,99 +117,40 @@ mrpt::img::TCamera cameraFromProjection(
 // ---------------------------------------------------------------------------
 // EuRoC (ASL sensor.yaml)
 // ---------------------------------------------------------------------------
-std::vector<double> readYamlNumbers(
-    const cv::FileNode& parent,
-    const std::string& key,
-    const std::string& full_key,
-    const std::vector<std::size_t>& allowed_sizes,
-    const std::string& what)
-{
-    const cv::FileNode node = parent[key];
-    if (node.empty() || node.isNone())
-    {
-        fail(what, "missing key '" + full_key + "'");
-    }
-    if (!node.isSeq())
-    {
-        fail(what, "key '" + full_key + "' is not a list of numbers");
-    }
-    std::vector<double> out;
-    out.reserve(node.size());
-    for (const cv::FileNode& e : node)
-    {
-        if (!e.isInt() && !e.isReal())
-        {
-            fail(
-                what, "key '" + full_key + "' element " + std::to_string(out.size()) +
-                          " is not a number");
-        }
-        const double v = e.real();
-        if (!std::isfinite(v))
-        {
-            fail(
-                what,
-                "key '" + full_key + "' element " + std::to_string(out.size()) + " is not finite");
-        }
-        out.push_back(v);
-    }
-    bool size_ok = false;
-    std::string expected;
-    for (const auto n : allowed_sizes)
-    {
-        size_ok = size_ok || out.size() == n;
-        expected += (expected.empty() ? "" : " or ") + std::to_string(n);
-    }
-    if (!size_ok)
-    {
-        fail(
-            what, "key '" + full_key + "' has " + std::to_string(out.size()) +
-                      " numbers, expected " + expected);
-    }
-    return out;
-}
-
-std::optional<std::string> readYamlString(const cv::FileNode& parent, const std::string& key)
-{
-    const cv::FileNode node = parent[key];
-    if (node.empty() || node.isNone() || !node.isString())
-    {
-        return std::nullopt;
-    }
-    return node.string();
-}
-
 /** T_BS (4x4, row-major) as a rigid pose. The yaml numbers are rounded, so the
  * rotation is re-orthonormalised (SVD) after checking it is close to one. */
-mrpt::poses::CPose3D readYamlPose(const cv::FileNode& root, const std::string& what)
+mrpt::poses::CPose3D readYamlPose(const EurocSensorYaml& yaml, const std::string& what)
 {
-    const cv::FileNode t_bs = root["T_BS"];
-    if (t_bs.empty() || t_bs.isNone())
+    if (!yaml.has("T_BS"))
     {
         fail(what, "missing key 'T_BS'");
     }
-    if (!t_bs.isMap())
+    if (!yaml.isMap("T_BS"))
     {
-        fail(what, "key 'T_BS' must be a map with 'rows', 'cols' and 'data'");
+        fail(
+            what, "line " + std::to_string(yaml.lineOf("T_BS")) +
+                      ": key 'T_BS' must be a map with 'rows', 'cols' and 'data'");
     }
-    for (const char* dim : {"rows", "cols"})
+    for (const char* dim : {"T_BS.rows", "T_BS.cols"})
     {
-        const cv::FileNode d = t_bs[dim];
-        if (!d.empty() && !d.isNone() && (!d.isInt() || d.real() != 4.0))
+        if (yaml.has(dim) && yaml.number(dim) != 4.0)
         {
-            fail(what, std::string("key 'T_BS.") + dim + "' must be 4");
+            fail(
+                what, "line " + std::to_string(yaml.lineOf(dim)) + ": key '" + dim + "' must be 4");
         }
     }
-    const std::vector<double> m = readYamlNumbers(t_bs, "data", "T_BS.data", {16}, what);
+    const std::vector<double> m = yaml.numbers("T_BS.data", {16});
+    const std::string where = "line " + std::to_string(yaml.lineOf("T_BS.data")) + ": ";
     if (m[12] != 0.0 || m[13] != 0.0 || m[14] != 0.0 || m[15] != 1.0)
     {
-        fail(what, "key 'T_BS.data': last row must be 0 0 0 1");
+        fail(what, where + "key 'T_BS.data': last row must be 0 0 0 1");
     }
     Eigen::Matrix3d r;
     r << m[0], m[1], m[2], m[4], m[5], m[6], m[8], m[9], m[10];
     if ((r.transpose() * r - Eigen::Matrix3d::Identity()).cwiseAbs().maxCoeff() > 1e-4 ||
         r.determinant() <= 0.0)
     {
-        fail(what, "key 'T_BS.data': the 3x3 block is not a rotation matrix");
+        fail(what, where + "key 'T_BS.data': the 3x3 block is not a rotation matrix");
     }
     const Eigen::JacobiSVD<Eigen::Matrix3d> svd(r, Eigen::ComputeFullU | Eigen::ComputeFullV);
     const Eigen::Matrix3d r_ortho = svd.matrixU() * svd.matrixV().transpose();
@@ -225,69 +167,58 @@ mrpt::poses::CPose3D readYamlPose(const cv::FileNode& root, const std::string& w
     return mrpt::poses::CPose3D(h);
 }
 
+/** The scalar `key` if present, as text. */
+std::optional<std::string> optionalText(const EurocSensorYaml& yaml, const std::string& key)
+{
+    if (!yaml.has(key))
+    {
+        return std::nullopt;
+    }
+    return yaml.text(key);
+}
+
 /** Reads one EuRoC camera; also returns its pose in the body frame (T_body_cam). */
 mrpt::img::TCamera readEurocCamera(const std::string& file, mrpt::poses::CPose3D& T_body_cam)
 {
     const std::string what = "EuRoC sensor.yaml '" + file + "'";
     requireFile(file, what);
+    // Our own strict reader: OpenCV 4.6's YAML parser hangs or overflows its
+    // stack on some malformed files.
+    const EurocSensorYaml yaml = EurocSensorYaml::load(file);
 
-    std::error_code ec;
-    if (std::filesystem::file_size(file, ec) == 0)
+    if (const auto type = optionalText(yaml, "sensor_type"); type && *type != "camera")
     {
-        fail(what, "empty file");
+        fail(
+            what, "line " + std::to_string(yaml.lineOf("sensor_type")) + ": sensor_type is '" +
+                      *type + "', expected 'camera'");
     }
-    cv::FileStorage fs;
-    try
+    if (const auto model = optionalText(yaml, "camera_model"); model && *model != "pinhole")
     {
-        // OpenCV's YAML reader accepts the ASL files (%YAML:1.0, flow lists
-        // spanning several lines, trailing comments).
-        fs.open(file, cv::FileStorage::READ);
-    }
-    catch (const cv::Exception& e)
-    {
-        // OpenCV puts a parse error's "file(line): reason" in the function-name field.
-        fail(what, "malformed YAML: " + (e.code == cv::Error::StsParseError ? e.func : e.err));
-    }
-    if (!fs.isOpened())
-    {
-        fail(what, "cannot be parsed as YAML");
-    }
-    const cv::FileNode root = fs.root();
-    if (!root.isMap())
-    {
-        fail(what, "malformed YAML: top level is not a map of keys");
+        fail(
+            what, "line " + std::to_string(yaml.lineOf("camera_model")) +
+                      ": unsupported camera_model '" + *model + "' (only 'pinhole')");
     }
 
-    if (const auto type = readYamlString(root, "sensor_type"); type && *type != "camera")
-    {
-        fail(what, "sensor_type is '" + *type + "', expected 'camera'");
-    }
-    if (const auto model = readYamlString(root, "camera_model"); model && *model != "pinhole")
-    {
-        fail(what, "unsupported camera_model '" + *model + "' (only 'pinhole')");
-    }
-
-    const auto res = readYamlNumbers(root, "resolution", "resolution", {2}, what);
+    const auto res = yaml.numbers("resolution", {2});
     for (const double v : res)
     {
         if (v < 1.0 || v != std::floor(v) || v > 1e6)
         {
-            fail(what, "key 'resolution' must hold two positive integers [width, height]");
+            fail(
+                what, "line " + std::to_string(yaml.lineOf("resolution")) +
+                          ": key 'resolution' must hold two positive integers [width, height]");
         }
     }
-    const auto k = readYamlNumbers(root, "intrinsics", "intrinsics", {4}, what);
+    const auto k = yaml.numbers("intrinsics", {4});
 
-    const auto model = readYamlString(root, "distortion_model");
-    if (!model)
+    const std::string model = yaml.text("distortion_model");
+    if (model != "radial-tangential" && model != "radtan" && model != "plumb_bob")
     {
-        fail(what, "missing key 'distortion_model'");
+        fail(
+            what, "line " + std::to_string(yaml.lineOf("distortion_model")) +
+                      ": unsupported distortion_model '" + model + "' (only radial-tangential)");
     }
-    if (*model != "radial-tangential" && *model != "radtan" && *model != "plumb_bob")
-    {
-        fail(what, "unsupported distortion_model '" + *model + "' (only radial-tangential)");
-    }
-    const auto d =
-        readYamlNumbers(root, "distortion_coefficients", "distortion_coefficients", {4, 5}, what);
+    const auto d = yaml.numbers("distortion_coefficients", {4, 5});
 
     mrpt::img::TCamera cam;
     cam.ncols = static_cast<uint32_t>(res[0]);
@@ -295,7 +226,7 @@ mrpt::img::TCamera readEurocCamera(const std::string& file, mrpt::poses::CPose3D
     cam.setIntrinsicParamsFromValues(k[0], k[1], k[2], k[3]);
     cam.setDistortionPlumbBob(d[0], d[1], d[2], d[3], d.size() > 4 ? d[4] : 0.0);
 
-    T_body_cam = readYamlPose(root, what);
+    T_body_cam = readYamlPose(yaml, what);
     return cam;
 }
 
@@ -342,16 +273,12 @@ mrpt::img::TStereoCamera loadKittiCalibration(
             what, "image size must be given (got " + std::to_string(image_width) + "x" +
                       std::to_string(image_height) + ")");
     }
-    std::ifstream in(calib_txt);
-    if (!in)
-    {
-        fail(what, "cannot open file");
-    }
+    auto in = openTextFile(calib_txt, "KITTI calib.txt");
 
     std::optional<KittiProjection> p0, p1;
     std::string line;
     std::size_t line_no = 0;
-    while (std::getline(in, line))
+    while (readBoundedLine(in, line, calib_txt, line_no + 1))
     {
         line_no++;
         const std::string_view l = trimmed(line);  // also drops a CR of CRLF files

@@ -2,6 +2,7 @@
 #include "ImageFile.h"
 
 #include <emslam/stereo/CalibrationReaders.h>
+#include <emslam/stereo/DataFile.h>
 #include <emslam/stereo/EurocSequence.h>
 #include <emslam/stereo/TextParsing.h>
 
@@ -46,15 +47,15 @@ std::vector<std::string> splitComma(std::string_view line)
 template <typename RowFn>
 void forEachCsvRow(const std::string& file, const char* what, RowFn&& on_row)
 {
-    std::ifstream f(file);
-    if (!f.is_open())
-    {
-        THROW_EXCEPTION_FMT("Cannot open EuRoC %s '%s'", what, file.c_str());
-    }
+    auto f = openTextFile(file, std::string("EuRoC ") + what);
     forEachDataLine(
-        f, [&](const std::string& line, std::size_t line_no)
-        { on_row(splitComma(line), line, line_no); });
+        f,
+        [&](const std::string& line, std::size_t line_no)
+        { on_row(splitComma(line), line, line_no); },
+        file);
 }
+
+constexpr const char* MAX_NS_TEXT = "9223372036854775807";
 
 struct CsvImage
 {
@@ -71,11 +72,17 @@ std::vector<CsvImage> readDataCsv(const std::string& cam_dir)
         [&](const std::vector<std::string>& fields, const std::string& line, std::size_t line_no)
         {
             std::int64_t t = 0;
-            if (fields.size() != 2 || !parseInt64(fields[0], t) || fields[1].empty())
+            if (fields.size() != 2 || fields[1].empty())
             {
                 THROW_EXCEPTION_FMT(
                     "%s:%zu: expected 'timestamp_ns,filename', got '%s'", file.c_str(), line_no,
                     line.c_str());
+            }
+            if (!parseNanoseconds(fields[0], t))
+            {
+                THROW_EXCEPTION_FMT(
+                    "%s:%zu: timestamp '%s' is not an integer number of nanoseconds in [0, %s]",
+                    file.c_str(), line_no, fields[0].c_str(), MAX_NS_TEXT);
             }
             out.push_back({t, cam_dir + "/data/" + fields[1]});
         });
@@ -89,8 +96,17 @@ std::vector<CsvImage> readDataCsv(const std::string& cam_dir)
 mrpt::Clock::time_point fromNs(std::int64_t t_ns)
 {
     // Exact: the UNIX epoch plus whole 100 ns ticks (a double would lose
-    // sub-microsecond digits of a 2014 timestamp).
-    return mrpt::Clock::fromDouble(0.0) + mrpt::Clock::duration((t_ns + 50) / 100);
+    // sub-microsecond digits of a 2014 timestamp). Rounded without computing
+    // t_ns + 50, which overflows near INT64_MAX; t_ns >= 0 (parseNanoseconds).
+    ASSERT_GE_(t_ns, 0);
+    const std::int64_t ticks = t_ns / 100 + (t_ns % 100 >= 50 ? 1 : 0);
+    return mrpt::Clock::fromDouble(0.0) + mrpt::Clock::duration(ticks);
+}
+
+/** |a - b| of two non-negative stamps (their difference cannot overflow). */
+std::int64_t absDifferenceNs(std::int64_t a, std::int64_t b)
+{
+    return a > b ? a - b : b - a;
 }
 }  // namespace
 
@@ -117,7 +133,13 @@ std::vector<EurocSequence::GtRow> EurocSequence::readGroundTruthCsv(const std::s
             }
             GtRow row;
             double v[7];
-            bool ok = parseNanoseconds(fields[0], row.t_ns);
+            if (!parseNanoseconds(fields[0], row.t_ns))
+            {
+                THROW_EXCEPTION_FMT(
+                    "%s:%zu: timestamp '%s' is not an integer number of nanoseconds in [0, %s]",
+                    file.c_str(), line_no, fields[0].c_str(), MAX_NS_TEXT);
+            }
+            bool ok = true;
             for (int k = 0; k < 7 && ok; k++)
             {
                 ok = parseDouble(fields[k + 1], v[k]) && std::isfinite(v[k]);
@@ -236,6 +258,11 @@ void EurocSequence::open(const std::string& mav0_dir, const std::string& gt_csv)
     std::vector<std::optional<mrpt::poses::CPose3D>> gt(stamps.size());
     if (!gt_csv.empty())
     {
+        // Bounded so that the conversion to nanoseconds below cannot overflow.
+        if (!(gt_max_dt >= 0.0 && gt_max_dt <= 1e9))
+        {
+            THROW_EXCEPTION_FMT("gt_max_dt = %g s: must be in [0, 1e9]", gt_max_dt);
+        }
         const auto rows = readGroundTruthCsv(gt_csv);
         const auto max_dt_ns = static_cast<std::int64_t>(std::llround(gt_max_dt * 1e9));
         for (std::size_t i = 0; i < stamps.size(); i++)
@@ -251,7 +278,7 @@ void EurocSequence::open(const std::string& mav0_dir, const std::string& gt_csv)
                 {
                     continue;
                 }
-                const std::int64_t dt = std::llabs(c->t_ns - stamps[i]);
+                const std::int64_t dt = absDifferenceNs(c->t_ns, stamps[i]);
                 if (best == nullptr || dt < best_dt)
                 {
                     best = &*c;

@@ -1,4 +1,5 @@
 // SPDX-License-Identifier: BSD-3-Clause
+#include <emslam/stereo/DataFile.h>
 #include <emslam/stereo/EurocTrajectory.h>
 #include <emslam/stereo/TextParsing.h>
 
@@ -69,16 +70,12 @@ std::optional<bool> headerSaysWFirst(const std::string& header)
 
 TumTrajectory EurocTrajectory::load(const std::string& file)
 {
-    std::ifstream f(file);
-    if (!f.is_open())
-    {
-        THROW_EXCEPTION_FMT("Cannot open EuRoC ground-truth file '%s'", file.c_str());
-    }
+    auto f = openTextFile(file, "EuRoC ground-truth file");
     TumTrajectory out;
     std::optional<bool> w_first;
     std::string line;
     std::size_t line_no = 0;
-    while (std::getline(f, line))
+    while (readBoundedLine(f, line, file, line_no + 1))
     {
         ++line_no;
         if (isBlank(line))
@@ -102,8 +99,15 @@ TumTrajectory EurocTrajectory::load(const std::string& file)
                 file.c_str(), line_no, fields.size(), line.c_str());
         }
         std::int64_t t_ns = 0;
+        if (!parseNanoseconds(fields[0], t_ns))
+        {
+            THROW_EXCEPTION_FMT(
+                "%s:%zu: timestamp '%s' is not an integer number of nanoseconds in [0, "
+                "9223372036854775807]",
+                file.c_str(), line_no, fields[0].c_str());
+        }
         double v[7];
-        bool ok = parseNanoseconds(fields[0], t_ns);
+        bool ok = true;
         for (int k = 0; k < 7 && ok; k++)
         {
             ok = parseDouble(fields[k + 1], v[k]) && std::isfinite(v[k]);
@@ -111,7 +115,7 @@ TumTrajectory EurocTrajectory::load(const std::string& file)
         if (!ok)
         {
             THROW_EXCEPTION_FMT(
-                "%s:%zu: not a number (timestamp in integer nanoseconds, then 7 finite numbers) "
+                "%s:%zu: not a number (7 finite numbers after the timestamp expected) "
                 "in '%s'",
                 file.c_str(), line_no, line.c_str());
         }

@@ -1,4 +1,5 @@
 // SPDX-License-Identifier: BSD-3-Clause
+#include <emslam/stereo/DataFile.h>
 #include <emslam/stereo/KittiTrajectory.h>
 #include <emslam/stereo/TextParsing.h>
 
@@ -26,12 +27,7 @@ std::string shortestFixed(double v)
 
 std::ifstream openForReading(const std::string& file, const char* what)
 {
-    std::ifstream f(file);
-    if (!f.is_open())
-    {
-        THROW_EXCEPTION_FMT("Cannot open KITTI %s file '%s'", what, file.c_str());
-    }
-    return f;
+    return openTextFile(file, std::string("KITTI ") + what + " file");
 }
 
 /** Writes `text` to `file`, throwing naming it if it cannot. */
@@ -58,7 +54,7 @@ std::vector<mrpt::poses::CPose3D> KittiTrajectory::readPoses(const std::string& 
     std::vector<double> v;
     std::string line;
     std::size_t line_no = 0;
-    while (std::getline(f, line))
+    while (readBoundedLine(f, line, file, line_no + 1))
     {
         ++line_no;
         if (isBlank(line))
@@ -115,7 +111,7 @@ std::vector<double> KittiTrajectory::readTimes(const std::string& file)
     std::string line;
     std::vector<double> v;
     std::size_t line_no = 0;
-    while (std::getline(f, line))
+    while (readBoundedLine(f, line, file, line_no + 1))
     {
         ++line_no;
         if (isBlank(line))

@@ -1,4 +1,5 @@
 // SPDX-License-Identifier: BSD-3-Clause
+#include <emslam/stereo/DataFile.h>
 #include <emslam/stereo/TextParsing.h>
 
 #include <algorithm>
@@ -56,11 +57,12 @@ bool isCommentOrBlank(std::string_view line)
 
 void forEachDataLine(
     std::istream& in,
-    const std::function<void(const std::string& line, std::size_t line_no)>& on_line)
+    const std::function<void(const std::string& line, std::size_t line_no)>& on_line,
+    const std::string& source)
 {
     std::string line;
     std::size_t line_no = 0;
-    while (std::getline(in, line))
+    while (readBoundedLine(in, line, source, line_no + 1))
     {
         ++line_no;
         if (!isCommentOrBlank(line))
@@ -87,16 +89,21 @@ bool parseInt64(std::string_view token, std::int64_t& v)
 bool parseNanoseconds(std::string_view token, std::int64_t& v)
 {
     const auto dot = token.find('.');
-    if (dot == std::string_view::npos)
+    if (dot != std::string_view::npos)
     {
-        return parseInt64(token, v);
+        const std::string_view frac = token.substr(dot + 1);
+        if (!std::all_of(frac.begin(), frac.end(), [](char c) { return c >= '0' && c <= '9'; }))
+        {
+            return false;
+        }
+        token = token.substr(0, dot);
     }
-    const std::string_view frac = token.substr(dot + 1);
-    if (!std::all_of(frac.begin(), frac.end(), [](char c) { return c >= '0' && c <= '9'; }))
+    // Negative stamps are refused so that differences of two stamps cannot overflow.
+    if (!token.empty() && token.front() == '-')
     {
         return false;
     }
-    return parseInt64(token.substr(0, dot), v);
+    return parseInt64(token, v);
 }
 
 bool parseNumbers(std::string_view line, std::vector<double>& out, std::string_view separators)

@@ -1,4 +1,5 @@
 // SPDX-License-Identifier: BSD-3-Clause
+#include <emslam/stereo/DataFile.h>
 #include <emslam/stereo/TextParsing.h>
 #include <emslam/stereo/TrajectoryFormat.h>
 
@@ -55,15 +56,11 @@ std::string trajectoryFormatName(TrajectoryFormat f)
 
 TrajectoryFormat detectTrajectoryFormat(const std::string& file)
 {
-    std::ifstream f(file);
-    if (!f.is_open())
-    {
-        THROW_EXCEPTION_FMT("Cannot open trajectory file '%s'", file.c_str());
-    }
+    auto f = openTextFile(file, "trajectory file");
     std::string line;
     std::size_t line_no = 0;
     std::vector<double> v;
-    while (std::getline(f, line))
+    while (readBoundedLine(f, line, file, line_no + 1))
     {
         ++line_no;
         if (isBlank(line))

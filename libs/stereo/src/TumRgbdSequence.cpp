@@ -1,6 +1,7 @@
 // SPDX-License-Identifier: BSD-3-Clause
 #include "ImageFile.h"
 
+#include <emslam/stereo/DataFile.h>
 #include <emslam/stereo/TextParsing.h>
 #include <emslam/stereo/TumRgbdSequence.h>
 #include <emslam/stereo/TumTrajectory.h>
@@ -32,11 +33,7 @@ struct ListEntry
 std::vector<ListEntry> readList(const std::string& dir, const std::string& name)
 {
     const std::string file = dir + "/" + name;
-    std::ifstream f(file);
-    if (!f.is_open())
-    {
-        THROW_EXCEPTION_FMT("Cannot open TUM RGB-D list '%s'", file.c_str());
-    }
+    auto f = openTextFile(file, "TUM RGB-D list");
     std::vector<ListEntry> out;
     forEachDataLine(
         f,

@@ -1,4 +1,5 @@
 // SPDX-License-Identifier: BSD-3-Clause
+#include <emslam/stereo/DataFile.h>
 #include <emslam/stereo/TextParsing.h>
 #include <emslam/stereo/TumTrajectory.h>
 
@@ -89,11 +90,7 @@ void TumTrajectory::saveToFile(const std::string& file) const
 
 void TumTrajectory::loadFromFile(const std::string& file)
 {
-    std::ifstream f(file);
-    if (!f.is_open())
-    {
-        THROW_EXCEPTION_FMT("Cannot open trajectory file '%s'", file.c_str());
-    }
+    auto f = openTextFile(file, "trajectory file");
     std::vector<TumPose> out;
     std::vector<double> v;
     forEachDataLine(
@@ -122,7 +119,8 @@ void TumTrajectory::loadFromFile(const std::string& file)
             const mrpt::math::CQuaternionDouble q(
                 v[7] / norm, v[4] / norm, v[5] / norm, v[6] / norm);
             out.push_back({v[0], mrpt::poses::CPose3D(q, v[1], v[2], v[3])});
-        });
+        },
+        file);
     if (f.bad())
     {
         THROW_EXCEPTION_FMT("Error reading trajectory file '%s'", file.c_str());

@@ -48,8 +48,13 @@ struct AssociatedPoses
 /** Pairs every estimated pose with the ground-truth pose nearest in time, one
  * to one, dropping pairs further apart than `max_dt` [s]. As TUM's
  * associate.py: all candidate pairs within `max_dt` are taken greedily by
- * increasing |dt|, so a pose is used at most once even when stamps jitter.
- * The inputs need not be sorted. \ingroup emslam_apps_grp */
+ * increasing |dt| (ties: estimate index, then ground-truth time order), so a
+ * pose is used at most once even when stamps jitter. The inputs need not be
+ * sorted; a negative or NaN `max_dt` pairs nothing.
+ * The candidates are visited lazily (a priority queue holding two per distinct
+ * estimate stamp): memory is O(N + M) and poses sharing one stamp cost
+ * O(log) each, where listing all candidates would take O(N·M) memory.
+ * \ingroup emslam_apps_grp */
 AssociatedPoses associateByTimestamp(
     const emslam::stereo::TumTrajectory& gt,
     const emslam::stereo::TumTrajectory& est,

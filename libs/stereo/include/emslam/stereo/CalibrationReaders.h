@@ -27,9 +27,10 @@ mrpt::img::TStereoCamera loadKittiCalibration(
  * `distortion_model: radial-tangential`, `distortion_coefficients: [k1 k2 p1 p2]`
  * and `T_BS` (camera in body frame, 4x4 row-major). The right camera's pose in
  * the left camera frame is `inv(T_BS_left) * T_BS_right`. The cameras are raw
- * (distorted, not rectified). Throws, naming the file and the key, on a missing
- * file, missing key, or malformed numbers.
- * \ingroup emslam_stereo_grp */
+ * (distorted, not rectified). The files are read by EurocSensorYaml (strict,
+ * at most 1 MiB). Throws, naming the file, the line and the key, on a missing
+ * file, malformed YAML, a missing key, or malformed numbers.
+ * \ingroup emslam_stereo_grp \sa EurocSensorYaml */
 mrpt::img::TStereoCamera loadEurocCalibration(
     const std::string& cam0_sensor_yaml, const std::string& cam1_sensor_yaml);
 

@@ -28,14 +28,16 @@ bool isBlank(std::string_view line);
  * \ingroup emslam_stereo_grp \sa isBlank */
 bool isCommentOrBlank(std::string_view line);
 
-/** Reads `in` to its end, line by line (`std::getline`), and calls
+/** Reads `in` to its end, line by line (readBoundedLine(): a line over
+ * MAX_LINE_BYTES throws, naming `source` and the line), and calls
  * `on_line(line, line_no)` for every line that is not isCommentOrBlank().
  * `line_no` counts every line of `in` from 1, skipped ones included, for
  * "file:line" messages; exceptions thrown by `on_line` propagate.
- * \ingroup emslam_stereo_grp \sa isCommentOrBlank */
+ * \ingroup emslam_stereo_grp \sa isCommentOrBlank, readBoundedLine */
 void forEachDataLine(
     std::istream& in,
-    const std::function<void(const std::string& line, std::size_t line_no)>& on_line);
+    const std::function<void(const std::string& line, std::size_t line_no)>& on_line,
+    const std::string& source = "input");
 
 /** Parses the whole of `token` as a `double` (`std::from_chars` general
  * format: decimal or exponent notation, `inf`, `nan`), also accepting one
@@ -54,10 +56,12 @@ bool parseDouble(std::string_view token, double& v);
  * \ingroup emslam_stereo_grp \sa parseDouble */
 bool parseInt64(std::string_view token, std::int64_t& v);
 
-/** Parses a nanosecond timestamp as EuRoC writes them: a decimal integer
- * (parseInt64()), optionally followed by `.` and digits, which are dropped
+/** Parses a nanosecond timestamp as EuRoC writes them: a non-negative decimal
+ * integer that fits in `std::int64_t` (0 to 9223372036854775807, about year
+ * 2262), optionally followed by `.` and digits, which are dropped
  * (`1403715274312143104.0000000000`). Returns false, leaving `v` unchanged,
- * otherwise.
+ * otherwise (negative, too large, not an integer). Non-negative stamps can be
+ * subtracted from each other without overflow.
  * \ingroup emslam_stereo_grp \sa parseInt64 */
 bool parseNanoseconds(std::string_view token, std::int64_t& v);
 
