@@ -102,7 +102,9 @@ public:
     bool process(const mrpt::obs::CObservation& obs);
 
     /** Ends the run: syncs the rectifier, runs the final rectification and
-     * builds the outputs. Idempotent; process() throws afterwards. */
+     * builds the outputs. Idempotent; process() throws afterwards. Throws
+     * std::logic_error if the map cloud's elements do not match the
+     * trajectory's (ElementClouds::requireSameElementsAs()). */
     void finish();
 
     const TParameters& parameters() const { return m_p; }
