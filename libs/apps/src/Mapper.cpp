@@ -4,10 +4,12 @@
 
 #include <mrpt/config/CConfigFileBase.h>
 
+#include <algorithm>
 #include <chrono>
 #include <cmath>
 #include <functional>
 #include <limits>
+#include <map>
 #include <stdexcept>
 
 namespace emslam::apps
@@ -127,7 +129,11 @@ void Mapper::TParameters::saveToConfigFile(mrpt::config::CConfigFileBase& c) con
 }
 
 Mapper::Mapper(const TParameters& p)
-    : m_p(p), m_front(p.stereo), m_egomotion_estimator(p.egomotion), m_sampler(p.sampling)
+    : m_p(p),
+      m_front(p.stereo),
+      m_egomotion_estimator(p.egomotion),
+      m_sampler(p.sampling),
+      m_clouds(static_cast<std::size_t>(std::max(p.rectifier.n_max, 0)), p.mapper.map_cell_size)
 {
     if (m_p.mapper.egomotion_only)
     {
@@ -222,7 +228,14 @@ void Mapper::addAccepted(const emslam::stereo::StereoFrame& f, std::size_t index
     const mrpt::poses::CPose3D action =
         m_sampler.accepted() == 1 ? mrpt::poses::CPose3D() : m_sampler.actionSinceAccepted();
     m_runner->addFrame(action, toWeightedCloud(f, m_p.insertion), t, index);
-    m_frame_clouds.emplace(index, downsampleFrame(f, m_p.mapper.map_cell_size));
+    m_last_cloud = downsampleFrame(f, m_p.mapper.map_cell_size);
+    m_clouds.append(index, m_last_cloud);
+    if (m_clouds.hasPendingFusions())
+    {
+        // Only after a compression (every ~N_max / 2 accepted frames; AnyTime:
+        // until its next synchronisation), so the copy of the poses is rare.
+        m_clouds.fuse(m_runner->framePoses());
+    }
     const auto progress = m_runner->progress();
     if (progress.rectifications > 0)
     {
@@ -249,20 +262,17 @@ void Mapper::finish()
     m_entropy = m_runner->trajectory().entropy();
     m_keyframe_slam = {};
     m_keyframes.clear();
-    m_map_cloud = {};
+    const auto poses = m_runner->framePoses();
     std::map<std::size_t, mrpt::poses::CPose3D> T_world_keyframe;
-    for (const auto& fp : m_runner->framePoses())
+    for (const auto& fp : poses)
     {
         m_keyframe_slam.add(fp.timestamp, fp.T_world_frame);
         m_keyframes.push_back(fp.frame_index);
         T_world_keyframe[fp.frame_index] = fp.T_world_frame;
-        const auto it = m_frame_clouds.find(fp.frame_index);
-        if (it != m_frame_clouds.end())
-        {
-            m_map_cloud.appendTransformed(it->second, fp.T_world_frame);
-        }
     }
-    m_frame_clouds.clear();
+    m_clouds.requireSameElementsAs(m_runner->trajectory());
+    m_map_cloud = m_clouds.worldCloud(poses);
+    m_clouds = ElementClouds(0, m_p.mapper.map_cell_size);
     m_slam = {};
     for (std::size_t i = 0; i < m_records.size(); i++)
     {
@@ -275,8 +285,6 @@ void Mapper::finish()
         }
         m_slam.add(m_records[i].timestamp, it->second + link.T_keyframe_frame);
     }
-    // Overlapping frames see the same surfaces: one point per cell in the end too.
-    m_map_cloud = voxelDownsample(m_map_cloud, m_p.mapper.map_cell_size);
 }
 
 const IntensityCloud* Mapper::lastAcceptedCloud() const
@@ -285,8 +293,7 @@ const IntensityCloud* Mapper::lastAcceptedCloud() const
     {
         return nullptr;
     }
-    const auto it = m_frame_clouds.find(m_records.back().index);
-    return it == m_frame_clouds.end() ? nullptr : &it->second;
+    return &m_last_cloud;
 }
 
 std::vector<emslam::rectify::TimedPose> Mapper::currentSlamPoses() const

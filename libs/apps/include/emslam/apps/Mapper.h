@@ -1,6 +1,7 @@
 // SPDX-License-Identifier: BSD-3-Clause
 #pragma once
 
+#include <emslam/apps/ElementClouds.h>
 #include <emslam/apps/IntensityCloud.h>
 #include <emslam/apps/MapperReport.h>
 #include <emslam/egomotion/EgomotionEstimator.h>
@@ -18,7 +19,6 @@
 
 #include <cstddef>
 #include <limits>
-#include <map>
 #include <memory>
 #include <opencv2/core.hpp>
 #include <stdexcept>
@@ -59,8 +59,10 @@ public:
          * (energy of the egomotion map) but never rectified. (Default: false) */
         bool egomotion_only{false};
         /** Cell size of the map.ply / map.3Dscene cloud [m]: each accepted
-         * frame keeps one point per cell, and so does the final map (≤ 0:
-         * every point). Bounds the memory of the map cloud. (Default: 0.1) */
+         * frame keeps one point per cell, so does each trajectory element
+         * once compression has fused frames into it, and so does the final
+         * map (≤ 0: every point, and memory grows with the sequence).
+         * (Default: 0.1) */
         double map_cell_size{0.1};
         /** Ceiling cut of map.3Dscene and map_top.png [m]: cloud points
          * higher than this above the first camera (along its −y, the
@@ -112,7 +114,9 @@ public:
     bool process(const mrpt::obs::CObservation& obs);
 
     /** Ends the run: syncs the rectifier, runs the final rectification and
-     * builds the outputs. Idempotent; process() throws afterwards. */
+     * builds the outputs. Idempotent; process() throws afterwards. Throws
+     * std::logic_error if the map cloud's elements do not match the
+     * trajectory's (ElementClouds::requireSameElementsAs()). */
     void finish();
 
     const TParameters& parameters() const { return m_p; }
@@ -171,7 +175,10 @@ public:
     const emslam::CEntropyVoxelMap& entropyMap() const;
     /** The final (compressed) trajectory: actions, elements and their frames. */
     const emslam::rectify::Trajectory& trajectory() const;
-    /** The map cloud (with grey levels) at the final poses, world frame. */
+    /** The map cloud (with grey levels) at the final poses, world frame: the
+     * accepted frames' points, one per `map_cell_size` cell. Kept per
+     * trajectory element during the run (see ElementClouds): the points of
+     * frames fused by compression were averaged in their element's frame. */
     const IntensityCloud& mapCloud() const { return m_map_cloud; }
     /** Final energy (recomputed from scratch): the entropy plus the odometry
      * prior's cost, if `[Rectifier] prior_weight` > 0. */
@@ -209,8 +216,9 @@ private:
     double m_energy{0.0};
     bool m_has_energy{false};
     double m_entropy{0.0};
-    /** Per accepted frame (by frame index): its cloud in its camera frame. */
-    std::map<std::size_t, IntensityCloud> m_frame_clouds;
+    /** The map cloud per trajectory element, fused as the trajectory compresses. */
+    ElementClouds m_clouds;
+    IntensityCloud m_last_cloud;  //!< the last accepted frame's cloud, camera frame
     IntensityCloud m_map_cloud;
     std::vector<emslam::rectify::RectificationStats> m_rectifications;
     int m_image_width{0}, m_image_height{0};
