@@ -23,23 +23,6 @@ namespace emslam::stereo
 {
 namespace
 {
-std::vector<std::string> splitComma(std::string_view line)
-{
-    std::vector<std::string> out;
-    std::size_t start = 0;
-    while (true)
-    {
-        const auto p = line.find(',', start);
-        out.emplace_back(trimmed(line.substr(start, p == std::string_view::npos ? p : p - start)));
-        if (p == std::string_view::npos)
-        {
-            break;
-        }
-        start = p + 1;
-    }
-    return out;
-}
-
 /** Opens the EuRoC CSV file `file` (throws "Cannot open EuRoC <what> '<file>'"
  * if it cannot) and calls `on_row(fields, line, line_no)` for every line that is
  * not blank or a `#` comment: `fields` are its comma-separated fields,
@@ -51,7 +34,7 @@ void forEachCsvRow(const std::string& file, const char* what, RowFn&& on_row)
     forEachDataLine(
         f,
         [&](const std::string& line, std::size_t line_no)
-        { on_row(splitComma(line), line, line_no); },
+        { on_row(splitCommaFields(line), line, line_no); },
         file);
 }
 

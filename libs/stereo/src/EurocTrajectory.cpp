@@ -19,22 +19,6 @@ namespace emslam::stereo
 {
 namespace
 {
-std::vector<std::string> splitFields(std::string_view line)
-{
-    std::vector<std::string> out;
-    std::size_t start = 0;
-    while (true)
-    {
-        const auto p = line.find(',', start);
-        out.emplace_back(trimmed(line.substr(start, p == std::string_view::npos ? p : p - start)));
-        if (p == std::string_view::npos)
-        {
-            return out;
-        }
-        start = p + 1;
-    }
-}
-
 std::string lower(std::string s)
 {
     std::transform(s.begin(), s.end(), s.begin(), [](unsigned char c) { return std::tolower(c); });
@@ -45,7 +29,7 @@ std::string lower(std::string s)
  * names neither. */
 std::optional<bool> headerSaysWFirst(const std::string& header)
 {
-    const auto fields = splitFields(lower(header));
+    const auto fields = splitCommaFields(lower(header));
     std::optional<std::size_t> w, x;
     for (std::size_t i = 0; i < fields.size(); i++)
     {
@@ -90,7 +74,7 @@ TumTrajectory EurocTrajectory::load(const std::string& file)
             }
             continue;
         }
-        const auto fields = splitFields(line);
+        const auto fields = splitCommaFields(line);
         if (fields.size() < 8)
         {
             THROW_EXCEPTION_FMT(

@@ -44,6 +44,22 @@ std::string_view trimmed(std::string_view s)
     return s.substr(first, last - first + 1);
 }
 
+std::vector<std::string> splitCommaFields(std::string_view line)
+{
+    std::vector<std::string> out;
+    std::size_t start = 0;
+    while (true)
+    {
+        const auto p = line.find(',', start);
+        out.emplace_back(trimmed(line.substr(start, p == std::string_view::npos ? p : p - start)));
+        if (p == std::string_view::npos)
+        {
+            return out;
+        }
+        start = p + 1;
+    }
+}
+
 bool isBlank(std::string_view line)
 {
     return line.find_first_not_of(BLANKS) == std::string_view::npos;

@@ -19,6 +19,11 @@ namespace emslam::stereo
  * \ingroup emslam_stereo_grp \sa isBlank */
 std::string_view trimmed(std::string_view s);
 
+/** The comma-separated fields of `line`, each trimmed(); one empty field for
+ * an empty line (the CSV files of EuRoC).
+ * \ingroup emslam_stereo_grp \sa trimmed */
+std::vector<std::string> splitCommaFields(std::string_view line);
+
 /** True if `line` holds only blanks (space, tab, CR, LF), or nothing.
  * \ingroup emslam_stereo_grp \sa isCommentOrBlank, trimmed */
 bool isBlank(std::string_view line);
