@@ -34,6 +34,7 @@
 #include <csignal>
 #include <filesystem>
 #include <fstream>
+#include <functional>
 #include <opencv2/imgcodecs.hpp>
 #include <opencv2/imgproc.hpp>
 #include <sstream>
@@ -125,6 +126,26 @@ std::size_t countLinesStartingWith(const std::string& text, const std::string& p
         n += line.rfind(prefix, 0) == 0;
     }
     return n;
+}
+/** Writes the first `frames` frames of the simulated hall to `rawlog`, each
+ * stereo observation passed through `edit(frame_index, observation)` first. */
+void writeEditedHall(
+    const std::string& rawlog,
+    std::size_t frames,
+    const std::function<void(std::size_t, mrpt::obs::CObservationStereoImages&)>& edit)
+{
+    emslam::apps::RawlogInput in(simulatedHall(frames));
+    mrpt::io::CFileGZOutputStream out(rawlog);
+    auto arch = mrpt::serialization::archiveFrom(out);
+    std::vector<mrpt::obs::CObservation::Ptr> batch;
+    for (std::size_t i = 0; in.next(batch); i++)
+    {
+        ASSERT_EQ(batch.size(), 1U);
+        auto stereo = std::dynamic_pointer_cast<mrpt::obs::CObservationStereoImages>(batch[0]);
+        ASSERT_TRUE(stereo);
+        edit(i, *stereo);
+        arch << *stereo;
+    }
 }
 }  // namespace
 
@@ -347,30 +368,20 @@ TEST(MapperApp, egomotionFailureFramesKeepThePreviousSlamPose)
 {
     const std::string dir = emslam::test::makeTempDir("mapper_failure");
     const std::string rawlog = dir + "/flat.rawlog";
-    {
-        emslam::apps::RawlogInput in(simulatedHall(16));
-        mrpt::io::CFileGZOutputStream out(rawlog);
-        auto arch = mrpt::serialization::archiveFrom(out);
-        std::vector<mrpt::obs::CObservation::Ptr> batch;
-        for (std::size_t i = 0; in.next(batch); i++)
+    writeEditedHall(
+        rawlog, 16,
+        [](std::size_t i, mrpt::obs::CObservationStereoImages& stereo)
         {
-            for (const auto& o : batch)
+            if (i == 8)
             {
-                auto stereo = std::dynamic_pointer_cast<mrpt::obs::CObservationStereoImages>(o);
-                ASSERT_TRUE(stereo);
-                if (i == 8)
-                {
-                    const auto w = stereo->imageLeft.getWidth();
-                    const auto h = stereo->imageLeft.getHeight();
-                    stereo->imageLeft = mrpt::img::CImage(w, h, mrpt::img::CH_GRAY);
-                    stereo->imageLeft.filledRectangle(
-                        0, 0, w - 1, h - 1, mrpt::img::TColor(100, 100, 100));
-                    stereo->imageRight = stereo->imageLeft;
-                }
-                arch << *stereo;
+                const auto w = stereo.imageLeft.getWidth();
+                const auto h = stereo.imageLeft.getHeight();
+                stereo.imageLeft = mrpt::img::CImage(w, h, mrpt::img::CH_GRAY);
+                stereo.imageLeft.filledRectangle(
+                    0, 0, w - 1, h - 1, mrpt::img::TColor(100, 100, 100));
+                stereo.imageRight = stereo.imageLeft;
             }
-        }
-    }
+        });
     const std::string out = emslam::test::makeTempDir("mapper_failure_out");
     MapperApp app;
     initApp(app, {config("3dof-low-structured"), rawlog, "--out", out, "-q"});
@@ -523,30 +534,22 @@ TEST(MapperApp, unusableFramesAreSkippedAndTheOthersMapped)
 {
     const std::string dir = emslam::test::makeTempDir("mapper_skip");
     const std::string rawlog = dir + "/bad_frames.rawlog";
-    {
-        emslam::apps::RawlogInput in(simulatedHall(30));
-        mrpt::io::CFileGZOutputStream out(rawlog);
-        auto arch = mrpt::serialization::archiveFrom(out);
-        std::vector<mrpt::obs::CObservation::Ptr> batch;
-        for (std::size_t i = 0; in.next(batch); i++)
+    writeEditedHall(
+        rawlog, 30,
+        [](std::size_t i, mrpt::obs::CObservationStereoImages& stereo)
         {
-            ASSERT_EQ(batch.size(), 1U);
-            auto stereo = std::dynamic_pointer_cast<mrpt::obs::CObservationStereoImages>(batch[0]);
-            ASSERT_TRUE(stereo);
             if (i == 20)
             {
                 cv::Mat small;
-                cv::resize(stereo->imageRight.asCvMatRef(), small, cv::Size(160, 120));
-                stereo->imageRight = mrpt::img::CImage(small, mrpt::img::DEEP_COPY);
+                cv::resize(stereo.imageRight.asCvMatRef(), small, cv::Size(160, 120));
+                stereo.imageRight = mrpt::img::CImage(small, mrpt::img::DEEP_COPY);
             }
             if (i == 25)
             {
-                stereo->leftCamera.ncols = stereo->rightCamera.ncols = 0;
-                stereo->leftCamera.nrows = stereo->rightCamera.nrows = 0;
+                stereo.leftCamera.ncols = stereo.rightCamera.ncols = 0;
+                stereo.leftCamera.nrows = stereo.rightCamera.nrows = 0;
             }
-            arch << *stereo;
-        }
-    }
+        });
     const std::string out = emslam::test::makeTempDir("mapper_skip_out");
     MapperApp app;
     initApp(app, {config("3dof-low-structured"), rawlog, "--out", out, "-q"});
