@@ -1,6 +1,7 @@
 // SPDX-License-Identifier: BSD-3-Clause
 #include "SimulatedDrive.h"
 
+#include <emslam/rectify/ActionCovariance.h>
 #include <emslam/rectify/SerialRectification.h>
 #include <emslam/rectify/SpaceSampler.h>
 #include <emslam/rectify/TrajectoryRectifier.h>
@@ -139,6 +140,9 @@ TEST(TrajectoryRectifier, optionsRoundTripAndRejectBadValues)
     o.prior_weight = 3e-7;
     o.prior_sigma_rot_deg = 0.25;
     o.grid_phases = 3;
+    o.prior_covariance = PriorCovariance::Egomotion;
+    o.proposal = ProposalShape::Coherent;
+    o.proposal_scale = 0.5;
     mrpt::config::CConfigFileMemory out;
     o.saveToConfigFile(out, "Rectifier");
     mrpt::config::CConfigFileMemory in(out.getContent());
@@ -153,6 +157,9 @@ TEST(TrajectoryRectifier, optionsRoundTripAndRejectBadValues)
     EXPECT_DOUBLE_EQ(back.prior_sigma_rot_deg, 0.25);
     EXPECT_EQ(back.grid_phases, 3);
     EXPECT_DOUBLE_EQ(back.odometryPrior().sigma_xyz, 0.02);
+    EXPECT_EQ(back.odometryPrior().covariance, PriorCovariance::Egomotion);
+    EXPECT_EQ(back.proposal, ProposalShape::Coherent);
+    EXPECT_DOUBLE_EQ(back.proposal_scale, 0.5);
 
     const auto load = [](const std::string& kv)
     {
@@ -173,6 +180,11 @@ TEST(TrajectoryRectifier, optionsRoundTripAndRejectBadValues)
         [&] { load("prior_sigma_rot_deg = nan"); }, {"prior_sigma_rot_deg"});
     test::expectThrowContaining([&] { load("grid_phases = 0"); }, {"grid_phases", "1..8"});
     test::expectThrowContaining([&] { load("grid_phases = 9"); }, {"grid_phases", "1..8"});
+    test::expectThrowContaining(
+        [&] { load("prior_covariance = hessian"); }, {"prior_covariance", "fixed, egomotion"});
+    test::expectThrowContaining([&] { load("proposal = gauss"); }, {"proposal", "coherent"});
+    test::expectThrowContaining([&] { load("proposal_scale = 0"); }, {"proposal_scale"});
+    test::expectThrowContaining([&] { load("proposal_scale = inf"); }, {"proposal_scale"});
 }
 
 TEST(TrajectoryRectifier, shippedConfigLoadsWithThePaperDefaults)
@@ -194,4 +206,42 @@ TEST(TrajectoryRectifier, shippedConfigLoadsWithThePaperDefaults)
     sp.loadFromConfigFile(c, "SpaceSampling");
     EXPECT_DOUBLE_EQ(sp.t_min, 0.15);
     EXPECT_DOUBLE_EQ(sp.theta_min_deg, 5.0);
+}
+
+TEST(TrajectoryRectifier, covarianceProposalsMoveOnlyWhatTheEgomotionLeftUncertain)
+{
+    // Every step is certain except along x: Gaussian proposals drawn from
+    // that covariance may change δx only.
+    TRectifierOptions opt;
+    opt.proposal = ProposalShape::Covariance;
+    opt.max_attempts = 300;
+    CEntropyVoxelMap::TCreationOptions map;
+    map.energy = maps::EnergyType::Unstructured;
+    map.dof = 6;
+    ActionCovariance cov;
+    cov.setZero();
+    cov(0, 0) = 0.03 * 0.03;
+    Trajectory t(map);
+    const auto& frames = hallStart();
+    // No compression: composing two steps would turn x into other axes.
+    for (std::size_t i = 0; i < 40 && i < frames.size(); ++i)
+    {
+        t.append(
+            frames[i].action_drifted, keepVerticalBand(frames[i].cloud, -1.5, 0.8),
+            frames[i].timestamp, frames[i].frame_index, cov);
+    }
+    TrajectoryRectifier r(opt);
+    const RectificationStats s = r.rectify(t);
+    ASSERT_GT(s.successes, 0u);
+    double moved_x = 0;
+    for (std::size_t i = 1; i < t.size(); ++i)
+    {
+        const ActionDelta d = actionDifference(t.action(i), t.referenceAction(i));
+        moved_x = std::max(moved_x, std::abs(d[0]));
+        for (std::size_t k = 1; k < 6; ++k)
+        {
+            EXPECT_NEAR(d[k], 0.0, 1e-9) << "action " << i << " component " << k;
+        }
+    }
+    EXPECT_GT(moved_x, 1e-4);
 }

@@ -2,12 +2,14 @@
 #include "TestHelpers.h"
 
 #include <emslam/rectify/Action.h>
+#include <emslam/rectify/ActionCovariance.h>
 #include <emslam/rectify/Trajectory.h>
 
 #include <mrpt/core/bits_math.h>
 
 #include <gtest/gtest.h>
 
+#include <array>
 #include <random>
 
 using namespace emslam;
@@ -163,4 +165,51 @@ TEST(Trajectory, odometryPriorFollowsChangesRevertsAndCompression)
     const OdometryPrior p{0.01, 0.02, 0.5};
     EXPECT_NEAR(t.priorEnergy(), p.cost(t.action(2), t.referenceAction(2), 2), 1e-12);
     EXPECT_NEAR(t.priorEnergy(), 0.0025, 1e-9);
+}
+
+TEST(Trajectory, egomotionCovariancePriorIsMahalanobisAndComposesOnCompression)
+{
+    Trajectory t(mapOptions(maps::EnergyType::Unstructured));
+    OdometryPrior prior{0.5, 0.02, 0.5, PriorCovariance::Egomotion};
+    t.setOdometryPrior(prior);
+    const CPose3D step(0.1, 0.02, 0.3, mrpt::DEG2RAD(5.0), 0, 0);
+    ActionCovariance cov;
+    cov.setZero();
+    const std::array<double, 6> sd{0.01, 0.04, 0.02, 0.001, 0.002, 0.003};
+    for (int k = 0; k < 6; ++k)
+    {
+        cov(k, k) = sd[static_cast<std::size_t>(k)] * sd[static_cast<std::size_t>(k)];
+    }
+    for (int i = 0; i < 4; ++i)
+    {
+        t.append(i == 0 ? CPose3D() : step, blob(70 + i), i, i, cov);
+    }
+    EXPECT_EQ(t.priorEnergy(), 0.0);
+    // Two σ along y: the uncertain direction costs what its deviation says.
+    t.changeActions({{2, perturbAction(t.action(2), {0, 0.08, 0, 0, 0, 0})}});
+    EXPECT_NEAR(t.priorEnergy(), 0.5 * 0.5 * 4.0, 1e-9);
+    // Two σ along x, where the egomotion was 4× surer: the same cost.
+    t.revertLastChange();
+    t.changeActions({{2, perturbAction(t.action(2), {0.02, 0, 0, 0, 0, 0})}});
+    EXPECT_NEAR(t.priorEnergy(), 0.5 * 0.5 * 4.0, 1e-9);
+    t.revertLastChange();
+
+    // Compression: the fused action's covariance is the composition of its
+    // two steps' covariances.
+    t.compress();
+    ASSERT_EQ(t.size(), 2u);
+    const ActionCovariance expected = composeCovariance(step, cov, step, cov);
+    for (int r = 0; r < 6; ++r)
+    {
+        for (int c = 0; c < 6; ++c)
+        {
+            EXPECT_NEAR(t.referenceCovariance(1)(r, c), expected(r, c), 1e-15);
+        }
+    }
+    // A frame appended after compression starts at the last frame inside the
+    // last element: its covariance is carried into the element's frame.
+    t.append(step, blob(90), 5, 5, cov);
+    const ActionCovariance carried = transportCovariance(step, cov);
+    EXPECT_NEAR(t.referenceCovariance(2)(0, 0), carried(0, 0), 1e-15);
+    EXPECT_NEAR(t.referenceCovariance(2)(1, 1), carried(1, 1), 1e-15);
 }

@@ -1,8 +1,10 @@
 // SPDX-License-Identifier: BSD-3-Clause
 #include <emslam/apps/Mapper.h>
+#include <emslam/rectify/ActionCovariance.h>
 #include <emslam/stereo/ExceptionMessage.h>
 
 #include <mrpt/config/CConfigFileBase.h>
+#include <mrpt/core/bits_math.h>
 
 #include <algorithm>
 #include <chrono>
@@ -22,6 +24,10 @@ constexpr const char* EGOMOTION_SECTION = "Egomotion";
 constexpr const char* MAP_SECTION = "EntropyVoxelMap";
 constexpr const char* SAMPLING_SECTION = "SpaceSampling";
 constexpr const char* RECTIFIER_SECTION = "Rectifier";
+/** A failed egomotion step is predicted by the previous one, and may be off
+ * by that whole motion or at least by these. */
+constexpr double FAILED_STEP_MIN_SIGMA_XYZ = 0.1;      // [m]
+constexpr double FAILED_STEP_MIN_SIGMA_ROT_DEG = 3.0;  // [deg]
 
 using Clock = std::chrono::steady_clock;
 
@@ -135,6 +141,7 @@ Mapper::Mapper(const TParameters& p)
       m_sampler(p.sampling),
       m_clouds(static_cast<std::size_t>(std::max(p.rectifier.n_max, 0)), p.mapper.map_cell_size)
 {
+    m_cov_keyframe_cur.setZero();
     if (m_p.mapper.egomotion_only)
     {
         m_p.rectifier.mode = emslam::rectify::RectificationMode::Serial;
@@ -180,7 +187,8 @@ bool Mapper::process(const mrpt::obs::CObservation& obs)
 
     const auto ego = m_egomotion_estimator.process(f);
     r.ms_egomotion = ego.ms_total;
-    mrpt::poses::CPose3D action;  // identity: first frame, or a failed step
+    mrpt::poses::CPose3D action;  // identity: the first frame
+    emslam::rectify::ActionCovariance action_cov = m_p.rectifier.odometryPrior().stepCovariance();
     if (r.index > 0)
     {
         r.initial_matches = ego.initial_matches;
@@ -189,30 +197,43 @@ bool Mapper::process(const mrpt::obs::CObservation& obs)
         if (ego.ok)
         {
             action = ego.T_prev_cur;
+            if (ego.has_covariance)
+            {
+                action_cov = ego.covariance;
+            }
         }
         else
         {
+            // Constant velocity, with a covariance wide enough for the
+            // rectifier to move the step wherever the map says.
             ++m_failures;
+            action = m_velocity;
+            action_cov = emslam::rectify::predictionCovariance(
+                action, FAILED_STEP_MIN_SIGMA_XYZ, mrpt::DEG2RAD(FAILED_STEP_MIN_SIGMA_ROT_DEG));
         }
     }
     m_T_world_cur = m_T_world_cur + action;
     m_egomotion.add(r.timestamp, m_T_world_cur);
 
+    const emslam::rectify::ActionCovariance cov_since_keyframe = emslam::rectify::composeCovariance(
+        m_T_keyframe_cur, m_cov_keyframe_cur, action, action_cov);
     r.accepted = m_sampler.feed(action);
     if (r.accepted)
     {
         m_last_keyframe = r.index;
         m_T_keyframe_cur = mrpt::poses::CPose3D();
+        m_cov_keyframe_cur.setZero();
     }
     else
     {
         m_T_keyframe_cur = m_T_keyframe_cur + action;
+        m_cov_keyframe_cur = cov_since_keyframe;
     }
     m_links.push_back({m_last_keyframe, m_T_keyframe_cur});
     if (r.accepted)
     {
         const auto t_rect = Clock::now();
-        addAccepted(f, r.index, r.timestamp);
+        addAccepted(f, r.index, r.timestamp, cov_since_keyframe);
         r.ms_rectification = msSince(t_rect);
     }
     r.energy = m_energy;
@@ -221,13 +242,17 @@ bool Mapper::process(const mrpt::obs::CObservation& obs)
     return true;
 }
 
-void Mapper::addAccepted(const emslam::stereo::StereoFrame& f, std::size_t index, double t)
+void Mapper::addAccepted(
+    const emslam::stereo::StereoFrame& f,
+    std::size_t index,
+    double t,
+    const emslam::rectify::ActionCovariance& covariance)
 {
     // The first accepted frame is the world origin; later ones are placed by
     // the motion since the previous accepted frame.
     const mrpt::poses::CPose3D action =
         m_sampler.accepted() == 1 ? mrpt::poses::CPose3D() : m_sampler.actionSinceAccepted();
-    m_runner->addFrame(action, toWeightedCloud(f, m_p.insertion), t, index);
+    m_runner->addFrame(action, toWeightedCloud(f, m_p.insertion), t, index, covariance);
     m_last_cloud = downsampleFrame(f, m_p.mapper.map_cell_size);
     m_clouds.append(index, m_last_cloud);
     if (m_clouds.hasPendingFusions())

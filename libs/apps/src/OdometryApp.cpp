@@ -125,6 +125,7 @@ void OdometryApp::run()
     trajectory = {};
     frames_processed = failures = 0;
     mrpt::poses::CPose3D T_first_cur;
+    mrpt::poses::CPose3D velocity;  // the last estimated step: a failed one repeats it
     double sum_stereo = 0, sum_feat = 0, sum_desc = 0, sum_match = 0, sum_lwo = 0, sum_pose = 0,
            sum_ego = 0, sum_init = 0, sum_final = 0;
     std::size_t steps = 0;
@@ -152,7 +153,11 @@ void OdometryApp::run()
         }
         if (r.ok)
         {
-            T_first_cur = T_first_cur + r.T_prev_cur;
+            velocity = r.T_prev_cur;
+        }
+        if (frames_processed > 0)
+        {
+            T_first_cur = T_first_cur + velocity;
         }
         trajectory.add(mrpt::Clock::toDouble(f.timestamp), T_first_cur);
         sum_stereo += ms_stereo;

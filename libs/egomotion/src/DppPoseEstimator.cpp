@@ -63,12 +63,42 @@ Pairs makePairs(
     return p;
 }
 
-/** E(R, t) of Eq. 4 with Dpp of Eq. 7; gradients as documented in the header.
+/** Dpp of pair i at (R, t) and, if asked, its gradient with respect to t
+ * (`gt`) and to a rotation vector w applied on the left (`gw`).
  * With c = R b, u = (a - t) x c, v = (c + t) x a:
  *   d1 = |u| / |c|,  d2 = |v| / |a|,  Dpp = d1 d2,
  *   dd1/dt = (u x c) / (|u||c|),           dd2/dt = (a x v) / (|v||a|),
  *   dd1/dw = -c x ((a - t) x u) / (|u||c|), dd2/dw = c x (a x v) / (|v||a|),
  * where w perturbs the rotation on the left (dc = w x c). */
+inline double pairTerm(
+    const Pairs& p, std::size_t i, const Mat3& R, const Vec3& t, Vec3* gt, Vec3* gw)
+{
+    const Vec3& a = p.a[i];
+    const Vec3 c = R * p.b[i];
+    const Vec3 q = a - t;
+    const Vec3 u = q.cross(c);
+    const Vec3 v = (c + t).cross(a);
+    const double nu = u.norm(), nv = v.norm();
+    const double d1 = nu * p.inv_nb[i], d2 = nv * p.inv_na[i];
+    if (!gt && !gw)
+    {
+        return d1 * d2;
+    }
+    const double k1 = p.inv_nb[i] / std::max(nu, TINY);
+    const double k2 = p.inv_na[i] / std::max(nv, TINY);
+    const Vec3 av = a.cross(v);
+    if (gt)
+    {
+        *gt = d2 * k1 * u.cross(c) + d1 * k2 * av;
+    }
+    if (gw)
+    {
+        *gw = -d2 * k1 * c.cross(q.cross(u)) + d1 * k2 * c.cross(av);
+    }
+    return d1 * d2;
+}
+
+/** E(R, t) of Eq. 4 with Dpp of Eq. 7; gradients as documented in the header. */
 double energyGrad(const Pairs& p, const Mat3& R, const Vec3& t, Vec3* gt, Vec3* gw)
 {
     double e = 0;
@@ -80,30 +110,17 @@ double energyGrad(const Pairs& p, const Mat3& R, const Vec3& t, Vec3* gt, Vec3* 
     {
         gw->setZero();
     }
+    Vec3 it, iw;
     for (std::size_t i = 0; i < p.a.size(); ++i)
     {
-        const Vec3& a = p.a[i];
-        const Vec3 c = R * p.b[i];
-        const Vec3 q = a - t;
-        const Vec3 u = q.cross(c);
-        const Vec3 v = (c + t).cross(a);
-        const double nu = u.norm(), nv = v.norm();
-        const double d1 = nu * p.inv_nb[i], d2 = nv * p.inv_na[i];
-        e += d1 * d2;
-        if (!gt && !gw)
-        {
-            continue;
-        }
-        const double k1 = p.inv_nb[i] / std::max(nu, TINY);
-        const double k2 = p.inv_na[i] / std::max(nv, TINY);
-        const Vec3 av = a.cross(v);
+        e += pairTerm(p, i, R, t, gt ? &it : nullptr, gw ? &iw : nullptr);
         if (gt)
         {
-            *gt += d2 * k1 * u.cross(c) + d1 * k2 * av;
+            *gt += it;
         }
         if (gw)
         {
-            *gw += -d2 * k1 * c.cross(q.cross(u)) + d1 * k2 * c.cross(av);
+            *gw += iw;
         }
     }
     return e;
@@ -297,6 +314,67 @@ double DppPoseEstimator::energy(
     return e;
 }
 
+bool DppPoseEstimator::covarianceAt(
+    const std::vector<mrpt::math::TPoint3Df>& a,
+    const std::vector<mrpt::math::TPoint3Df>& b,
+    const mrpt::poses::CPose3D& T_prev_cur,
+    mrpt::math::CMatrixDouble66& covariance)
+{
+    const Pairs p = makePairs(a, b);
+    constexpr std::size_t DOF = 6;
+    if (p.a.size() <= DOF)
+    {
+        return false;
+    }
+    Mat3 R;
+    Vec3 t;
+    fromPose(T_prev_cur, R, t);
+    // Gauss-Newton: read each Dpp as a squared residual r² (it is a product
+    // of two distances), so H ≈ 2 Σ ∇r ∇rᵀ with ∇r = ∇Dpp / (2 r). The exact
+    // Hessian of a product of distances is indefinite near zero residuals.
+    Eigen::Matrix<double, 6, 6> JtJ = Eigen::Matrix<double, 6, 6>::Zero();
+    double e = 0;
+    Vec3 gt, gw;
+    for (std::size_t i = 0; i < p.a.size(); ++i)
+    {
+        const double dpp = pairTerm(p, i, R, t, &gt, &gw);
+        e += dpp;
+        if (!(dpp > 1e-30))
+        {
+            continue;  // an exact fit: no gradient direction to learn from
+        }
+        Eigen::Matrix<double, 6, 1> g;
+        g << gt, gw;
+        g /= 2.0 * std::sqrt(dpp);
+        JtJ += g * g.transpose();
+    }
+    const Eigen::LLT<Eigen::Matrix<double, 6, 6>> llt(JtJ);
+    if (llt.info() != Eigen::Success || !(e > 0))
+    {
+        return false;
+    }
+    // cov = σ² (JᵀJ)⁻¹ with σ² = E / (n − 6).
+    const double sigma2 = e / static_cast<double>(p.a.size() - DOF);
+    Eigen::Matrix<double, 6, 6> C = sigma2 * llt.solve(Eigen::Matrix<double, 6, 6>::Identity());
+    // The rotation above perturbs on the left, exp(w) R; the rectifier's
+    // actions on the right, R exp(θ): θ = Rᵀ w.
+    Eigen::Matrix<double, 6, 6> J = Eigen::Matrix<double, 6, 6>::Identity();
+    J.block<3, 3>(3, 3) = R.transpose();
+    C = J * C * J.transpose();
+    if (!C.allFinite())
+    {
+        return false;
+    }
+    for (int r = 0; r < 6; ++r)
+    {
+        for (int c = 0; c < 6; ++c)
+        {
+            covariance(r, c) = 0.5 * (C(r, c) + C(c, r));
+        }
+    }
+    return true;
+}
+
 mrpt::poses::CPose3D DppPoseEstimator::euclideanFit(
     const std::vector<mrpt::math::TPoint3Df>& a, const std::vector<mrpt::math::TPoint3Df>& b)
 {
@@ -374,6 +452,7 @@ DppPoseEstimator::Result DppPoseEstimator::estimate(
     }
     res.energy = e;
     res.T_prev_cur = toPose(R, t);
+    res.has_covariance = covarianceAt(a, b, res.T_prev_cur, res.covariance);
     return res;
 }
 

@@ -217,6 +217,8 @@ EgomotionResult EgomotionEstimator::estimateDescribed(
     r.ms_pose = msSince(t0);
     r.T_prev_cur = pose.T_prev_cur;
     r.energy = pose.energy;
+    r.covariance = pose.covariance;
+    r.has_covariance = pose.has_covariance;
     r.ok = true;
     r.ms_total = r.ms_features + r.ms_descriptors + msSince(t_start);
     return r;

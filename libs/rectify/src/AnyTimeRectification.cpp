@@ -87,7 +87,7 @@ void AnyTimeRectification::synchronise()
         closeRun();
         for (BufferedFrame& f : m_buffer)
         {
-            m_trajectory.append(f.action, f.cloud, f.timestamp, f.frame_index);
+            m_trajectory.append(f.action, f.cloud, f.timestamp, f.frame_index, f.covariance);
             if (m_options.n_max > 0 &&
                 m_trajectory.size() > static_cast<std::size_t>(m_options.n_max))
             {
@@ -120,7 +120,8 @@ void AnyTimeRectification::addFrame(
     const mrpt::poses::CPose3D& action,
     const emslam::maps::WeightedPointCloud& cloud,
     double timestamp,
-    std::size_t frame_index)
+    std::size_t frame_index,
+    const std::optional<ActionCovariance>& covariance)
 {
     if (m_finished)
     {
@@ -132,7 +133,7 @@ void AnyTimeRectification::addFrame(
          m_options.vertical_band
              ? keepVerticalBand(cloud, m_options.band_min_y, m_options.band_max_y)
              : cloud,
-         timestamp, frame_index});
+         timestamp, frame_index, covariance});
     if (m_buffer.size() >= static_cast<std::size_t>(m_options.buffer_size))
     {
         synchronise();

@@ -26,4 +26,26 @@ double OdometryPrior::cost(
     return 0.5 * weight * (t2 / (n * sigma_xyz * sigma_xyz) + theta * theta / (n * sr * sr));
 }
 
+double OdometryPrior::cost(
+    const mrpt::poses::CPose3D& action,
+    const mrpt::poses::CPose3D& reference,
+    const ActionCovariance& information) const
+{
+    if (!enabled())
+    {
+        return 0.0;
+    }
+    return weight * halfMahalanobis(actionDifference(action, reference), information);
+}
+
+ActionCovariance OdometryPrior::stepCovariance() const
+{
+    return diagonalCovariance(sigma_xyz, mrpt::DEG2RAD(sigma_rot_deg));
+}
+
+std::string toString(PriorCovariance c)
+{
+    return c == PriorCovariance::Egomotion ? "egomotion" : "fixed";
+}
+
 }  // namespace emslam::rectify

@@ -38,7 +38,42 @@ RectificationMode modeFromString(const std::string& s)
     throw std::invalid_argument(
         "[Rectifier] mode: unknown value '" + s + "' (valid: serial, anytime)");
 }
+
+PriorCovariance priorCovarianceFromString(const std::string& s)
+{
+    if (s == "fixed")
+        return PriorCovariance::Fixed;
+    if (s == "egomotion")
+        return PriorCovariance::Egomotion;
+    throw std::invalid_argument(
+        "[Rectifier] prior_covariance: unknown value '" + s + "' (valid: fixed, egomotion)");
+}
+
+ProposalShape proposalFromString(const std::string& s)
+{
+    if (s == "box")
+        return ProposalShape::Box;
+    if (s == "covariance")
+        return ProposalShape::Covariance;
+    if (s == "coherent")
+        return ProposalShape::Coherent;
+    throw std::invalid_argument(
+        "[Rectifier] proposal: unknown value '" + s + "' (valid: box, covariance, coherent)");
+}
 }  // namespace
+
+std::string toString(ProposalShape p)
+{
+    switch (p)
+    {
+        case ProposalShape::Covariance:
+            return "covariance";
+        case ProposalShape::Coherent:
+            return "coherent";
+        default:
+            return "box";
+    }
+}
 
 std::string toString(Acceptance a)
 {
@@ -77,6 +112,10 @@ void TRectifierOptions::loadFromConfigFile(
     MRPT_LOAD_CONFIG_VAR(prior_sigma_xyz, double, c, s);
     MRPT_LOAD_CONFIG_VAR(prior_sigma_rot_deg, double, c, s);
     MRPT_LOAD_CONFIG_VAR(grid_phases, int, c, s);
+    prior_covariance =
+        priorCovarianceFromString(c.read_string(s, "prior_covariance", toString(prior_covariance)));
+    proposal = proposalFromString(c.read_string(s, "proposal", toString(proposal)));
+    MRPT_LOAD_CONFIG_VAR(proposal_scale, double, c, s);
     validate();
 }
 
@@ -107,6 +146,12 @@ void TRectifierOptions::saveToConfigFile(
     MRPT_SAVE_CONFIG_VAR_COMMENT(prior_sigma_rot_deg, "odometry prior, one step [deg]");
     MRPT_SAVE_CONFIG_VAR_COMMENT(
         grid_phases, "entropy averaged over shifted voxel grids (1: the paper)");
+    c.write(
+        s, "prior_covariance", toString(prior_covariance), -1, -1,
+        "fixed (prior_sigma_*) | egomotion (Dpp curvature)");
+    c.write(
+        s, "proposal", toString(proposal), -1, -1, "box (the paper's eps) | covariance | coherent");
+    MRPT_SAVE_CONFIG_VAR_COMMENT(proposal_scale, "sigma multiplier of the covariance proposal");
 }
 
 void TRectifierOptions::validate() const
@@ -139,6 +184,9 @@ void TRectifierOptions::validate() const
         std::isfinite(prior_sigma_rot_deg) && prior_sigma_rot_deg > 0, "prior_sigma_rot_deg",
         "must be > 0");
     require(grid_phases >= 1 && grid_phases <= 8, "grid_phases", "must be in 1..8");
+    require(
+        std::isfinite(proposal_scale) && proposal_scale > 0 && proposal_scale <= 100,
+        "proposal_scale", "must be in (0, 100]");
 }
 
 }  // namespace emslam::rectify

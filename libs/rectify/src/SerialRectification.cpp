@@ -20,7 +20,8 @@ void SerialRectification::addFrame(
     const mrpt::poses::CPose3D& action,
     const emslam::maps::WeightedPointCloud& cloud,
     double timestamp,
-    std::size_t frame_index)
+    std::size_t frame_index,
+    const std::optional<ActionCovariance>& covariance)
 {
     if (m_finished)
     {
@@ -31,7 +32,7 @@ void SerialRectification::addFrame(
         m_options.vertical_band
             ? keepVerticalBand(cloud, m_options.band_min_y, m_options.band_max_y)
             : cloud,
-        timestamp, frame_index);
+        timestamp, frame_index, covariance);
     if (m_options.n_max > 0 && m_trajectory.size() > static_cast<std::size_t>(m_options.n_max))
     {
         m_trajectory.compress();

@@ -29,14 +29,18 @@ void Trajectory::append(
     const mrpt::poses::CPose3D& action,
     const emslam::maps::WeightedPointCloud& cloud,
     double timestamp,
-    std::size_t frame_index)
+    std::size_t frame_index,
+    const std::optional<ActionCovariance>& covariance)
 {
     // The caller's action starts at the last frame, which after compression
     // is not the last element's origin.
     mrpt::poses::CPose3D a = action;
+    ActionCovariance cov = covariance ? *covariance : m_prior.stepCovariance();
     if (!m_frames.empty())
     {
-        a = m_frames.back().back().T_element_frame + action;
+        const mrpt::poses::CPose3D& inside = m_frames.back().back().T_element_frame;
+        a = inside + action;
+        cov = transportCovariance(inside, cov);
     }
     if (dof() == 3)
     {
@@ -50,6 +54,8 @@ void Trajectory::append(
     }
     m_actions.push_back(a);
     m_reference.push_back(a);
+    m_reference_cov.push_back(cov);
+    m_reference_info.push_back(informationOf(cov, dof()));
     m_frames.push_back({ElementFrame{timestamp, frame_index, mrpt::poses::CPose3D()}});
     m_prior_terms.push_back(0.0);  // the action equals its reference
     m_undo_valid = false;
@@ -122,6 +128,10 @@ double Trajectory::priorTerm(std::size_t i) const
     if (i == 0 || !m_prior.enabled())
     {
         return 0.0;
+    }
+    if (m_prior.covariance == PriorCovariance::Egomotion)
+    {
+        return m_prior.cost(m_actions[i], m_reference[i], m_reference_info[i]);
     }
     // a_i spans the frames of element i-1 (from its first frame to element i's).
     return m_prior.cost(m_actions[i], m_reference[i], m_frames[i - 1].size());

@@ -3,6 +3,7 @@
 
 #include <mrpt/core/bits_math.h>
 
+#include <Eigen/Dense>
 #include <algorithm>
 #include <chrono>
 #include <cmath>
@@ -10,6 +11,50 @@
 
 namespace emslam::rectify
 {
+namespace
+{
+/** A Gaussian draw with covariance scale² · c over the components of `dof`
+ * (3: δx, δz, δθy). A covariance that is not positive definite falls back
+ * to its diagonal. */
+template <class Rng>
+ActionDelta gaussianDelta(const ActionCovariance& c, int dof, double scale, Rng& rng)
+{
+    const int idx3[3] = {0, 2, 4};
+    const int n = dof == 3 ? 3 : 6;
+    Eigen::MatrixXd m(n, n);
+    for (int r = 0; r < n; ++r)
+    {
+        for (int k = 0; k < n; ++k)
+        {
+            m(r, k) = c(dof == 3 ? idx3[r] : r, dof == 3 ? idx3[k] : k);
+        }
+    }
+    Eigen::MatrixXd L;
+    const Eigen::LLT<Eigen::MatrixXd> llt(m);
+    if (llt.info() == Eigen::Success)
+    {
+        L = llt.matrixL();
+    }
+    else
+    {
+        L = m.diagonal().cwiseMax(0.0).cwiseSqrt().asDiagonal();
+    }
+    std::normal_distribution<double> normal(0.0, 1.0);
+    Eigen::VectorXd u(n);
+    for (int k = 0; k < n; ++k)
+    {
+        u[k] = normal(rng);
+    }
+    const Eigen::VectorXd d = scale * (L * u);
+    ActionDelta delta{};
+    for (int k = 0; k < n; ++k)
+    {
+        delta[static_cast<std::size_t>(dof == 3 ? idx3[k] : k)] = d[k];
+    }
+    return delta;
+}
+}  // namespace
+
 TrajectoryRectifier::TrajectoryRectifier(const TRectifierOptions& p) : m_p(p), m_rng(p.seed)
 {
     m_p.validate();
@@ -41,7 +86,20 @@ void TrajectoryRectifier::drawPerturbation(const Trajectory& t)
         std::max<long>(1, std::lround(m_p.select_fraction * static_cast<double>(n))));
 
     m_indices.clear();
-    if (anchor_first)
+    m_coherent = m_p.proposal == ProposalShape::Coherent && !m_coherent && pool > 0;
+    if (m_coherent)
+    {
+        // A run of consecutive actions, one shared draw (below).
+        const std::size_t run = std::min(std::max<std::size_t>(1, count), pool);
+        std::uniform_int_distribution<std::size_t> start(first_free, n - run);
+        const std::size_t k0 = start(m_rng);
+        for (std::size_t k = 0; k < run; ++k)
+        {
+            m_indices.push_back(k0 + k);
+        }
+        count = 0;
+    }
+    else if (anchor_first)
     {
         m_indices.push_back(0);
         count = std::min(count, n) - 1;
@@ -63,11 +121,21 @@ void TrajectoryRectifier::drawPerturbation(const Trajectory& t)
     std::uniform_real_distribution<double> unit(-1.0, 1.0);
     const bool planar = t.dof() == 3;
     m_change.clear();
+    const bool from_covariance = m_p.proposal != ProposalShape::Box;
     for (std::size_t index : m_indices)
     {
         Perturbation p;
         p.index = index;
-        if (planar)
+        if (m_coherent && !m_change.empty())
+        {
+            p.delta = m_change.front().delta;
+        }
+        else if (from_covariance && index > 0)
+        {
+            p.delta =
+                gaussianDelta(t.referenceCovariance(index), t.dof(), m_p.proposal_scale, m_rng);
+        }
+        else if (planar)
         {
             p.delta = {eps_t * unit(m_rng), 0.0, eps_t * unit(m_rng), 0.0,
                        eps_r * unit(m_rng), 0.0};

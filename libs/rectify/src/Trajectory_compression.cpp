@@ -50,6 +50,19 @@ std::vector<mrpt::poses::CPose3D> composeActionPairs(const std::vector<mrpt::pos
     }
     return out;
 }
+
+/** Eq. 14 for the covariances of the egomotion's actions `a`. */
+std::vector<ActionCovariance> composeCovariancePairs(
+    const std::vector<mrpt::poses::CPose3D>& a, const std::vector<ActionCovariance>& c)
+{
+    std::vector<ActionCovariance> out;
+    out.reserve((a.size() + 1) / 2);
+    for (std::size_t i = 0; i < a.size(); i += 2)
+    {
+        out.push_back(i == 0 ? c[0] : composeCovariance(a[i - 1], c[i - 1], a[i], c[i]));
+    }
+    return out;
+}
 }  // namespace
 
 void Trajectory::compress()
@@ -77,6 +90,12 @@ void Trajectory::compress()
     m_map = fuseObservationPairs(m_map, m_actions);
     rebuildPhaseMaps();
     m_actions = composeActionPairs(m_actions);
+    m_reference_cov = composeCovariancePairs(m_reference, m_reference_cov);
+    m_reference_info.clear();
+    for (const ActionCovariance& c : m_reference_cov)
+    {
+        m_reference_info.push_back(informationOf(c, dof()));
+    }
     m_reference = composeActionPairs(m_reference);
     m_frames = std::move(frames);
     recomputePrior();

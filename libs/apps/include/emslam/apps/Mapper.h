@@ -6,6 +6,7 @@
 #include <emslam/apps/MapperReport.h>
 #include <emslam/egomotion/EgomotionEstimator.h>
 #include <emslam/maps/CEntropyVoxelMap.h>
+#include <emslam/rectify/ActionCovariance.h>
 #include <emslam/rectify/RectificationRunner.h>
 #include <emslam/rectify/RectifierOptions.h>
 #include <emslam/rectify/SpaceSampler.h>
@@ -192,7 +193,11 @@ public:
     /** @} */
 
 private:
-    void addAccepted(const emslam::stereo::StereoFrame& f, std::size_t index, double t);
+    void addAccepted(
+        const emslam::stereo::StereoFrame& f,
+        std::size_t index,
+        double t,
+        const emslam::rectify::ActionCovariance& covariance);
 
     TParameters m_p;
     emslam::stereo::StereoFrontEnd m_front;
@@ -209,6 +214,10 @@ private:
     };
     std::vector<KeyframeLink> m_links;  //!< one per processed frame
     mrpt::poses::CPose3D m_T_keyframe_cur;
+    /** The egomotion's covariance of m_T_keyframe_cur (zero at a keyframe). */
+    emslam::rectify::ActionCovariance m_cov_keyframe_cur;
+    /** The last step the egomotion estimated: a failed step repeats it. */
+    mrpt::poses::CPose3D m_velocity;
     std::size_t m_last_keyframe{0};
     std::vector<std::size_t> m_keyframes;
     std::vector<MapperFrameRecord> m_records;

@@ -1,6 +1,7 @@
 // SPDX-License-Identifier: BSD-3-Clause
 #pragma once
 
+#include <mrpt/math/CMatrixFixed.h>
 #include <mrpt/math/TPoint3D.h>
 #include <mrpt/poses/CPose3D.h>
 
@@ -36,6 +37,16 @@ public:
         double initial_energy{0};
         int alternations{0};
         int evaluations{0};  //!< energy/gradient evaluations
+        /** Covariance of T_prev_cur from the curvature of E at its minimum,
+         * each Dpp read as a squared residual r² (a product of two
+         * distances): σ² (JᵀJ)⁻¹, J the rows ∇r, σ² = E / (n − 6) (Gauss-Newton;
+         * the exact Hessian is indefinite near zero residuals). Order [x, y, z,
+         * θx, θy, θz] for the perturbation (R exp(θ), t + δt), the one the
+         * rectifier applies to its actions. Valid only if has_covariance. */
+        mrpt::math::CMatrixDouble66 covariance;
+        /** False when JᵀJ is not positive definite (degenerate geometry) or
+         * there are fewer than 7 pairs. */
+        bool has_covariance{false};
     };
 
     DppPoseEstimator() = default;
@@ -65,6 +76,14 @@ public:
      * Needs >= 3 non-collinear pairs. */
     static mrpt::poses::CPose3D euclideanFit(
         const std::vector<mrpt::math::TPoint3Df>& a, const std::vector<mrpt::math::TPoint3Df>& b);
+
+    /** The covariance of `T_prev_cur` at the minimum of E (see
+     * Result::covariance); false if it is not defined. */
+    static bool covarianceAt(
+        const std::vector<mrpt::math::TPoint3Df>& a,
+        const std::vector<mrpt::math::TPoint3Df>& b,
+        const mrpt::poses::CPose3D& T_prev_cur,
+        mrpt::math::CMatrixDouble66& covariance);
 
     /** Estimates T_prev_cur from matched points (a[i] <-> b[i]); needs >= 3 pairs. */
     Result estimate(

@@ -32,6 +32,10 @@ struct EgomotionResult
     std::size_t final_matches{0};    //!< after LWO
     int lwo_iterations{0};
     double energy{0};  //!< final sum of Dpp
+    /** Covariance of T_prev_cur (DppPoseEstimator::Result::covariance);
+     * valid only if has_covariance. */
+    mrpt::math::CMatrixDouble66 covariance;
+    bool has_covariance{false};
 
     // Time per stage [ms]
     double ms_features{0}, ms_descriptors{0}, ms_matching{0}, ms_lwo{0}, ms_pose{0}, ms_total{0};

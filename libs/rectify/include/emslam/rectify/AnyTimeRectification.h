@@ -38,7 +38,8 @@ public:
         const mrpt::poses::CPose3D& action,
         const emslam::maps::WeightedPointCloud& cloud,
         double timestamp,
-        std::size_t frame_index) override;
+        std::size_t frame_index,
+        const std::optional<ActionCovariance>& covariance = std::nullopt) override;
     void finish() override;
     bool mapStable() const override { return m_stable.load(); }
     std::vector<RectificationStats> statistics() const override;
@@ -56,6 +57,7 @@ private:
         emslam::maps::WeightedPointCloud cloud;
         double timestamp{0.0};
         std::size_t frame_index{0};
+        std::optional<ActionCovariance> covariance;
     };
 
     void run();

@@ -11,6 +11,7 @@
 
 #include <cstddef>
 #include <memory>
+#include <optional>
 #include <vector>
 
 namespace emslam::rectify
@@ -37,12 +38,14 @@ public:
 
     /** Adds an accepted frame: `action` = its pose in the previous accepted
      * frame (first frame: its world pose, usually the identity), `cloud` in
-     * its own camera frame. */
+     * its own camera frame, `covariance` the egomotion's uncertainty of
+     * `action` if known (Trajectory::append()). */
     virtual void addFrame(
         const mrpt::poses::CPose3D& action,
         const emslam::maps::WeightedPointCloud& cloud,
         double timestamp,
-        std::size_t frame_index) = 0;
+        std::size_t frame_index,
+        const std::optional<ActionCovariance>& covariance = std::nullopt) = 0;
 
     /** Syncs pending frames, runs the final rectification and stops any
      * thread. The trajectory is final afterwards; further addFrame() calls

@@ -28,6 +28,22 @@ enum class RectificationMode : std::uint8_t
     AnyTime
 };
 
+/** How an attempt draws the change of each selected action. */
+enum class ProposalShape : std::uint8_t
+{
+    /** The paper's box: U(−ε, +ε) per component (§2.2.3). */
+    Box = 0,
+    /** Gaussian with the egomotion's covariance of that action (times
+     * proposal_scale²): large where the images left the action uncertain,
+     * small where they pinned it down. a_0 keeps the box. */
+    Covariance,
+    /** Like Covariance, but every other attempt bends the trajectory: a run
+     * of S_sel consecutive actions gets the same draw (from the first one's
+     * covariance), so the segment after it turns and shifts coherently, as
+     * closing a loop needs, for the prior cost of independent draws. */
+    Coherent
+};
+
 /** Parameters of the global rectification, section `[Rectifier]` (paper §2.2.3-2.2.4
  * and §3.2 defaults). The degrees of freedom (3DOF [δx, δz, δθ_y] or 6DOF)
  * follow the map's energy (`[EntropyVoxelMap]` `energy` / `dof`).
@@ -53,6 +69,9 @@ enum class RectificationMode : std::uint8_t
  * prior_weight     = 0       ; odometry prior (0: off, the paper's energy)
  * prior_sigma_xyz  = 0.02    ; [m] per accepted step
  * prior_sigma_rot_deg = 0.5  ; [deg] per accepted step
+ * prior_covariance = fixed   ; fixed (the sigmas above) | egomotion (Dpp curvature)
+ * proposal         = box     ; box (the paper's ε) | covariance | coherent (egomotion's)
+ * proposal_scale   = 1       ; σ multiplier of the covariance proposal
  * grid_phases      = 1       ; entropy averaged over shifted voxel grids (1: the paper)
  * \endcode
  *
@@ -94,6 +113,10 @@ struct TRectifierOptions : public mrpt::config::CLoadableOptions
     double prior_weight{0.0};
     double prior_sigma_xyz{0.02};     //!< [m] one accepted step (Default: 0.02)
     double prior_sigma_rot_deg{0.5};  //!< [deg] one accepted step (Default: 0.5)
+    /** Where the prior's covariance comes from (Default: fixed) */
+    PriorCovariance prior_covariance{PriorCovariance::Fixed};
+    ProposalShape proposal{ProposalShape::Box};  //!< (Default: box, the paper)
+    double proposal_scale{1.0};                  //!< (Default: 1)
     /** Grid phases the entropy is averaged over (Trajectory::setGridPhases());
      * 1: the paper's single voxel grid (Default: 1) */
     int grid_phases{1};
@@ -101,7 +124,7 @@ struct TRectifierOptions : public mrpt::config::CLoadableOptions
     /** The prior these options describe. */
     OdometryPrior odometryPrior() const
     {
-        return OdometryPrior{prior_weight, prior_sigma_xyz, prior_sigma_rot_deg};
+        return OdometryPrior{prior_weight, prior_sigma_xyz, prior_sigma_rot_deg, prior_covariance};
     }
 };
 
@@ -109,5 +132,7 @@ struct TRectifierOptions : public mrpt::config::CLoadableOptions
 std::string toString(Acceptance a);
 /** INI names: `serial`, `anytime`. */
 std::string toString(RectificationMode m);
+/** INI names: `box`, `covariance`, `coherent`. */
+std::string toString(ProposalShape p);
 
 }  // namespace emslam::rectify

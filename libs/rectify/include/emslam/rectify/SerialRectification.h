@@ -20,7 +20,8 @@ public:
         const mrpt::poses::CPose3D& action,
         const emslam::maps::WeightedPointCloud& cloud,
         double timestamp,
-        std::size_t frame_index) override;
+        std::size_t frame_index,
+        const std::optional<ActionCovariance>& covariance = std::nullopt) override;
     void finish() override;
     bool mapStable() const override;
     std::vector<RectificationStats> statistics() const override { return m_stats; }

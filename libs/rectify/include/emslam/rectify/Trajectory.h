@@ -9,6 +9,7 @@
 
 #include <cstddef>
 #include <limits>
+#include <optional>
 #include <vector>
 
 namespace emslam::rectify
@@ -69,12 +70,15 @@ public:
     /** Appends an element: `action` = pose of the new frame in the previous
      * element's last frame (for the first element: its pose in the world),
      * `cloud` in the new frame (simplified here at l_d). Projected to 3DOF if
-     * dof() == 3. */
+     * dof() == 3. `covariance`: the egomotion's uncertainty of `action`
+     * (for the prior with PriorCovariance::Egomotion; without it, the
+     * prior's fixed deviations of one step). */
     void append(
         const mrpt::poses::CPose3D& action,
         const emslam::maps::WeightedPointCloud& cloud,
         double timestamp,
-        std::size_t frame_index = std::numeric_limits<std::size_t>::max());
+        std::size_t frame_index = std::numeric_limits<std::size_t>::max(),
+        const std::optional<ActionCovariance>& covariance = std::nullopt);
 
     const mrpt::poses::CPose3D& action(std::size_t i) const { return m_actions.at(i); }
     const std::vector<mrpt::poses::CPose3D>& actions() const { return m_actions; }
@@ -111,6 +115,11 @@ public:
     const OdometryPrior& odometryPrior() const { return m_prior; }
     /** The egomotion's estimate of action i (the prior's reference). */
     const mrpt::poses::CPose3D& referenceAction(std::size_t i) const { return m_reference.at(i); }
+    /** The egomotion's covariance of action i (composed by compress()). */
+    const ActionCovariance& referenceCovariance(std::size_t i) const
+    {
+        return m_reference_cov.at(i);
+    }
 
     /** Sets some actions (3DOF-projected if needed), moves the affected
      * segment in the map and returns the new energy. One undo record. */
@@ -169,8 +178,10 @@ private:
     std::vector<mrpt::poses::CPose3D> m_actions;
     std::vector<std::vector<ElementFrame>> m_frames;
     OdometryPrior m_prior;
-    std::vector<mrpt::poses::CPose3D> m_reference;  //!< egomotion actions (prior references)
-    std::vector<double> m_prior_terms;              //!< prior cost of each action
+    std::vector<mrpt::poses::CPose3D> m_reference;   //!< egomotion actions (prior references)
+    std::vector<ActionCovariance> m_reference_cov;   //!< their covariances
+    std::vector<ActionCovariance> m_reference_info;  //!< their information, for dof()
+    std::vector<double> m_prior_terms;               //!< prior cost of each action
     double m_prior_sum{0.0};
     std::vector<emslam::CEntropyVoxelMap::ObservationMove> m_moves;          //!< scratch
     std::vector<emslam::CEntropyVoxelMap::ObservationMove> m_shifted_moves;  //!< scratch

@@ -66,10 +66,11 @@ private:
 
     TRectifierOptions m_p;
     std::mt19937_64 m_rng;
-    std::vector<Perturbation> m_change;               //!< the attempt being tried
-    bool m_reuse{false};                              //!< m_change was a success: try it again
-    std::vector<std::size_t> m_indices;               //!< scratch: the selection
-    std::vector<std::size_t> m_candidates;            //!< scratch: the selection's pool
+    std::vector<Perturbation> m_change;     //!< the attempt being tried
+    bool m_reuse{false};                    //!< m_change was a success: try it again
+    std::vector<std::size_t> m_indices;     //!< scratch: the selection
+    bool m_coherent{false};                 //!< the last draw was a coherent run (they alternate)
+    std::vector<std::size_t> m_candidates;  //!< scratch: the selection's pool
     std::vector<Trajectory::ActionChange> m_changes;  //!< scratch
     std::vector<mrpt::poses::CPose3D> m_best;
     double m_best_energy{0.0};
