@@ -116,6 +116,7 @@ EnergyScanSummary summarise(const std::vector<EnergyScanLine>& lines, int dof)
         at_truth += l.truthIsMinimum() ? 1 : 0;
         (l.isRotation() ? rotation : translation).push_back(std::abs(l.argmin_offset));
     }
+    s.lines_at_truth = at_truth;
     s.fraction_at_truth =
         lines.empty() ? NOT_A_NUMBER : static_cast<double>(at_truth) / lines.size();
     s.median_abs_argmin_translation_m = median(translation);

@@ -82,8 +82,9 @@ struct EnergyScanDimension
 struct EnergyScanSummary
 {
     std::size_t lines{0};
-    std::size_t evaluations{0};  //!< energies computed (offset 0 once)
-    std::size_t elements{0};     //!< N
+    std::size_t lines_at_truth{0};  //!< lines whose minimum is at the truth
+    std::size_t evaluations{0};     //!< energies computed (offset 0 once)
+    std::size_t elements{0};        //!< N
     int grid_phases{1};
     double energy_at_truth{0};  //!< [nats]
     /** Fraction of all lines whose minimum is at the truth. */
