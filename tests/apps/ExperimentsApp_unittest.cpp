@@ -120,6 +120,36 @@ TEST(ExperimentsApp, quickRunOfThePaperSuiteWritesEveryTableAndRun)
     }
 }
 
+TEST(ExperimentsApp, energyScanWritesItsCsvAndColumns)
+{
+    const std::string out = emslam::test::makeTempDir("experiments-scan");
+    ExperimentsApp app;
+    initApp(
+        app, {suite(), "--out", out, "--quick", "--quiet", "--only", "three_corridors", "--seeds",
+              "1", "--energy-scan"});
+    app.run();
+    ASSERT_EQ(app.results().size(), 2u);
+    for (const auto& r : app.results())
+    {
+        SCOPED_TRACE(r.label);
+        ASSERT_TRUE(r.energy_scan);
+        EXPECT_GE(r.energy_scan->lines, 3u * 7u);  // 3DOF: x, z, theta_y of about 7 actions
+        EXPECT_GE(r.energy_scan->fraction_at_truth, 0.0);
+        EXPECT_LE(r.energy_scan->fraction_at_truth, 1.0);
+        const std::string run =
+            out + "/runs/three_corridors/" + fs::path(r.mapper).stem().string() + "/seed1";
+        const std::string csv = readFile(run + "/energy_scan.csv");
+        EXPECT_EQ(count(csv, "\n"), 1u + r.energy_scan->lines);
+        EXPECT_NE(readFile(run + "/summary.json").find("\"energy_scan\": {"), std::string::npos);
+    }
+    const std::string md = readFile(out + "/experiments.md");
+    EXPECT_NE(
+        md.find("| scan at truth | scan argmin t [m] | scan argmin rot [deg] |"),
+        std::string::npos);
+    const std::string json = readFile(out + "/experiments.json");
+    EXPECT_EQ(count(json, "\"scan_fraction_at_truth\": null"), 0u);
+}
+
 TEST(ExperimentsApp, severalSeedsGetAMedianRow)
 {
     const std::string out = emslam::test::makeTempDir("experiments-median");

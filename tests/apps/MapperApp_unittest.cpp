@@ -196,7 +196,8 @@ TEST(MapperApp, helpDoesNotRun)
 TEST(MapperApp, mapsASimulatedRawlogAndWritesEveryOutput)
 {
     const std::string rawlog = simulatedHall(60);
-    const std::string out = mapRawlog(rawlog, "mapper_outputs", {"--gt", groundTruthOf(rawlog)});
+    const std::string out =
+        mapRawlog(rawlog, "mapper_outputs", {"--gt", groundTruthOf(rawlog), "--energy-scan"});
 
     const auto ego = emslam::stereo::TumTrajectory::fromFile(out + "/trajectory_egomotion.tum");
     const auto slam = emslam::stereo::TumTrajectory::fromFile(out + "/trajectory_slam.tum");
@@ -259,6 +260,19 @@ TEST(MapperApp, mapsASimulatedRawlogAndWritesEveryOutput)
         EXPECT_NE(json.find(key), std::string::npos) << key << "\n" << json;
     }
     EXPECT_EQ(json.find("nan"), std::string::npos);
+
+    // --energy-scan: a 3DOF energy scans x, z and theta_y of a few actions.
+    const std::string scan = readText(out + "/energy_scan.csv");
+    EXPECT_EQ(scan.rfind("action,elements_moved,dimension,unit,step,energy_at_truth,", 0), 0U);
+    EXPECT_EQ(countLinesStartingWith(scan, "1,"), 3U);  // a_1 along x, z, theta_y
+    EXPECT_EQ(scan.find(",y,"), std::string::npos);
+    EXPECT_NE(scan.find(",theta_y,deg,1,"), std::string::npos);
+    for (const char* key :
+         {"\"energy_scan\": {\"lines\": ", "\"energy_at_egomotion\"", "\"energy_at_slam\"",
+          "\"fraction_at_truth\"", "\"theta_y\": {\"unit\": \"deg\""})
+    {
+        EXPECT_NE(json.find(key), std::string::npos) << key << "\n" << json;
+    }
 
     const std::string report = readText(out + "/report.html");
     for (const char* id : {"plot-top", "plot-side", "plot-energy", "plot-time", "plot-attempts"})
@@ -484,6 +498,7 @@ TEST(MapperApp, badInputsFailWithAClearMessage)
     initFails({cfg, rawlog, "--out", dir, "--set", "EntropyVoxelMap.energy=flat"}, {"flat"});
     // The ground truth is read before any work: missing, garbled, KITTI without times.
     initFails({cfg, rawlog, "--out", dir, "--gt", dir + "/no.tum"}, {"no.tum", "does not exist"});
+    initFails({cfg, rawlog, "--out", dir, "--energy-scan"}, {"--energy-scan", "needs --gt"});
     emslam::test::writeFile(dir + "/seven.txt", "1 2 3 4 5 6 7\n");
     initFails({cfg, rawlog, "--out", dir, "--gt", dir + "/seven.txt"}, {"seven.txt:1"});
     emslam::test::writeFile(dir + "/poses.txt", "1 0 0 0 0 1 0 0 0 0 1 0\n");

@@ -4,6 +4,8 @@
 #include <emslam/apps/Json.h>
 #include <emslam/apps/SvgPlot.h>
 
+#include <mrpt/core/bits_math.h>
+
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
@@ -63,6 +65,16 @@ const std::vector<Column>& columns()
         {"H SLAM", "entropy_slam", 3, [](const R& r) { return r.entropy_slam; }},
         {"H phase spread", "entropy_phase_spread", 3,
          [](const R& r) { return r.entropy_phase_spread; }},
+        {"scan at truth", "scan_fraction_at_truth", 2,
+         [](const R& r) { return r.energy_scan ? r.energy_scan->fraction_at_truth : NAN; }},
+        {"scan argmin t [m]", "scan_median_abs_argmin_m", 3,
+         [](const R& r)
+         { return r.energy_scan ? r.energy_scan->median_abs_argmin_translation_m : NAN; }},
+        {"scan argmin rot [deg]", "scan_median_abs_argmin_deg", 1,
+         [](const R& r) {
+             return r.energy_scan ? mrpt::RAD2DEG(r.energy_scan->median_abs_argmin_rotation_rad)
+                                  : NAN;
+         }},
         {"run [s]", "seconds", 0, [](const R& r) { return r.seconds; }},
     };
     return c;
@@ -163,8 +175,11 @@ std::string markdown(const std::vector<Row>& rows, const ExperimentReportInfo& i
          "(marked) it is the end error. ATE: RMSE after SE(3) alignment. H: the paper's "
          "entropy of the final map's elements placed by the ground truth, the egomotion and "
          "SLAM; H phase spread: how much H of the true map changes when the whole map moves by "
-         "1/4, 1/2 or 3/4 of a cell (same geometry, another grid phase). Paper figures: Sáez & "
-         "Escolano, §3 (– where the paper gives none).\n\n"
+         "1/4, 1/2 or 3/4 of a cell (same geometry, another grid phase). Scan columns "
+         "(--energy-scan): the fraction of scanned lines (one action perturbed along one "
+         "dimension around the truth) whose minimum is at the truth, and the median |offset| of "
+         "the minimum over the translation and the rotation lines (runs/.../energy_scan.csv "
+         "has every line). Paper figures: Sáez & Escolano, §3 (– where the paper gives none).\n\n"
       << "| experiment | energy | seed |";
     for (const auto& c : columns())
     {

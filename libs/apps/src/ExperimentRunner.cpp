@@ -1,6 +1,7 @@
 // SPDX-License-Identifier: BSD-3-Clause
 #include <emslam/apps/CommandLine.h>
 #include <emslam/apps/ConfigValidation.h>
+#include <emslam/apps/EnergyScanOutputs.h>
 #include <emslam/apps/ExperimentRunner.h>
 #include <emslam/apps/Mapper.h>
 #include <emslam/apps/MapperOutputs.h>
@@ -224,9 +225,18 @@ ExperimentResult runExperiment(
     }
     r.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t_start).count();
     info.seconds = r.seconds;
+    if (options.energy_scan && !traj.empty())
+    {
+        info.energy_scan = scanMapperEnergy(mapper, [&](std::size_t i) { return truth.at(i); });
+        r.energy_scan = info.energy_scan->scan.summary;
+    }
     if (!options.out_dir.empty())
     {
         writeRunOutputs(options.out_dir, mapper, info, r.ground_truth);
+        if (info.energy_scan)
+        {
+            writeEnergyScanCsv(info.energy_scan->scan, options.out_dir + "/energy_scan.csv");
+        }
     }
     return r;
 }

@@ -5,6 +5,8 @@
 #include <emslam/apps/ProgressLine.h>
 #include <emslam/apps/StopSignal.h>
 
+#include <mrpt/core/bits_math.h>
+
 #include <chrono>
 #include <cstdio>
 #include <filesystem>
@@ -49,6 +51,12 @@ void ExperimentsApp::initialize(int argc, const char** argv)
         "Feed the mapper the renderer's exact depth (as an RGB-D camera) instead of the stereo "
         "pair: what the method does without stereo noise",
         cmd);
+    TCLAP::SwitchArg energy_scan(
+        "", "energy-scan",
+        "Scan each run's entropy along each dimension of a few actions around the ground truth "
+        "(is its minimum at the truth?): energy_scan.csv per run and three scan columns in the "
+        "tables",
+        cmd);
     TCLAP::SwitchArg quiet("q", "quiet", "No progress lines", cmd);
     if (!parseCommandLine(cmd, PROGRAM, argc, argv))
     {
@@ -65,6 +73,7 @@ void ExperimentsApp::initialize(int argc, const char** argv)
     m_quick = quick.getValue();
     m_quiet = quiet.getValue();
     m_exact_depth = exact_depth.getValue();
+    m_energy_scan = energy_scan.getValue();
     const ExperimentSuite s = ExperimentSuite::load(m_suite_file);
     m_experiments = s.select(only.getValue());
     m_seeds = seeds.isSet() ? parseSeedList(seeds.getValue()) : s.seeds;
@@ -122,6 +131,7 @@ void ExperimentsApp::run()
                 ExperimentRunOptions opt;
                 opt.max_frames = m_quick ? m_quick_frames : 0;
                 opt.exact_depth = m_exact_depth;
+                opt.energy_scan = m_energy_scan;
                 opt.out_dir =
                     m_out + "/runs/" + e.name + "/" + mapper + "/seed" + std::to_string(seed);
                 opt.on_frame = [&](std::size_t done, std::size_t n)
@@ -144,6 +154,17 @@ void ExperimentsApp::run()
                         PROGRAM, what.c_str(), e.loop ? "loop gap" : "end error", r.egomotion_gap_m,
                         r.slam_gap_m, r.egomotionGapPercent(), r.slamGapPercent(), r.path_m,
                         r.egomotion_ate_m, r.slam_ate_m, r.seconds);
+                    if (r.energy_scan)
+                    {
+                        std::fprintf(
+                            stderr,
+                            "%s: %s: energy scan: minimum at the truth on %zu of %zu lines, "
+                            "median |argmin| %.3f m / %.2f deg, %.1f s\n",
+                            PROGRAM, what.c_str(), r.energy_scan->lines_at_truth,
+                            r.energy_scan->lines, r.energy_scan->median_abs_argmin_translation_m,
+                            mrpt::RAD2DEG(r.energy_scan->median_abs_argmin_rotation_rad),
+                            r.energy_scan->seconds);
+                    }
                 }
                 m_results.push_back(std::move(r));
                 info.seconds =

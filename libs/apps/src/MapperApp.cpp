@@ -2,6 +2,7 @@
 #include <emslam/apps/AtomicTextFile.h>
 #include <emslam/apps/CommandLine.h>
 #include <emslam/apps/ConfigValidation.h>
+#include <emslam/apps/EnergyScanOutputs.h>
 #include <emslam/apps/InputFileChecks.h>
 #include <emslam/apps/MapperApp.h>
 #include <emslam/apps/MapperLiveFeed.h>
@@ -14,6 +15,7 @@
 #include <emslam/stereo/ExceptionMessage.h>
 #include <emslam/stereo/TrajectoryWriter.h>
 
+#include <mrpt/core/bits_math.h>
 #include <mrpt/system/filesystem.h>
 
 #include <chrono>
@@ -57,7 +59,8 @@ const std::vector<std::string>& outputNames()
         "stats.csv",
         "summary.json",
         "effective.ini",
-        "report.html"};
+        "report.html",
+        "energy_scan.csv"};
     return names;
 }
 
@@ -145,6 +148,12 @@ void MapperApp::initialize(int argc, const char** argv)
     TCLAP::ValueArg<long long> max_frames(
         "", "max-frames", withDefault("Stop after N stereo / RGB-D frames (0: all)", "0"), false, 0,
         "N", cmd);
+    TCLAP::SwitchArg energy_scan(
+        "", "energy-scan",
+        "With --gt: scan the entropy along each dimension of a few actions of the final "
+        "trajectory around the ground truth (does the energy have its minimum at the truth?); "
+        "writes energy_scan.csv and an energy_scan object in summary.json",
+        cmd);
     TCLAP::SwitchArg quiet("q", "quiet", "No progress line", cmd);
     TCLAP::SwitchArg viewer(
         "", "viewer", "Show the run live in a window (map, trajectories, camera, image)", cmd);
@@ -158,6 +167,12 @@ void MapperApp::initialize(int argc, const char** argv)
     m_rawlog = rawlog.getValue();
     m_out = out.getValue();
     m_gt = gt.getValue();
+    m_energy_scan = energy_scan.getValue();
+    if (m_energy_scan && m_gt.empty())
+    {
+        throw std::invalid_argument(
+            "--energy-scan needs --gt: the scan is made around the ground truth");
+    }
     try
     {
         m_gt_options.format = emslam::stereo::parseTrajectoryFormat(gt_format.getValue());
@@ -367,6 +382,22 @@ void MapperApp::writeOutputs(const emslam::stereo::TumTrajectory& ground_truth)
             TrajectoryMetrics::compute(ground_truth, m.egomotionTrajectory(), opts);
         m_info.slam_vs_gt = TrajectoryMetrics::compute(ground_truth, m.slamTrajectory(), opts);
     }
+    // A scan that cannot be made (a frame without ground truth) fails the run,
+    // but only after every other output is written.
+    std::string scan_error;
+    if (m_energy_scan && !ground_truth.empty())
+    {
+        try
+        {
+            m_info.energy_scan = scanMapperEnergy(
+                m, groundTruthFramePoses(m, ground_truth, TrajectoryMetrics::Options().max_dt));
+            writeEnergyScanCsv(m_info.energy_scan->scan, joinPath(m_out, "energy_scan.csv"));
+        }
+        catch (const std::exception& e)
+        {
+            scan_error = emslam::stereo::shortExceptionMessage(e);
+        }
+    }
     for (const auto& [name, t] :
          {std::pair{"trajectory_egomotion", &m.egomotionTrajectory()},
           std::pair{"trajectory_slam", &m.slamTrajectory()}})
@@ -411,8 +442,23 @@ void MapperApp::writeOutputs(const emslam::stereo::TumTrajectory& ground_truth)
             "ATE against the ground truth: egomotion %.3f m, SLAM %.3f m\n",
             m_info.egomotion_vs_gt->ate_rmse_m, m_info.slam_vs_gt->ate_rmse_m);
     }
+    if (m_info.energy_scan)
+    {
+        const auto& e = m_info.energy_scan->scan.summary;
+        std::printf(
+            "energy scan around the ground truth: minimum at the truth on %zu of %zu lines, median "
+            "|argmin| %.3f m / %.2f deg, %.1f s; entropy at truth / egomotion / SLAM %.4f / "
+            "%.4f / %.4f\n",
+            e.lines_at_truth, e.lines, e.median_abs_argmin_translation_m,
+            mrpt::RAD2DEG(e.median_abs_argmin_rotation_rad), e.seconds, e.energy_at_truth,
+            m_info.energy_scan->entropy_egomotion, m_info.energy_scan->entropy_slam);
+    }
     std::printf(
         "outputs in '%s' (report: %s)\n", m_out.c_str(), joinPath(m_out, "report.html").c_str());
+    if (!scan_error.empty())
+    {
+        throw std::runtime_error(scan_error + " (the other outputs are in '" + m_out + "')");
+    }
 }
 
 }  // namespace emslam::apps

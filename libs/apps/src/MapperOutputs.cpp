@@ -1,5 +1,6 @@
 // SPDX-License-Identifier: BSD-3-Clause
 #include <emslam/apps/AtomicTextFile.h>
+#include <emslam/apps/EnergyScanOutputs.h>
 #include <emslam/apps/EntropyVoxelObject.h>
 #include <emslam/apps/Json.h>
 #include <emslam/apps/MapScene.h>
@@ -200,6 +201,10 @@ void writeSummaryJson(const Mapper& m, const MapperRunInfo& info, const std::str
     if (info.slam_vs_gt)
     {
         j << ",\n  \"slam_vs_gt\": " << nestedJson(info.slam_vs_gt->toJson());
+    }
+    if (info.energy_scan)
+    {
+        j << ",\n  \"energy_scan\": " << energyScanJson(*info.energy_scan);
     }
     j << "\n}\n";
     AtomicTextFile f(file);

@@ -2,10 +2,12 @@
 #pragma once
 
 #include <emslam/apps/ExperimentSuite.h>
+#include <emslam/rectify/EnergyScan.h>
 #include <emslam/stereo/TumTrajectory.h>
 
 #include <cstddef>
 #include <functional>
+#include <optional>
 #include <string>
 
 namespace emslam::apps
@@ -43,7 +45,9 @@ struct ExperimentResult
      * the four grid phases. A rectification whose "gain" is smaller than this
      * moves the map against the grid, not towards the truth. */
     double entropy_phase_spread{0};
-    double seconds{0};  //!< wall time of the run (rendering included) [s]
+    /** The energy scan around the ground truth (ExperimentRunOptions::energy_scan). */
+    std::optional<emslam::rectify::EnergyScanSummary> energy_scan;
+    double seconds{0};  //!< wall time of the run (rendering included, the energy scan not) [s]
 
     /** The paper's figures for this experiment and energy (NaN: not given). */
     double paper_path_m, paper_observations, paper_egomotion_gap_m, paper_slam_gap_m;
@@ -71,6 +75,10 @@ struct ExperimentRunOptions
      * within the mapper's [Stereo] min_range..max_range) instead of the
      * stereo pair: an oracle that tells what stereo noise costs. */
     bool exact_depth{false};
+    /** Scan the final trajectory's entropy around the ground truth
+     * (emslam::rectify::scanEnergy()): ExperimentResult::energy_scan, and
+     * `energy_scan.csv` in `out_dir`. */
+    bool energy_scan{false};
     /** Called after every frame with (frames done, frames in all); return
      * false to stop the run early (Ctrl-C). */
     std::function<bool(std::size_t, std::size_t)> on_frame;

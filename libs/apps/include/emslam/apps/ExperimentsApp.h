@@ -18,7 +18,7 @@ namespace emslam::apps
  *
  * \code
  * emslam-experiments SUITE.ini --out DIR [--only NAME[,NAME...]] [--seeds 1,2,3]
- *                    [--quick] [--exact-depth] [--quiet]
+ *                    [--quick] [--exact-depth] [--energy-scan] [--quiet]
  * \endcode
  * - `--quick`: only the suite's `quick_frames` first frames of each run and,
  *   unless `--seeds` is given, only the first seed (a smoke test of the
@@ -26,6 +26,9 @@ namespace emslam::apps
  * - `--exact-depth`: the mapper gets the renderer's exact depth (an RGB-D
  *   observation) instead of the stereo pair: what the method does without
  *   stereo noise.
+ * - `--energy-scan`: each run's final trajectory is scanned around the
+ *   ground truth (emslam::rectify::scanEnergy()): `energy_scan.csv` beside
+ *   its outputs, its aggregate in summary.json and three scan columns.
  * - Ctrl-C (SIGINT) or SIGTERM: the running run stops, and the tables are
  *   written for the runs that finished.
  * \ingroup emslam_apps_grp \sa ExperimentSuite, runExperiment() */
@@ -48,6 +51,7 @@ private:
     bool m_quick{false};
     bool m_quiet{false};
     bool m_exact_depth{false};
+    bool m_energy_scan{false};
     std::string m_suite_file, m_out, m_command;
     std::vector<ExperimentSpec> m_experiments;
     std::vector<int> m_seeds;

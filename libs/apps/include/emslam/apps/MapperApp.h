@@ -21,14 +21,18 @@ namespace emslam::apps
  * or / and the KITTI `*_kitti.txt` + `*_times.txt`, `--trajectory-format`),
  * `keyframes.txt`, `map.ply`, `map.3Dscene`, `map_top.png`, `entropy_map.bin`,
  * `entropy_map.3Dscene`, `stats.csv`, `summary.json`, `effective.ini` and
- * `report.html`.
+ * `report.html` (and `energy_scan.csv` with `--energy-scan`).
  *
  * \code
  * emslam-mapper CONFIG.ini DATASET.rawlog --out DIR [--egomotion-only]
  *   [--gt GT [--gt-format auto|tum|kitti|euroc] [--gt-times TIMES]]
  *   [--trajectory-format tum|kitti|both] [--set SECTION.key=value ...]
- *   [--max-frames N] [--quiet] [--viewer]
+ *   [--max-frames N] [--energy-scan] [--quiet] [--viewer]
  * \endcode
+ * - `--energy-scan` (needs `--gt`): the entropy of the final trajectory's
+ *   observations scanned around the ground truth along each dimension of a
+ *   few actions (emslam::rectify::scanEnergy()): `energy_scan.csv` and an
+ *   `energy_scan` object in summary.json.
  * - `--viewer` shows the run live (LiveViewer); without a display it warns
  *   and the run goes on.
  * - The configuration is checked before any work: an unknown section or key
@@ -82,6 +86,7 @@ private:
     bool m_quiet{false};
     bool m_viewer{false};
     bool m_egomotion_only{false};
+    bool m_energy_scan{false};
     std::string m_config, m_rawlog, m_out, m_gt;
     emslam::stereo::TrajectoryReadOptions m_gt_options;
     emslam::stereo::LoadedTrajectory m_ground_truth;

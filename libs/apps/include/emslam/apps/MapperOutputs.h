@@ -1,6 +1,7 @@
 // SPDX-License-Identifier: BSD-3-Clause
 #pragma once
 
+#include <emslam/apps/EnergyScanOutputs.h>
 #include <emslam/apps/MapDrawingContent.h>
 #include <emslam/apps/Mapper.h>
 #include <emslam/apps/TrajectoryMetrics.h>
@@ -27,6 +28,8 @@ struct MapperRunInfo
     double seconds{0.0};            //!< wall time of the run
     /** Against the ground truth (--gt), when given. */
     std::optional<TrajectoryMetrics> egomotion_vs_gt, slam_vs_gt;
+    /** The energy scan around the ground truth (--energy-scan), when made. */
+    std::optional<MapperEnergyScan> energy_scan;
 };
 
 /** Distance between the first and last poses of a trajectory [m] (0 if < 2). */
@@ -59,7 +62,8 @@ RectificationTotals rectificationTotals(const std::vector<emslam::rectify::Recti
 void writeStatsCsv(const Mapper& m, const std::string& file);
 
 /** summary.json: frames, accepted, failures, ms per frame per stage,
- * rectification totals, final energy, loop gaps, run info. */
+ * rectification totals, final energy, loop gaps, run info, and the energy
+ * scan's aggregate if one was made (energyScanJson()). */
 void writeSummaryJson(const Mapper& m, const MapperRunInfo& info, const std::string& file);
 
 /** What the map drawings of a finished mapper show: the map cloud, the
