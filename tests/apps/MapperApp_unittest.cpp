@@ -403,6 +403,51 @@ TEST(MapperApp, egomotionFailureFramesKeepThePreviousSlamPose)
     EXPECT_EQ(emslam::stereo::TumTrajectory::fromFile(out + "/trajectory_slam.tum").size(), 16U);
 }
 
+// A run whose result is nonsense still writes every output, but says so and
+// exits with its own status.
+TEST(MapperApp, blackImagesGiveADegenerateRunWithExitStatus3)
+{
+    const std::string dir = emslam::test::makeTempDir("mapper_black");
+    const std::string rawlog = dir + "/black.rawlog";
+    writeEditedHall(
+        rawlog, 8,
+        [](std::size_t, mrpt::obs::CObservationStereoImages& stereo)
+        {
+            const auto w = stereo.imageLeft.getWidth();
+            const auto h = stereo.imageLeft.getHeight();
+            stereo.imageLeft = mrpt::img::CImage(w, h, mrpt::img::CH_GRAY);
+            stereo.imageLeft.filledRectangle(0, 0, w - 1, h - 1, mrpt::img::TColor(0, 0, 0));
+            stereo.imageRight = stereo.imageLeft;
+        });
+    const std::string out = dir + "/out";
+    const std::vector<std::string> args = {
+        "emslam-mapper", config("3dof-low-structured"), rawlog, "--out", out, "-q"};
+    auto argv = argvOf(args);
+    testing::internal::CaptureStderr();
+    const int status = emslam::apps::appMain<MapperApp>(
+        "emslam-mapper", static_cast<int>(argv.size()), const_cast<char**>(argv.data()));
+    const std::string err = testing::internal::GetCapturedStderr();
+    EXPECT_EQ(status, emslam::apps::EXIT_DEGENERATE);
+    EXPECT_EQ(status, 3);
+    EXPECT_NE(
+        err.find("emslam-mapper: warning: degenerate result: 7 of 7 egomotion steps failed "
+                 "(100 %); the map has no point"),
+        std::string::npos)
+        << err;
+    EXPECT_NE(err.find("exit status 3"), std::string::npos) << err;
+    for (const char* f : {"trajectory_slam.tum", "map.ply", "summary.json", "report.html"})
+    {
+        EXPECT_TRUE(mrpt::system::fileExists(out + "/" + f)) << f;
+    }
+
+    // A usable run exits 0.
+    MapperApp ok;
+    initApp(ok, {config("3dof-low-structured"), simulatedHall(8), "--out", dir + "/ok", "-q"});
+    ok.run();
+    EXPECT_TRUE(ok.degenerateResult().empty()) << ok.degenerateResult();
+    EXPECT_EQ(ok.exitCode(), 0);
+}
+
 TEST(MapperApp, egomotionOnlyNeverRectifiesAndCreatesMissingParentFolders)
 {
     // --out names a folder whose parents do not exist yet (mkdir -p).
