@@ -756,3 +756,55 @@ TEST(MapperApp, hallDoubleLoopRectificationShrinksGapAndAte)
     EXPECT_LE(slam_gap, 0.005 * info.slam_vs_gt->path_length_m);
     EXPECT_LT(slam_ate, 0.5 * ego_ate);
 }
+
+// The largest (or smallest) value each dangerous key accepts is safe: the
+// check refuses the next one, and a tiny run with it ends (clean result or a
+// clean exception), no crash, no overflow.
+TEST(MapperApp, extremeAcceptedValuesOfDangerousKeysRunSafely)
+{
+    struct Extreme
+    {
+        std::string key, accepted, refused;
+    };
+    const std::vector<Extreme> extremes = {
+        {"Stereo.block_size", "255", "257"},        {"Stereo.lr_max_diff", "1024", "1025"},
+        {"Stereo.min_disparity", "1000", "1001"},   {"Stereo.min_disparity", "-1000", "-1001"},
+        {"Stereo.num_disparities", "1024", "1025"}, {"EntropyVoxelMap.cell_size", "0.01", "0.009"},
+        {"Egomotion.window_size", "128", "129"},    {"Egomotion.lp_num_rings", "64", "65"},
+        {"Egomotion.lp_radius", "256", "256.5"},
+    };
+    const std::string rawlog = simulatedHall(3);
+    const std::string text = readText(config("3dof-low-structured"));
+    for (const auto& e : extremes)
+    {
+        SCOPED_TRACE(e.key + " = " + e.accepted);
+        const auto dot = e.key.find('.');
+        const auto withValue = [&](const std::string& v)
+        {
+            mrpt::config::CConfigFileMemory c(text);
+            c.write(e.key.substr(0, dot), e.key.substr(dot + 1), v);
+            return mrpt::config::CConfigFileMemory(c.getContent());
+        };
+        EXPECT_NO_THROW(MapperApp::checkConfig(withValue(e.accepted)));
+        emslam::test::expectThrowContaining(
+            [&] { MapperApp::checkConfig(withValue(e.refused)); }, {e.key.substr(dot + 1)});
+
+        MapperApp app;
+        initApp(
+            app,
+            {config("3dof-low-structured"), rawlog, "--out",
+             emslam::test::makeTempDir("mapper_extreme"), "-q", "--set", e.key + "=" + e.accepted});
+        try
+        {
+            testing::internal::CaptureStderr();
+            app.run();
+            (void)testing::internal::GetCapturedStderr();
+            EXPECT_EQ(app.mapper().frameCount(), 3U);
+        }
+        catch (const std::exception& ex)
+        {
+            (void)testing::internal::GetCapturedStderr();
+            std::printf("%s = %s: %s\n", e.key.c_str(), e.accepted.c_str(), ex.what());
+        }
+    }
+}
