@@ -111,7 +111,7 @@ TEST(CommandLine, setTyposAndNonNumbersAreRejectedInEveryAppThatTakesSet)
         {"unknown key 'num_disparity'", "did you mean 'num_disparities'"});
     expectInitFails<emslam::apps::StereoApp>(
         "emslam-stereo", {none, "--set", "Stereo.num_disparities=abc"},
-        {"num_disparities", "'abc'", "not a number"});
+        {"num_disparities", "'abc'", "not a whole number"});
     // emslam-mapper: every section of its INI file.
     expectInitFails<emslam::apps::MapperApp>(
         "emslam-mapper", {mapperConfig(), none, "-o", "/tmp/x", "--set", "Stereo.max_range=far"},

@@ -429,6 +429,51 @@ TEST(MapperApp, egomotionFailureStepsRepeatThePreviousStep)
     EXPECT_EQ(emslam::stereo::TumTrajectory::fromFile(out + "/trajectory_slam.tum").size(), 16U);
 }
 
+// A run whose result is nonsense still writes every output, but says so and
+// exits with its own status.
+TEST(MapperApp, blackImagesGiveADegenerateRunWithExitStatus3)
+{
+    const std::string dir = emslam::test::makeTempDir("mapper_black");
+    const std::string rawlog = dir + "/black.rawlog";
+    writeEditedHall(
+        rawlog, 8,
+        [](std::size_t, mrpt::obs::CObservationStereoImages& stereo)
+        {
+            const auto w = stereo.imageLeft.getWidth();
+            const auto h = stereo.imageLeft.getHeight();
+            stereo.imageLeft = mrpt::img::CImage(w, h, mrpt::img::CH_GRAY);
+            stereo.imageLeft.filledRectangle(0, 0, w - 1, h - 1, mrpt::img::TColor(0, 0, 0));
+            stereo.imageRight = stereo.imageLeft;
+        });
+    const std::string out = dir + "/out";
+    const std::vector<std::string> args = {
+        "emslam-mapper", config("3dof-low-structured"), rawlog, "--out", out, "-q"};
+    auto argv = argvOf(args);
+    testing::internal::CaptureStderr();
+    const int status = emslam::apps::appMain<MapperApp>(
+        "emslam-mapper", static_cast<int>(argv.size()), const_cast<char**>(argv.data()));
+    const std::string err = testing::internal::GetCapturedStderr();
+    EXPECT_EQ(status, emslam::apps::EXIT_DEGENERATE);
+    EXPECT_EQ(status, 3);
+    EXPECT_NE(
+        err.find("emslam-mapper: warning: degenerate result: 7 of 7 egomotion steps failed "
+                 "(100 %); the map has no point"),
+        std::string::npos)
+        << err;
+    EXPECT_NE(err.find("exit status 3"), std::string::npos) << err;
+    for (const char* f : {"trajectory_slam.tum", "map.ply", "summary.json", "report.html"})
+    {
+        EXPECT_TRUE(mrpt::system::fileExists(out + "/" + f)) << f;
+    }
+
+    // A usable run exits 0.
+    MapperApp ok;
+    initApp(ok, {config("3dof-low-structured"), simulatedHall(8), "--out", dir + "/ok", "-q"});
+    ok.run();
+    EXPECT_TRUE(ok.degenerateResult().empty()) << ok.degenerateResult();
+    EXPECT_EQ(ok.exitCode(), 0);
+}
+
 TEST(MapperApp, egomotionOnlyNeverRectifiesAndCreatesMissingParentFolders)
 {
     // --out names a folder whose parents do not exist yet (mkdir -p).
@@ -770,4 +815,56 @@ TEST(MapperApp, kitti06RectificationDoesNoHarm)
     ASSERT_EQ(slam.matched_poses, 51U);
     EXPECT_LE(slam.ate_rmse_m, ego.ate_rmse_m + 1e-6);
     EXPECT_LE(slam.end_error_m, ego.end_error_m + 1e-6);
+}
+
+// The largest (or smallest) value each dangerous key accepts is safe: the
+// check refuses the next one, and a tiny run with it ends (clean result or a
+// clean exception), no crash, no overflow.
+TEST(MapperApp, extremeAcceptedValuesOfDangerousKeysRunSafely)
+{
+    struct Extreme
+    {
+        std::string key, accepted, refused;
+    };
+    const std::vector<Extreme> extremes = {
+        {"Stereo.block_size", "255", "257"},        {"Stereo.lr_max_diff", "1024", "1025"},
+        {"Stereo.min_disparity", "1000", "1001"},   {"Stereo.min_disparity", "-1000", "-1001"},
+        {"Stereo.num_disparities", "1024", "1025"}, {"EntropyVoxelMap.cell_size", "0.01", "0.009"},
+        {"Egomotion.window_size", "128", "129"},    {"Egomotion.lp_num_rings", "64", "65"},
+        {"Egomotion.lp_radius", "256", "256.5"},
+    };
+    const std::string rawlog = simulatedHall(3);
+    const std::string text = readText(config("3dof-low-structured"));
+    for (const auto& e : extremes)
+    {
+        SCOPED_TRACE(e.key + " = " + e.accepted);
+        const auto dot = e.key.find('.');
+        const auto withValue = [&](const std::string& v)
+        {
+            mrpt::config::CConfigFileMemory c(text);
+            c.write(e.key.substr(0, dot), e.key.substr(dot + 1), v);
+            return mrpt::config::CConfigFileMemory(c.getContent());
+        };
+        EXPECT_NO_THROW(MapperApp::checkConfig(withValue(e.accepted)));
+        emslam::test::expectThrowContaining(
+            [&] { MapperApp::checkConfig(withValue(e.refused)); }, {e.key.substr(dot + 1)});
+
+        MapperApp app;
+        initApp(
+            app,
+            {config("3dof-low-structured"), rawlog, "--out",
+             emslam::test::makeTempDir("mapper_extreme"), "-q", "--set", e.key + "=" + e.accepted});
+        try
+        {
+            testing::internal::CaptureStderr();
+            app.run();
+            (void)testing::internal::GetCapturedStderr();
+            EXPECT_EQ(app.mapper().frameCount(), 3U);
+        }
+        catch (const std::exception& ex)
+        {
+            (void)testing::internal::GetCapturedStderr();
+            std::printf("%s = %s: %s\n", e.key.c_str(), e.accepted.c_str(), ex.what());
+        }
+    }
 }

@@ -71,11 +71,16 @@ TEST(OdometryApp, missingRawlogThrowsNamingIt)
 
 TEST(OdometryApp, invalidEgomotionOverrideThrows)
 {
+    // Refused by initialize(), before the (missing) rawlog is looked at.
     emslam::apps::OdometryApp app;
-    initApp(
-        app,
-        {"/nonexistent/in.rawlog", "-o", "/tmp/never.tum", "--set", "Egomotion.lwo_sigma_min=0"});
-    emslam::test::expectThrowContaining([&] { app.run(); }, {"lwo_sigma_min"});
+    emslam::test::expectThrowContaining(
+        [&]
+        {
+            initApp(
+                app, {"/nonexistent/in.rawlog", "-o", "/tmp/never.tum", "--set",
+                      "Egomotion.lwo_sigma_min=0"});
+        },
+        {"lwo_sigma_min", "(0, 1e6]"});
 }
 
 // End to end on the first KITTI 06 frames with the shipped config.
@@ -134,6 +139,10 @@ TEST(OdometryApp, failedStepKeepsPreviousPose)
     EXPECT_EQ(app.failures, 1u);
     ASSERT_EQ(app.trajectory.size(), 2u);
     EXPECT_TRUE(app.trajectory.poses[1].pose == mrpt::poses::CPose3D());
+    // Its only step failed: a degenerate run (exit status 3), the trajectory still written.
+    EXPECT_EQ(app.degenerate, "1 of 1 egomotion steps failed (100 %)");
+    EXPECT_EQ(app.exitCode(), emslam::apps::EXIT_DEGENERATE);
+    EXPECT_TRUE(mrpt::system::fileExists(dir + "/t.tum"));
 }
 
 // --trajectory-format: KITTI poses + times beside the TUM file, or alone at -o.

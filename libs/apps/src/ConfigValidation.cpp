@@ -7,6 +7,7 @@
 #include <cctype>
 #include <cerrno>
 #include <cstdlib>
+#include <limits>
 #include <numeric>
 #include <stdexcept>
 
@@ -124,6 +125,22 @@ bool parsesAsInteger(const std::string& v)
     return errno == 0 && *end == '\0';
 }
 
+/** A whole number that read_int() (atoi) reads as written: decimal digits
+ * within int's range. Beyond it atoi() wraps ("2147483648" reads as
+ * -2147483648 in MRPT 2.5.8). */
+bool parsesAsInt(const std::string& v)
+{
+    if (v.empty())
+    {
+        return false;
+    }
+    char* end = nullptr;
+    errno = 0;
+    const long long n = std::strtoll(v.c_str(), &end, 10);
+    return errno == 0 && *end == '\0' && n >= std::numeric_limits<int>::min() &&
+           n <= std::numeric_limits<int>::max();
+}
+
 bool parsesAsNumber(const std::string& v)
 {
     if (v.empty())
@@ -135,9 +152,11 @@ bool parsesAsNumber(const std::string& v)
     return *end == '\0';
 }
 
+/** The words MRPT 2.5.8's read_bool() knows (any case). It reads any other
+ * text with atoi(): "on" and "off" are both false, "2" is true. */
 bool isBooleanWord(const std::string& v)
 {
-    for (const char* w : {"true", "false", "yes", "no", "on", "off"})
+    for (const char* w : {"true", "false", "yes", "no"})
     {
         if (equalNoCase(v, w))
         {
@@ -165,13 +184,16 @@ std::string valueMismatch(const std::string& value, ValueKind kind)
 {
     switch (kind)
     {
-        case ValueKind::Integer:  // some doubles are saved in integer form: any number
+        case ValueKind::Integer:
+            // Double keys are saved with a decimal point (MRPT writes "%f" /
+            // "%e"): a reference in integer form is an int key.
+            return parsesAsInt(value) ? "" : "a whole number in [-2147483648, 2147483647]";
         case ValueKind::Number:
             return parsesAsNumber(value) ? "" : "a number";
         case ValueKind::Boolean:
-            return isBooleanWord(value) || parsesAsInteger(value) ? ""
-                                                                  : "true or false (nor yes/no, "
-                                                                    "on/off, 0/1)";
+            return isBooleanWord(value) || value == "0" || value == "1"
+                       ? ""
+                       : "true or false (or yes/no, 1/0)";
         case ValueKind::Text:
             break;
     }

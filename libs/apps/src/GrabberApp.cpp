@@ -1,12 +1,17 @@
 // SPDX-License-Identifier: BSD-3-Clause
 #include <emslam/apps/CommandLine.h>
+#include <emslam/apps/ConfigValidation.h>
 #include <emslam/apps/GrabberApp.h>
 #include <emslam/apps/LiveViewer.h>
 #include <emslam/apps/RawlogOutput.h>
 #include <emslam/apps/StopSignal.h>
+#include <emslam/hwdrivers/CDigiclopsStereoCamera.h>
+#include <emslam/hwdrivers/CSimulatedStereoCamera.h>
+#include <emslam/hwdrivers/CStereoImageFolderCamera.h>
 #include <emslam/hwdrivers/DeviceList.h>
 #include <emslam/hwdrivers/SensorStatus.h>
 #include <emslam/stereo/ExceptionMessage.h>
+#include <emslam/stereo/StereoMatcher.h>
 
 #include <mrpt/3rdparty/tclap/CmdLine.h>
 #include <mrpt/core/format.h>
@@ -14,11 +19,13 @@
 #include <mrpt/obs/CObservation.h>
 #include <mrpt/obs/CObservationStereoImages.h>
 #include <mrpt/system/os.h>
+#include <mrpt/system/string_utils.h>
 
 #include <unistd.h>
 
 #include <algorithm>
 #include <atomic>
+#include <cctype>
 #include <chrono>
 #include <cstdio>
 #include <filesystem>
@@ -45,7 +52,9 @@ constexpr double MAX_REORDER_DELAY = 2.0;
 
 /** The human part of an exception's text. Beyond shortExceptionMessage(),
  * drops the banner and backtrace lines MRPT adds when it re-throws an
- * exception without a "Message:" line (CGenericSensor::loadConfig() does). */
+ * exception without a "Message:" line (CGenericSensor::loadConfig() does).
+ * MRPT 2.5.8 puts the re-thrown text after "Location:" (with an empty
+ * "Message:") and drops its last character; that text is kept. */
 std::string errorText(const std::exception& e)
 {
     const std::string s = emslam::stereo::shortExceptionMessage(e);
@@ -58,12 +67,28 @@ std::string errorText(const std::exception& e)
     for (std::string line; std::getline(in, line);)
     {
         const auto b = line.find_first_not_of(" \t");
-        if (b == std::string::npos || line.compare(b, 4, "====") == 0 || line[b] == '[' ||
-            line.compare(b, 10, "Call stack") == 0 || line.compare(b, 9, "Location:") == 0)
+        if (b == std::string::npos)
         {
             continue;
         }
-        out += (out.empty() ? "" : ": ") + line.substr(b);
+        const bool frame = line[b] == '[' && b + 1 < line.size() &&
+                           std::isdigit(static_cast<unsigned char>(line[b + 1]));  // "[3 ] ..."
+        if (line.compare(b, 4, "====") == 0 || frame || line.compare(b, 10, "Call stack") == 0)
+        {
+            continue;
+        }
+        std::string text = line.substr(b);
+        for (const char* label : {"Message:", "Location:"})
+        {
+            if (text.rfind(label, 0) == 0)
+            {
+                text = mrpt::system::trim(text.substr(std::string(label).size()));
+            }
+        }
+        if (!text.empty())
+        {
+            out += (out.empty() ? "" : ": ") + text;
+        }
     }
     return out.empty() ? s : out;
 }
@@ -141,6 +166,69 @@ void sensorThread(Slot& s, const std::atomic<bool>& stop)
 std::string megabytes(std::uintmax_t b)
 {
     return mrpt::format("%.1f MB", static_cast<double>(b) / 1e6);
+}
+
+/** Values that MRPT would misread in `[global]` and in the sections of
+ * emslam's sensors (their parameter structs name the keys and kinds). */
+void requireWellFormedValues(const mrpt::config::CConfigFileBase& cfg)
+{
+    mrpt::config::CConfigFileMemory known;
+    known.write("global", "rawlog_GZ_compress_level", 1);
+    std::vector<std::string> sections;
+    cfg.getAllSections(sections);
+    for (const auto& section : sections)
+    {
+        const std::string driver = cfg.read_string(section, "driver", "");
+        if (cfg.keyExists(section, "rawlog-grabber-ignore"))
+        {
+            known.write(section, "rawlog-grabber-ignore", false);
+        }
+        if (!driver.empty())
+        {
+            known.write(section, "process_rate", 1.0);  // CGenericSensor's [Hz]
+        }
+        if (driver == "CDigiclopsStereoCamera")
+        {
+            emslam::hwdrivers::CDigiclopsStereoCamera::TParameters digiclops;
+            digiclops.saveToConfigFile(known, section);
+            const std::string stereo = cfg.read_string(section, "stereo_section", "");
+            emslam::stereo::StereoMatcher::TParameters().saveToConfigFile(
+                known, stereo.empty() ? digiclops.stereo_section : stereo);
+        }
+        else if (driver == "CSimulatedStereoCamera")
+        {
+            emslam::hwdrivers::CSimulatedStereoCamera::TParameters().saveToConfigFile(
+                known, section);
+        }
+        else if (driver == "CStereoImageFolderCamera")
+        {
+            emslam::hwdrivers::CStereoImageFolderCamera::TParameters().saveToConfigFile(
+                known, section);
+        }
+    }
+    const auto problems = findMalformedConfigValues(cfg, known);
+    if (!problems.empty())
+    {
+        std::string msg = problems.front().message();
+        for (std::size_t i = 1; i < problems.size(); i++)
+        {
+            msg += "; " + problems[i].message();
+        }
+        throw std::invalid_argument(msg);
+    }
+}
+
+/** `[global] rawlog_GZ_compress_level`, checked. */
+int gzLevel(const mrpt::config::CConfigFileBase& cfg)
+{
+    const int gz_level = cfg.read_int("global", "rawlog_GZ_compress_level", 1);
+    if (gz_level < 0 || gz_level > 9)
+    {
+        throw std::invalid_argument(
+            "[global] rawlog_GZ_compress_level = " + std::to_string(gz_level) +
+            ": must be in 0..9");
+    }
+    return gz_level;
 }
 
 /** One Slot per sensor section of `cfg` (created and configured, not yet
@@ -399,6 +487,13 @@ void GrabberApp::requestStop()
     StopSignal::request();
 }
 
+void GrabberApp::checkConfig(const mrpt::config::CConfigFileBase& params)
+{
+    requireWellFormedValues(params);
+    (void)gzLevel(params);
+    (void)createSensors(params, "INI");
+}
+
 void GrabberApp::initialize(int argc, char** argv)
 {
     initialize(argc, const_cast<const char**>(argv));
@@ -509,11 +604,15 @@ void GrabberApp::run()
     // Re-parse the text (a CConfigFileMemory written to reads back defaults otherwise).
     const mrpt::config::CConfigFileMemory cfg(params.getContent());
     const std::string prefix = cfg.read_string("global", "rawlog_prefix", "dataset");
-    const int gz_level = cfg.read_int("global", "rawlog_GZ_compress_level", 1);
-    if (gz_level < 0 || gz_level > 9)
+    int gz_level = 1;
+    try
     {
-        throw std::invalid_argument(
-            "'" + config_file + "': [global] rawlog_GZ_compress_level must be in 0..9");
+        requireWellFormedValues(cfg);
+        gz_level = gzLevel(cfg);
+    }
+    catch (const std::invalid_argument& e)
+    {
+        throw std::invalid_argument("'" + config_file + "': " + e.what());
     }
     const std::string out_file = output_file.empty() ? prefix + ".rawlog" : output_file;
 

@@ -100,9 +100,13 @@ void Mapper::TOptions::saveToConfigFile(
 
 void Mapper::TOptions::validate() const
 {
-    if (!std::isfinite(map_cell_size))
+    // Cell indices are coordinate / cell size in an int: not below 1 mm.
+    if (!std::isfinite(map_cell_size) ||
+        (map_cell_size > 0 && (map_cell_size < 0.001 || map_cell_size > 1000)))
     {
-        throw std::invalid_argument("[Mapper] map_cell_size: must be a finite number");
+        throw std::invalid_argument(
+            "[Mapper] map_cell_size = " + std::to_string(map_cell_size) +
+            ": must be <= 0 (every point) or in [0.001, 1000] m");
     }
     if (std::isnan(export_max_height) ||
         export_max_height == -std::numeric_limits<double>::infinity())

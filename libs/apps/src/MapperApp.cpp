@@ -108,7 +108,11 @@ void MapperApp::initialize(int argc, const char** argv)
         "emslam-mapper: Entropy Minimization SLAM over a rawlog. Stereo (or RGB-D) "
         "observations go through the stereo front-end, egomotion (GLM features, log-polar "
         "matching, LWO, Dpp), space sampling and global rectification by entropy minimization; "
-        "the trajectories, map, statistics and an HTML report are written to --out.",
+        "the trajectories, map, statistics and an HTML report are written to --out. Exit "
+        "status: 0 ok; 1 error (an error that stops the mapping still writes the outputs of "
+        "the frames before it); 3 degenerate result (more than half of the egomotion steps "
+        "failed, or the map has no point: outputs written, with a warning); 130 / 143 "
+        "interrupted by SIGINT / SIGTERM (outputs written).",
         ' ', "0.1");
     TCLAP::UnlabeledValueArg<std::string> config(
         "config",
@@ -197,12 +201,7 @@ void MapperApp::initialize(int argc, const char** argv)
     loadConfig(params, m_config, sets.getValue());
 
     // Everything a run needs is checked here, before any long work.
-    Mapper::TParameters reference;
-    mrpt::config::CConfigFileMemory known;
-    reference.saveToConfigFile(known);
-    requireValidConfig(params, known);
-    Mapper::TParameters p;
-    p.loadFromConfigFile(params);
+    checkConfig(params);
     requireInputFile(m_rawlog, "rawlog");
     requireOutputFolder(m_out, "output folder");
     requireReplaceableFiles(m_out, outputNames());
@@ -216,6 +215,15 @@ void MapperApp::initialize(int argc, const char** argv)
     }
 }
 
+void MapperApp::checkConfig(const mrpt::config::CConfigFileBase& params)
+{
+    mrpt::config::CConfigFileMemory known;
+    Mapper::TParameters().saveToConfigFile(known);
+    requireValidConfig(params, known);
+    Mapper::TParameters p;
+    p.loadFromConfigFile(params);
+}
+
 void MapperApp::run()
 {
     if (m_help_requested)
@@ -223,6 +231,7 @@ void MapperApp::run()
         return;
     }
     const auto t_start = std::chrono::steady_clock::now();
+    m_degenerate.clear();
     Mapper::TParameters p;
     p.loadFromConfigFile(params);
     p.mapper.egomotion_only = p.mapper.egomotion_only || m_egomotion_only;
@@ -329,6 +338,19 @@ void MapperApp::run()
     if (m_info.stopped_by_error.empty())
     {
         finishAndWrite();
+        const Mapper& m = *m_mapper;
+        m_degenerate =
+            degenerateRunWarning(m.frameCount() - 1, m.egomotionFailures(), m.mapCloud().size());
+        if (!m_degenerate.empty())
+        {
+            std::fflush(stdout);  // the summary first
+            std::fprintf(
+                stderr,
+                "%s: warning: degenerate result: %s; the outputs are written but are not a "
+                "usable map (check the images, the calibration and [Stereo] / [Egomotion]); "
+                "exit status %d\n",
+                PROGRAM, m_degenerate.c_str(), EXIT_DEGENERATE);
+        }
         return;
     }
     // An error stopped the run: write the frames mapped before it, as Ctrl-C does,

@@ -48,7 +48,9 @@ void OdometryApp::initialize(int argc, const char** argv)
 {
     TCLAP::CmdLine cmd(
         "emslam-odometry: stereo visual odometry (GLM features, log-polar matching, LWO, Dpp "
-        "pose) over a rawlog; writes the camera trajectory in TUM format.",
+        "pose) over a rawlog; writes the camera trajectory in TUM format. Exit status: 0 ok; 1 "
+        "error; 3 degenerate result (more than half of the egomotion steps failed: the "
+        "trajectory is written, with a warning).",
         ' ', "0.1");
     TCLAP::UnlabeledValueArg<std::string> rawlog(
         "rawlog", "Rawlog with CObservationStereoImages / CObservation3DRangeScan", true, "",
@@ -95,9 +97,16 @@ void OdometryApp::initialize(int argc, const char** argv)
     m_quiet = quiet.getValue();
     loadConfig(params, config.getValue(), sets.getValue());
     // A typo or a non-number must not run silently on a default.
-    const auto known = knownParameters();
-    requireValidOverrides(sets.getValue(), known);
-    requireValidConfig(params, known, {}, true);
+    requireValidOverrides(sets.getValue(), knownParameters());
+    checkConfig(params);
+}
+
+void OdometryApp::checkConfig(const mrpt::config::CConfigFileBase& params)
+{
+    requireValidConfig(params, knownParameters(), {}, true);
+    emslam::stereo::StereoMatcher::TParameters().loadFromConfigFile(params, STEREO_SECTION);
+    emslam::egomotion::EgomotionEstimator::TParameters().loadFromConfigFile(
+        params, EGOMOTION_SECTION);
 }
 
 void OdometryApp::run()
@@ -123,6 +132,7 @@ void OdometryApp::run()
 
     using clock = std::chrono::steady_clock;
     trajectory = {};
+    degenerate.clear();
     frames_processed = failures = 0;
     mrpt::poses::CPose3D T_first_cur;
     mrpt::poses::CPose3D velocity;  // the last estimated step: a failed one repeats it
@@ -224,6 +234,17 @@ void OdometryApp::run()
         frames_processed, failures, mean_initial_matches, mean_final_matches, mean_ms_stereo,
         mean_ms_features, mean_ms_descriptors, mean_ms_matching, mean_ms_lwo, mean_ms_pose,
         mean_ms_egomotion, T.x(), T.y(), T.z(), T.norm(), quotedList(written).c_str());
+    degenerate = degenerateRunWarning(steps, failures, std::nullopt);
+    if (!degenerate.empty())
+    {
+        std::fflush(stdout);
+        std::fprintf(
+            stderr,
+            "emslam-odometry: warning: degenerate result: %s; the trajectory is written but "
+            "is not usable (check the images, the calibration and [Stereo] / [Egomotion]); "
+            "exit status %d\n",
+            degenerate.c_str(), EXIT_DEGENERATE);
+    }
 }
 
 }  // namespace emslam::apps

@@ -1,5 +1,6 @@
 // SPDX-License-Identifier: BSD-3-Clause
 #include <emslam/apps/CommandLine.h>
+#include <emslam/apps/ConfigValidation.h>
 #include <emslam/apps/InputFileChecks.h>
 #include <emslam/apps/ProgressLine.h>
 #include <emslam/apps/RawlogOutput.h>
@@ -112,6 +113,39 @@ void SimApp::initialize(int argc, const char** argv)
     }
 }
 
+namespace
+{
+/** Values of the parameter sections that MRPT would misread (see
+ * requireValidConfig()). */
+void requireWellFormedValues(const mrpt::config::CConfigFileBase& cfg)
+{
+    mrpt::config::CConfigFileMemory known;
+    emslam::sim::StereoSimulator::TParameters().saveToConfigFile(known, "Simulation");
+    emslam::sim::StereoRenderer::TParameters().saveToConfigFile(known, "Camera");
+    emslam::sim::Trajectory::TParameters().saveToConfigFile(known, "Trajectory");
+    emslam::sim::World::TBuildingParams().saveToConfigFile(known, "Building");
+    emslam::sim::World::TGroundParams().saveToConfigFile(known, "Ground");
+    emslam::sim::World::TTerrainParams().saveToConfigFile(known, "Terrain");
+    known.write("World", "seed", 1);
+    const auto problems = findMalformedConfigValues(cfg, known);
+    if (!problems.empty())
+    {
+        std::string msg = problems.front().message();
+        for (std::size_t i = 1; i < problems.size(); i++)
+        {
+            msg += "; " + problems[i].message();
+        }
+        throw std::invalid_argument(msg);
+    }
+}
+}  // namespace
+
+void SimApp::checkConfig(const mrpt::config::CConfigFileBase& params)
+{
+    requireWellFormedValues(params);
+    emslam::sim::StereoSimulator().load(params);
+}
+
 void SimApp::run()
 {
     if (quit_requested)
@@ -129,6 +163,7 @@ void SimApp::run()
     {
         // Re-parse the text (a CConfigFileMemory written to reads back defaults otherwise).
         mrpt::config::CConfigFileMemory cfg(params.getContent());
+        requireWellFormedValues(cfg);
         sim.load(cfg);
     }
     catch (const std::exception& e)

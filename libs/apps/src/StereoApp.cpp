@@ -185,7 +185,15 @@ void StereoApp::initialize(int argc, const char** argv)
     mrpt::config::CConfigFileMemory known;
     emslam::stereo::StereoMatcher::TParameters().saveToConfigFile(known, STEREO_SECTION);
     requireValidOverrides(sets.getValue(), known);
+    checkConfig(params);
+}
+
+void StereoApp::checkConfig(const mrpt::config::CConfigFileBase& params)
+{
+    mrpt::config::CConfigFileMemory known;
+    emslam::stereo::StereoMatcher::TParameters().saveToConfigFile(known, STEREO_SECTION);
     requireValidConfig(params, known, {}, true);
+    emslam::stereo::StereoMatcher::TParameters().loadFromConfigFile(params, STEREO_SECTION);
 }
 
 void StereoApp::run()

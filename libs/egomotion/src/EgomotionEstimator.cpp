@@ -84,21 +84,32 @@ void EgomotionEstimator::TParameters::validate() const
     require(
         window_size >= 3 && window_size <= 128, "window_size",
         "must be in [3, 128] (got " + std::to_string(window_size) + ")");
-    require(std::isfinite(min_gradient) && min_gradient >= 0, "min_gradient", "must be >= 0");
+    require(
+        std::isfinite(min_gradient) && min_gradient >= 0 && min_gradient <= 1e6, "min_gradient",
+        "must be in [0, 1e6] (got " + std::to_string(min_gradient) + ")");
     require(
         similarity_min > 0 && similarity_min <= 1, "similarity_min",
         "must be in (0, 1] (got " + std::to_string(similarity_min) + ")");
     require(
-        std::isfinite(lwo_sigma_min) && lwo_sigma_min > 0, "lwo_sigma_min",
-        "must be > 0 (got " + std::to_string(lwo_sigma_min) + ")");
-    require(min_final_matches >= 3, "min_final_matches", "must be >= 3 (a pose needs 3 points)");
-    require(lp_num_rings >= 2 && lp_num_rings <= 64, "lp_num_rings", "must be in [2, 64]");
-    require(lp_num_angles >= 4 && lp_num_angles <= 256, "lp_num_angles", "must be in [4, 256]");
+        std::isfinite(lwo_sigma_min) && lwo_sigma_min > 0 && lwo_sigma_min <= 1e6, "lwo_sigma_min",
+        "must be in (0, 1e6] (got " + std::to_string(lwo_sigma_min) + ")");
+    require(
+        min_final_matches >= 3 && min_final_matches <= 1000000, "min_final_matches",
+        "must be in [3, 1000000] (a pose needs 3 points; got " + std::to_string(min_final_matches) +
+            ")");
+    require(
+        lp_num_rings >= 2 && lp_num_rings <= 64, "lp_num_rings",
+        "must be in [2, 64] (got " + std::to_string(lp_num_rings) + ")");
+    require(
+        lp_num_angles >= 4 && lp_num_angles <= 256, "lp_num_angles",
+        "must be in [4, 256] (got " + std::to_string(lp_num_angles) + ")");
     require(
         std::isfinite(lp_radius) && lp_radius > 1 && lp_radius <= 256, "lp_radius",
-        "must be in (1, 256] px");
+        "must be in (1, 256] px (got " + std::to_string(lp_radius) + ")");
     require(
-        max_lwo_matches >= min_final_matches, "max_lwo_matches", "must be >= min_final_matches");
+        max_lwo_matches >= min_final_matches && max_lwo_matches <= 1000000, "max_lwo_matches",
+        "must be in [min_final_matches, 1000000] (got " + std::to_string(max_lwo_matches) +
+            ", min_final_matches = " + std::to_string(min_final_matches) + ")");
 }
 
 EgomotionEstimator::EgomotionEstimator(const TParameters& p) : m_params(p)

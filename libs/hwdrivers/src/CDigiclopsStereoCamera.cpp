@@ -15,6 +15,7 @@
 #include <opencv2/calib3d.hpp>
 #include <opencv2/imgproc.hpp>
 #include <stdexcept>
+#include <tuple>
 
 IMPLEMENTS_GENERIC_SENSOR(CDigiclopsStereoCamera, emslam::hwdrivers)
 
@@ -126,12 +127,21 @@ void CDigiclopsStereoCamera::TParameters::loadFromConfigFile(
     catch (const std::exception& e)
     {
         throw std::invalid_argument(
-            "CDigiclopsStereoCamera, section " + s + ": calibration '" + cs +
+            "CDigiclopsStereoCamera, section " + s + ": calibration_section = '" + cs +
             "': " + emslam::stereo::shortExceptionMessage(e));
     }
-    const bool three =
-        packedLayoutFromString(pixel_layout) == PackedLayout::PIXEL_INTERLEAVED_24 ||
-        (packedLayoutFromString(pixel_layout) == PackedLayout::PLANAR_8 && planar_channels == 3);
+    PackedLayout layout{};
+    try
+    {
+        layout = packedLayoutFromString(pixel_layout);
+    }
+    catch (const std::exception& e)
+    {
+        throw std::invalid_argument(
+            "CDigiclopsStereoCamera, section " + s + ": pixel_layout: " + e.what());
+    }
+    const bool three = layout == PackedLayout::PIXEL_INTERLEAVED_24 ||
+                       (layout == PackedLayout::PLANAR_8 && planar_channels == 3);
     if (three)
     {
         if (!c.sectionExists(cs + "_THIRD"))
@@ -150,11 +160,13 @@ void CDigiclopsStereoCamera::TParameters::loadFromConfigFile(
         catch (const std::exception& e)
         {
             throw std::invalid_argument(
-                "CDigiclopsStereoCamera, section " + s + ": calibration '" + cs +
-                "': " + emslam::stereo::shortExceptionMessage(e));
+                "CDigiclopsStereoCamera, section " + s + ": calibration_section = '" + cs +
+                "' (third camera: resolution, fx, fy, cx, cy, dist, distortion_model; " + cs +
+                "_LEFT2THIRD_POSE: pose_quaternion): " + emslam::stereo::shortExceptionMessage(e));
         }
     }
-    if (compute_range_scan)
+    // Also checked when unused, so a bad value cannot wait for compute_range_scan.
+    if (compute_range_scan || c.sectionExists(stereo_section))
     {
         stereo.loadFromConfigFile(c, stereo_section);
     }
@@ -210,9 +222,9 @@ void CDigiclopsStereoCamera::TParameters::validate() const
     {
         bad("camera_index", "must be >= 0");
     }
-    if (!(framerate > 0))
+    if (!(framerate > 0 && framerate <= 1000))
     {
-        bad("framerate", "must be > 0 [fps]");
+        bad("framerate", "= " + std::to_string(framerate) + " must be in (0, 1000] fps");
     }
     if (iso_speed != 100 && iso_speed != 200 && iso_speed != 400 && iso_speed != 800)
     {
@@ -249,9 +261,21 @@ void CDigiclopsStereoCamera::TParameters::validate() const
             bad("channel_third", "must differ from channel_left and channel_right");
         }
     }
+    for (const auto& [key, v, limit] :
+         {std::tuple{"pose_x", pose_x, 1e4}, std::tuple{"pose_y", pose_y, 1e4},
+          std::tuple{"pose_z", pose_z, 1e4}, std::tuple{"pose_yaw_deg", pose_yaw_deg, 360.0},
+          std::tuple{"pose_pitch_deg", pose_pitch_deg, 360.0},
+          std::tuple{"pose_roll_deg", pose_roll_deg, 360.0}})
+    {
+        if (!(std::abs(v) <= limit))
+        {
+            bad(key, "= " + std::to_string(v) + " must be in [-" + mrpt::format("%g", limit) +
+                         ", " + mrpt::format("%g", limit) + "]");
+        }
+    }
     if (!(rectify_alpha >= 0 && rectify_alpha <= 1))
     {
-        bad("rectify_alpha", "must be in [0, 1]");
+        bad("rectify_alpha", "= " + std::to_string(rectify_alpha) + " must be in [0, 1]");
     }
     emslam::stereo::validateStereoCamera(stereo_camera, "CDigiclopsStereoCamera calibration");
     if (stereo_camera.rightCamera.ncols != stereo_camera.leftCamera.ncols ||
@@ -259,12 +283,15 @@ void CDigiclopsStereoCamera::TParameters::validate() const
     {
         bad(calibration_section, "left and right cameras must have the same resolution");
     }
-    if (n == 3 &&
-        (third_camera.ncols != stereo_camera.leftCamera.ncols ||
-         third_camera.nrows != stereo_camera.leftCamera.nrows || !(third_camera.fx() > 0)))
+    if (n == 3 && (third_camera.ncols != stereo_camera.leftCamera.ncols ||
+                   third_camera.nrows != stereo_camera.leftCamera.nrows ||
+                   !(third_camera.fx() > 0 && third_camera.fx() <= 1e6) ||
+                   !(third_camera.fy() > 0 && third_camera.fy() <= 1e6) ||
+                   !(std::abs(third_camera.cx()) <= 1e6) || !(std::abs(third_camera.cy()) <= 1e6)))
     {
         bad(calibration_section + "_THIRD",
-            "must have the left camera's resolution and a positive focal length");
+            "must have the left camera's resolution, focal lengths in (0, 1e6] px and a "
+            "principal point in [-1e6, 1e6] px (resolution, fx, fy, cx, cy)");
     }
 }
 

@@ -10,7 +10,9 @@
 #include <mrpt/obs/CObservation3DRangeScan.h>
 #include <mrpt/obs/CObservationPointCloud.h>
 
+#include <cerrno>
 #include <cmath>
+#include <cstdlib>
 #include <limits>
 #include <sstream>
 
@@ -24,9 +26,47 @@ MAP_DEFINITION_REGISTER(
 
 // ---------------------------------------------------------------- options --
 
+namespace
+{
+/** Refuses a value of `key` that is not a number (`whole`: an int) as a
+ * whole: MRPT's read_double() / read_int() read "12abc" as 12 and "abc" as 0,
+ * and MRPT's own tools (observations2map) load these options unchecked. */
+void requireNumberText(
+    const mrpt::config::CConfigFileBase& c, const std::string& s, const char* key, bool whole)
+{
+    if (!c.keyExists(s, key))
+    {
+        return;
+    }
+    const std::string t = c.read_string(s, key, "");
+    char* end = nullptr;
+    errno = 0;
+    bool ok = false;
+    if (whole)
+    {
+        const long long v = std::strtoll(t.c_str(), &end, 10);
+        ok = errno == 0 && v >= std::numeric_limits<int>::min() &&
+             v <= std::numeric_limits<int>::max();
+    }
+    else
+    {
+        (void)std::strtod(t.c_str(), &end);
+        ok = true;
+    }
+    if (!ok || t.empty() || *end != '\0')
+    {
+        THROW_EXCEPTION_FMT(
+            "CEntropyVoxelMap: invalid '%s' = '%s' in [%s] (must be %s)", key, t.c_str(), s.c_str(),
+            whole ? "a whole number" : "a number");
+    }
+}
+}  // namespace
+
 void CEntropyVoxelMap::TCreationOptions::loadFromConfigFile(
     const mrpt::config::CConfigFileBase& c, const std::string& s)
 {
+    requireNumberText(c, s, "cell_size", false);
+    requireNumberText(c, s, "dof", true);
     MRPT_LOAD_CONFIG_VAR(cell_size, double, c, s);
     energy = emslam::maps::energyTypeFromString(
         c.read_string(s, "energy", emslam::maps::toString(energy)), "energy");
@@ -73,6 +113,9 @@ void CEntropyVoxelMap::TCreationOptions::validate() const
 void CEntropyVoxelMap::TInsertionOptions::loadFromConfigFile(
     const mrpt::config::CConfigFileBase& c, const std::string& s)
 {
+    requireNumberText(c, s, "max_range", false);
+    requireNumberText(c, s, "min_range", false);
+    requireNumberText(c, s, "decimation", true);
     MRPT_LOAD_CONFIG_VAR(max_range, double, c, s);
     MRPT_LOAD_CONFIG_VAR(min_range, double, c, s);
     MRPT_LOAD_CONFIG_VAR(decimation, int, c, s);
@@ -89,26 +132,30 @@ void CEntropyVoxelMap::TInsertionOptions::saveToConfigFile(
 
 void CEntropyVoxelMap::TInsertionOptions::validate() const
 {
-    if (!(max_range >= 0))
+    // 10 km: see [Stereo] max_range; keeps cell indices far from int overflow.
+    if (!(max_range >= 0 && max_range <= 10000))
     {
         THROW_EXCEPTION_FMT(
-            "CEntropyVoxelMap: invalid 'max_range' = %g (must be >= 0; 0 = no limit)", max_range);
+            "CEntropyVoxelMap: invalid 'max_range' = %g (must be in [0, 10000] m; 0 = no limit)",
+            max_range);
     }
-    if (!(min_range >= 0) || (max_range > 0 && min_range >= max_range))
+    if (!(min_range >= 0 && min_range < 10000) || (max_range > 0 && min_range >= max_range))
     {
         THROW_EXCEPTION_FMT(
             "CEntropyVoxelMap: invalid 'min_range' = %g (must be >= 0 and < max_range)", min_range);
     }
-    if (decimation < 1)
+    if (decimation < 1 || decimation > 1000000)
     {
         THROW_EXCEPTION_FMT(
-            "CEntropyVoxelMap: invalid 'decimation' = %d (must be >= 1)", decimation);
+            "CEntropyVoxelMap: invalid 'decimation' = %d (must be in [1, 1000000])", decimation);
     }
 }
 
 void CEntropyVoxelMap::TDrawOptions::loadFromConfigFile(
     const mrpt::config::CConfigFileBase& c, const std::string& s)
 {
+    requireNumberText(c, s, "max_cubes", true);
+    requireNumberText(c, s, "min_cube_size", false);
     MRPT_LOAD_CONFIG_VAR(max_cubes, int, c, s);
     MRPT_LOAD_CONFIG_VAR(min_cube_size, double, c, s);
     validate();
@@ -123,9 +170,10 @@ void CEntropyVoxelMap::TDrawOptions::saveToConfigFile(
 
 void CEntropyVoxelMap::TDrawOptions::validate() const
 {
-    if (max_cubes < 0)
+    if (max_cubes < 0 || max_cubes > 100000000)
     {
-        THROW_EXCEPTION_FMT("CEntropyVoxelMap: invalid 'max_cubes' = %d (must be >= 0)", max_cubes);
+        THROW_EXCEPTION_FMT(
+            "CEntropyVoxelMap: invalid 'max_cubes' = %d (must be in [0, 100000000])", max_cubes);
     }
     if (!(min_cube_size > 0 && min_cube_size <= 1))
     {

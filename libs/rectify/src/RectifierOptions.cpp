@@ -101,9 +101,10 @@ void TRectifierOptions::loadFromConfigFile(
     MRPT_LOAD_CONFIG_VAR(buffer_size, int, c, s);
     MRPT_LOAD_CONFIG_VAR(n_max, int, c, s);
     const double seed_value = c.read_double(s, "seed", static_cast<double>(seed));
+    // 2^53: every whole number up to it is exact in a double.
     require(
-        seed_value >= 0 && std::floor(seed_value) == seed_value, "seed",
-        "must be a non-negative integer");
+        seed_value >= 0 && seed_value <= 9007199254740992.0 && std::floor(seed_value) == seed_value,
+        "seed", "must be a whole number in [0, 2^53]");
     seed = static_cast<std::uint64_t>(seed_value);
     MRPT_LOAD_CONFIG_VAR(vertical_band, bool, c, s);
     MRPT_LOAD_CONFIG_VAR(band_min_y, double, c, s);
@@ -138,9 +139,10 @@ void TRectifierOptions::saveToConfigFile(
     MRPT_SAVE_CONFIG_VAR_COMMENT(vertical_band, "keep only points in [band_min_y, band_max_y]");
     MRPT_SAVE_CONFIG_VAR_COMMENT(band_min_y, "camera-frame y, down [m]");
     MRPT_SAVE_CONFIG_VAR_COMMENT(band_max_y, "camera-frame y, down [m]");
-    // %g: small weights must survive the round trip through effective.ini.
+    // %e: small weights must survive the round trip, and the value must read
+    // as a number, not a whole one (see emslam::apps::findMalformedConfigValues()).
     c.write(
-        s, "prior_weight", mrpt::format("%.10g", prior_weight), -1, -1,
+        s, "prior_weight", mrpt::format("%.10e", prior_weight), -1, -1,
         "odometry prior weight (0: off, the paper)");
     MRPT_SAVE_CONFIG_VAR_COMMENT(prior_sigma_xyz, "odometry prior, one step [m]");
     MRPT_SAVE_CONFIG_VAR_COMMENT(prior_sigma_rot_deg, "odometry prior, one step [deg]");
@@ -156,14 +158,22 @@ void TRectifierOptions::saveToConfigFile(
 
 void TRectifierOptions::validate() const
 {
-    require(std::isfinite(eps_xyz) && eps_xyz >= 0, "eps_xyz", "must be >= 0");
+    // A step of more than 10 m per action is no perturbation; poses must stay
+    // where map cell indices (coordinate / cell size) fit an int.
+    require(
+        std::isfinite(eps_xyz) && eps_xyz >= 0 && eps_xyz <= 10, "eps_xyz",
+        "= " + std::to_string(eps_xyz) + ": must be in [0, 10] m");
     require(
         std::isfinite(eps_rot_deg) && eps_rot_deg >= 0 && eps_rot_deg < 90, "eps_rot_deg",
         "must be in [0, 90)");
     require(eps_xyz > 0 || eps_rot_deg > 0, "eps_xyz", "eps_xyz and eps_rot_deg are both 0");
     require(select_fraction > 0 && select_fraction <= 1, "select_fraction", "must be in (0, 1]");
-    require(nc_max >= 1, "nc_max", "must be >= 1");
-    require(max_attempts >= 0, "max_attempts", "must be >= 0");
+    require(
+        nc_max >= 1 && nc_max <= 1000000, "nc_max",
+        "= " + std::to_string(nc_max) + ": must be in [1, 1000000]");
+    require(
+        max_attempts >= 0, "max_attempts",
+        "= " + std::to_string(max_attempts) + ": must be >= 0 (0: no cap)");
     require(
         std::isfinite(min_improvement) && min_improvement >= 0 && min_improvement < 1,
         "min_improvement", "must be in [0, 1)");
@@ -171,18 +181,34 @@ void TRectifierOptions::validate() const
     require(
         rectify_every >= 1 || mode == RectificationMode::Serial, "rectify_every",
         "must be >= 1 in anytime mode");
-    require(buffer_size >= 1, "buffer_size", "must be >= 1");
-    require(n_max == 0 || n_max >= 4, "n_max", "must be 0 (no compression) or >= 4");
     require(
-        !vertical_band ||
-            (std::isfinite(band_min_y) && std::isfinite(band_max_y) && band_min_y < band_max_y),
-        "band_min_y", "must be < band_max_y");
-    require(std::isfinite(prior_weight) && prior_weight >= 0, "prior_weight", "must be >= 0");
+        buffer_size >= 1 && buffer_size <= 1000000, "buffer_size",
+        "= " + std::to_string(buffer_size) + ": must be in [1, 1000000]");
     require(
-        std::isfinite(prior_sigma_xyz) && prior_sigma_xyz > 0, "prior_sigma_xyz", "must be > 0");
+        n_max == 0 || (n_max >= 4 && n_max <= 1000000), "n_max",
+        "= " + std::to_string(n_max) + ": must be 0 (no compression) or in [4, 1000000]");
+    // Checked even with the band off: effective.ini must load back.
     require(
-        std::isfinite(prior_sigma_rot_deg) && prior_sigma_rot_deg > 0, "prior_sigma_rot_deg",
-        "must be > 0");
+        std::isfinite(band_min_y) && std::abs(band_min_y) <= 1e6, "band_min_y",
+        "= " + std::to_string(band_min_y) + ": must be a number of metres in [-1e6, 1e6]");
+    require(
+        std::isfinite(band_max_y) && std::abs(band_max_y) <= 1e6, "band_max_y",
+        "= " + std::to_string(band_max_y) + ": must be a number of metres in [-1e6, 1e6]");
+    require(
+        !vertical_band || band_min_y < band_max_y, "band_min_y",
+        "must be < band_max_y when vertical_band = true");
+    // The prior's cost is weight * (step / sigma)^2: keep it finite.
+    require(
+        std::isfinite(prior_weight) && prior_weight >= 0 && prior_weight <= 1e6, "prior_weight",
+        "= " + std::to_string(prior_weight) + ": must be in [0, 1e6]");
+    require(
+        std::isfinite(prior_sigma_xyz) && prior_sigma_xyz >= 1e-6 && prior_sigma_xyz <= 1000,
+        "prior_sigma_xyz", "= " + std::to_string(prior_sigma_xyz) + ": must be in [1e-6, 1000] m");
+    require(
+        std::isfinite(prior_sigma_rot_deg) && prior_sigma_rot_deg >= 1e-6 &&
+            prior_sigma_rot_deg <= 180,
+        "prior_sigma_rot_deg",
+        "= " + std::to_string(prior_sigma_rot_deg) + ": must be in [1e-6, 180] deg");
     require(grid_phases >= 1 && grid_phases <= 8, "grid_phases", "must be in 1..8");
     require(
         std::isfinite(proposal_scale) && proposal_scale > 0 && proposal_scale <= 100,

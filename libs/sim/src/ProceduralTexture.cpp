@@ -3,15 +3,21 @@
 
 #include <algorithm>
 #include <cmath>
+#include <map>
+#include <mutex>
 #include <opencv2/imgproc.hpp>
 #include <random>
 #include <stdexcept>
+#include <tuple>
 #include <vector>
 
 namespace emslam::sim
 {
 namespace
 {
+/** Textures kept by generate(): about 100 MB at most (512² floats and mipmaps). */
+constexpr std::size_t MAX_KEPT_TEXTURES = 64;
+
 const char* const KINDS[] = {"noise",  "bricks", "tiles",  "repetitive",
                              "poster", "wood",   "gravel", "bush"};
 
@@ -114,6 +120,31 @@ std::string ProceduralTexture::knownKinds()
 }
 
 ProceduralTexture ProceduralTexture::generate(const std::string& kind, std::uint64_t seed, int size)
+{
+    using Key = std::tuple<std::string, std::uint64_t, int>;
+    static std::mutex mutex;
+    static std::map<Key, ProceduralTexture> kept;
+    const Key key{kind, seed, size};
+    {
+        const std::lock_guard<std::mutex> lock(mutex);
+        const auto it = kept.find(key);
+        if (it != kept.end())
+        {
+            return it->second;
+        }
+    }
+    ProceduralTexture t = generateNew(kind, seed, size);
+    const std::lock_guard<std::mutex> lock(mutex);
+    if (kept.size() >= MAX_KEPT_TEXTURES)
+    {
+        kept.clear();  // a bound, not an LRU: worlds use a few dozen textures
+    }
+    kept.emplace(key, t);
+    return t;
+}
+
+ProceduralTexture ProceduralTexture::generateNew(
+    const std::string& kind, std::uint64_t seed, int size)
 {
     if (!isKnownKind(kind))
     {

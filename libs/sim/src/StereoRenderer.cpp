@@ -415,25 +415,30 @@ void StereoRenderer::TParameters::validate() const
     {
         bad("height", "must be in 8..8192 (got " + std::to_string(height) + ")");
     }
-    if (!(focal_px > 0))
+    if (!(focal_px > 0 && focal_px <= 1e6))
     {
-        bad("focal_px", "must be > 0 (got " + std::to_string(focal_px) + ")");
+        bad("focal_px", "must be in (0, 1e6] (got " + std::to_string(focal_px) + ")");
     }
-    if (!(baseline > 0))
+    // < 0: the image centre.
+    if (!(std::abs(cx) <= 1e6) || !(std::abs(cy) <= 1e6))
     {
-        bad("baseline", "must be > 0 (got " + std::to_string(baseline) + ")");
+        bad(std::abs(cx) <= 1e6 ? "cy" : "cx", "must be in [-1e6, 1e6] px (< 0: image centre)");
+    }
+    if (!(baseline > 0 && baseline <= 1000))
+    {
+        bad("baseline", "must be in (0, 1000] m (got " + std::to_string(baseline) + ")");
     }
     if (supersampling < 1 || supersampling > 4)
     {
         bad("supersampling", "must be in 1..4 (got " + std::to_string(supersampling) + ")");
     }
-    if (!(noise_sigma >= 0))
+    if (!(noise_sigma >= 0 && noise_sigma <= 255))
     {
-        bad("noise_sigma", "must be >= 0");
+        bad("noise_sigma", "must be in [0, 255] (got " + std::to_string(noise_sigma) + ")");
     }
-    if (!(max_range > 0))
+    if (!(max_range > 0 && max_range <= 1e6))
     {
-        bad("max_range", "must be > 0");
+        bad("max_range", "must be in (0, 1e6] m (got " + std::to_string(max_range) + ")");
     }
 }
 

@@ -32,21 +32,30 @@ void StereoSimulator::TParameters::loadFromConfigFile(
     MRPT_LOAD_CONFIG_VAR(exposure_period, double, c, s);
     MRPT_LOAD_CONFIG_VAR(max_step, double, c, s);
     MRPT_LOAD_CONFIG_VAR(max_step_deg, double, c, s);
-    if (!(fps > 0))
+    if (!(fps > 0 && fps <= 10000))
     {
-        bad("fps", "must be > 0");
+        bad("fps", "must be in (0, 10000] (got " + std::to_string(fps) + ")");
+    }
+    // Timestamps are seconds since 1970 in a double: keep them exact to a microsecond.
+    if (!(start_time >= 0 && start_time <= 1e10))
+    {
+        bad("start_time", "must be in [0, 1e10] s (got " + std::to_string(start_time) + ")");
     }
     if (!(exposure_amplitude >= 0 && exposure_amplitude < 0.9))
     {
         bad("exposure_amplitude", "must be in [0, 0.9)");
     }
-    if (!(exposure_period > 0))
+    if (!(exposure_period > 0 && exposure_period <= 1e6))
     {
-        bad("exposure_period", "must be > 0");
+        bad("exposure_period", "must be in (0, 1e6] s");
     }
-    if (!(max_step > 0) || !(max_step_deg > 0))
+    if (!(max_step > 0 && max_step <= 1e3))
     {
-        bad(max_step > 0 ? "max_step_deg" : "max_step", "must be > 0");
+        bad("max_step", "must be in (0, 1000] m");
+    }
+    if (!(max_step_deg > 0 && max_step_deg <= 180))
+    {
+        bad("max_step_deg", "must be in (0, 180] deg");
     }
     if (sensor_label.empty())
     {

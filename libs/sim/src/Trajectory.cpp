@@ -119,13 +119,39 @@ void Trajectory::setup(const TParameters& p)
     {
         bad("turn_blend", "must be >= 0");
     }
-    if (p.loops < 1)
+    // The path is unrolled loop by loop: a bound keeps it in memory.
+    if (p.loops < 1 || p.loops > 1000)
     {
-        bad("loops", "must be >= 1");
+        bad("loops", "must be in 1..1000 (got " + std::to_string(p.loops) + ")");
     }
-    if (p.step_frequency < 0)
+    const auto inRange = [](double v, double lo, double hi) { return v >= lo && v <= hi; };
+    if (!inRange(p.speed, 0, 1000) || !inRange(p.angular_speed_deg, 0, 36000) ||
+        !inRange(p.turn_blend, 0, 1e4))
     {
-        bad("step_frequency", "must be >= 0");
+        bad(!inRange(p.speed, 0, 1000)                ? "speed"
+            : !inRange(p.angular_speed_deg, 0, 36000) ? "angular_speed_deg"
+                                                      : "turn_blend",
+            "out of range: speed (0, 1000] m/s, angular_speed_deg (0, 36000], turn_blend [0, 1e4] "
+            "m");
+    }
+    if (!inRange(p.step_frequency, 0, 100))
+    {
+        bad("step_frequency",
+            "must be in [0, 100] Hz (got " + std::to_string(p.step_frequency) + ")");
+    }
+    if (!inRange(p.camera_height, -1e4, 1e4))
+    {
+        bad("camera_height",
+            "must be in [-1e4, 1e4] m (got " + std::to_string(p.camera_height) + ")");
+    }
+    if (!inRange(p.bob_amplitude, 0, 100))
+    {
+        bad("bob_amplitude", "must be in [0, 100] m (got " + std::to_string(p.bob_amplitude) + ")");
+    }
+    if (!inRange(p.sway_roll_deg, -90, 90) || !inRange(p.sway_pitch_deg, -90, 90))
+    {
+        bad(inRange(p.sway_roll_deg, -90, 90) ? "sway_pitch_deg" : "sway_roll_deg",
+            "must be in [-90, 90] deg");
     }
     auto pts = parseWaypoints(p.waypoints);
     if (pts.empty())

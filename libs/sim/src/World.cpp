@@ -2,9 +2,11 @@
 #include <emslam/sim/World.h>
 
 #include <mrpt/config/CConfigFileBase.h>
+#include <mrpt/core/format.h>
 
 #include <algorithm>
 #include <cmath>
+#include <cstdlib>
 #include <map>
 #include <opencv2/imgproc.hpp>
 #include <random>
@@ -28,6 +30,19 @@ void requirePositive(double v, const std::string& section, const std::string& ke
     }
 }
 
+/** `v` finite and within [lo, hi]. */
+void requireRange(
+    double v, double lo, double hi, const std::string& section, const std::string& key)
+{
+    if (!(v >= lo && v <= hi))
+    {
+        badKey(
+            section, key,
+            "must be in [" + mrpt::format("%g", lo) + ", " + mrpt::format("%g", hi) + "] (got " +
+                mrpt::format("%g", v) + ")");
+    }
+}
+
 void requireTexture(const std::string& kind, const std::string& section, const std::string& key)
 {
     if (!ProceduralTexture::isKnownKind(kind))
@@ -37,6 +52,25 @@ void requireTexture(const std::string& kind, const std::string& section, const s
             "unknown texture kind '" + kind + "' (expected " + ProceduralTexture::knownKinds() +
                 ")");
     }
+}
+
+/** A number key of an `[Element*]` section (no parameter struct checks
+ * these): the whole text must be a number, unlike read_double()'s atof(). */
+double readNumber(
+    const mrpt::config::CConfigFileBase& c, const std::string& s, const std::string& k, double def)
+{
+    if (!c.keyExists(s, k))
+    {
+        return def;
+    }
+    const std::string txt = c.read_string(s, k, "");
+    char* end = nullptr;
+    const double v = std::strtod(txt.c_str(), &end);
+    if (txt.empty() || *end != '\0')
+    {
+        badKey(s, k, "expected a number, got '" + txt + "'");
+    }
+    return v;
 }
 
 Vec3 readVec3(const mrpt::config::CConfigFileBase& c, const std::string& s, const std::string& k)
@@ -175,6 +209,8 @@ void World::TBuildingParams::loadFromConfigFile(
                 "expected +x, -x, +z or -z (one per staircase), got '" + stairs_dir + "'");
         }
     }
+    requireRange(door_probability, 0, 1, s, "door_probability");
+    requireRange(poster_probability, 0, 1, s, "poster_probability");
     requireTexture(wall_texture, s, "wall_texture");
     requireTexture(floor_texture, s, "floor_texture");
     requireTexture(ceiling_texture, s, "ceiling_texture");
@@ -223,14 +259,14 @@ void World::TGroundParams::loadFromConfigFile(
     requirePositive(extent, s, "extent");
     requirePositive(min_size, s, "min_size");
     requirePositive(texel_size, s, "texel_size");
-    if (max_size < min_size)
+    if (!(max_size >= min_size && max_size <= 1e4))
     {
-        badKey(s, "max_size", "must be >= min_size");
+        badKey(
+            s, "max_size", "must be in [min_size, 1e4] m (got " + std::to_string(max_size) + ")");
     }
-    if (objects < 0)
-    {
-        badKey(s, "objects", "must be >= 0");
-    }
+    requireRange(clearance, 0, 1e4, s, "clearance");
+    // Placement tries 50 positions per object in an int.
+    requireRange(objects, 0, 100000, s, "objects");
     requireTexture(ground_texture, s, "ground_texture");
     requireTexture(object_texture, s, "object_texture");
 }
@@ -269,10 +305,12 @@ void World::TTerrainParams::loadFromConfigFile(
     {
         badKey(s, "cell", "too small for the extent (more than 2000 samples per side)");
     }
-    if (rocks < 0 || bushes < 0)
-    {
-        badKey(s, rocks < 0 ? "rocks" : "bushes", "must be >= 0");
-    }
+    requireRange(amplitude, -1e3, 1e3, s, "amplitude");
+    requireRange(channel_depth, -1e3, 1e3, s, "channel_depth");
+    requireRange(clearance, 0, 1e4, s, "clearance");
+    // Placement tries 50 positions per rock in an int.
+    requireRange(rocks, 0, 100000, s, "rocks");
+    requireRange(bushes, 0, 100000, s, "bushes");
     requireTexture(ground_texture, s, "ground_texture");
 }
 
@@ -866,8 +904,8 @@ void World::loadElements(const mrpt::config::CConfigFileBase& cfg, std::uint64_t
         const std::string type = cfg.read_string(s, "type", "");
         const std::string tex = cfg.read_string(s, "texture", "noise");
         requireTexture(tex, s, "texture");
-        const double texel = cfg.read_double(s, "texel_size", 0.01);
-        requirePositive(texel, s, "texel_size");
+        const double texel = readNumber(cfg, s, "texel_size", 0.01);
+        requireRange(texel, 1e-6, 1e3, s, "texel_size");
         const Vec3 lo = readVec3(cfg, s, "min");
         const Vec3 hi = readVec3(cfg, s, "max");
         for (int a = 0; a < 3; ++a)
@@ -904,7 +942,8 @@ void World::loadElements(const mrpt::config::CConfigFileBase& cfg, std::uint64_t
             if (type == "moving_box")
             {
                 e.velocity = readVec3(cfg, s, "velocity");
-                e.t0 = cfg.read_double(s, "t0", 0.0);
+                e.t0 = readNumber(cfg, s, "t0", 0.0);
+                requireRange(e.t0, -1e10, 1e10, s, "t0");
             }
         }
         else

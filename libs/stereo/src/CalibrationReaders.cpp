@@ -239,22 +239,30 @@ void validateCamera(const mrpt::img::TCamera& c, const std::string& what, const 
             what,
             pre + "zero image size " + std::to_string(c.ncols) + "x" + std::to_string(c.nrows));
     }
+    // Generous physical ranges: a focal length of a million pixels, a
+    // principal point a million pixels off the image.
+    const auto intrinsics = pre + "fx = " + fmt(c.fx()) + ", fy = " + fmt(c.fy()) +
+                            ", cx = " + fmt(c.cx()) + ", cy = " + fmt(c.cy());
     for (const double v : {c.fx(), c.fy(), c.cx(), c.cy()})
     {
         if (!std::isfinite(v))
         {
-            fail(what, pre + "non-finite intrinsic parameter (NaN or inf)");
+            fail(what, intrinsics + ": non-finite intrinsic parameter (NaN or inf)");
         }
     }
-    if (c.fx() <= 0.0 || c.fy() <= 0.0)
+    if (!(c.fx() > 0.0 && c.fx() <= 1e6 && c.fy() > 0.0 && c.fy() <= 1e6))
     {
-        fail(what, pre + "non-positive focal length fx=" + fmt(c.fx()) + " fy=" + fmt(c.fy()));
+        fail(what, intrinsics + ": focal lengths fx, fy must be in (0, 1e6] px");
+    }
+    if (!(std::abs(c.cx()) <= 1e6 && std::abs(c.cy()) <= 1e6))
+    {
+        fail(what, intrinsics + ": principal point cx, cy must be within +-1e6 px");
     }
     for (const double v : c.dist)
     {
         if (!std::isfinite(v))
         {
-            fail(what, pre + "non-finite distortion coefficient");
+            fail(what, pre + "non-finite distortion coefficient (dist)");
         }
     }
 }
@@ -373,7 +381,11 @@ mrpt::img::TStereoCamera loadStereoCameraFromConfig(
     }
     catch (const std::exception& e)
     {
-        fail(what, "cannot be read: " + shortExceptionMessage(e));
+        fail(
+            what,
+            "cannot be read (resolution, cx, cy, fx, fy, dist, distortion_model, "
+            "pose_quaternion): " +
+                shortExceptionMessage(e));
     }
     validateStereoCamera(cam, what);
     // saveToConfigFile() writes the quaternion with 6 decimals: make it unit again.
@@ -412,18 +424,27 @@ void validateStereoCamera(const mrpt::img::TStereoCamera& cam, const std::string
     {
         if (!std::isfinite(v))
         {
-            fail(what, "non-finite value (NaN or inf) in the right camera pose");
+            fail(what, "non-finite value (NaN or inf) in the right camera pose (pose_quaternion)");
         }
     }
     const double qn = std::sqrt(p.qr * p.qr + p.qx * p.qx + p.qy * p.qy + p.qz * p.qz);
     if (std::abs(qn - 1.0) > 1e-3)
     {
-        fail(what, "right camera pose quaternion is not unit (norm " + fmt(qn) + ")");
+        fail(
+            what,
+            "right camera pose quaternion (pose_quaternion) is not unit (norm " + fmt(qn) + ")");
     }
     const double b = baselineOf(cam);
     if (!(b > 1e-9))
     {
         fail(what, "zero baseline (right camera at the left camera's position)");
+    }
+    // No stereo rig is a kilometre wide; depths f * b / d must stay finite.
+    if (b > 1000)
+    {
+        fail(
+            what,
+            "baseline " + fmt(b) + " m (right camera pose, pose_quaternion) is not in (0, 1000] m");
     }
 }
 

@@ -4,6 +4,7 @@
 
 #include <mrpt/config/CConfigFileBase.h>
 #include <mrpt/core/exceptions.h>
+#include <mrpt/core/format.h>
 
 #include <cmath>
 #include <opencv2/calib3d.hpp>
@@ -106,7 +107,10 @@ void StereoMatcher::TParameters::validate() const
         algorithm == "sgbm_hh" || algorithm == "sgbm" || algorithm == "sgbm_3way" ||
             algorithm == "bm",
         "[Stereo] algorithm must be sgbm_hh, sgbm, sgbm_3way or bm, got '" + algorithm + "'");
-    ASSERTMSG_(image_scale > 0 && image_scale <= 1.0, "[Stereo] image_scale must be in (0, 1]");
+    // Below 0.01 a 640x480 image has fewer pixels than one matching block.
+    ASSERTMSG_(
+        image_scale >= 0.01 && image_scale <= 1.0,
+        mrpt::format("[Stereo] image_scale = %g: must be in [0.01, 1]", image_scale));
     // Ranges that keep OpenCV's fixed-point disparities (16 x disparity in a
     // short) and SGBM's penalties (p * block_size^2 in an int) from overflowing.
     ASSERTMSG_(
@@ -125,16 +129,32 @@ void StereoMatcher::TParameters::validate() const
     ASSERTMSG_(
         uniqueness_ratio >= 0 && uniqueness_ratio <= 100,
         "[Stereo] uniqueness_ratio must be in [0, 100]");
-    ASSERTMSG_(speckle_window_size >= 0, "[Stereo] speckle_window_size must be >= 0");
-    ASSERTMSG_(speckle_range >= 0, "[Stereo] speckle_range must be >= 0");
+    ASSERTMSG_(
+        speckle_window_size >= 0 && speckle_window_size <= 100000000,
+        mrpt::format(
+            "[Stereo] speckle_window_size = %d: must be in [0, 100000000]", speckle_window_size));
+    // OpenCV scales it by 16 (fixed-point disparities) in an int.
+    ASSERTMSG_(
+        speckle_range >= 0 && speckle_range <= 1024,
+        mrpt::format("[Stereo] speckle_range = %d: must be in [0, 1024]", speckle_range));
+    ASSERTMSG_(
+        texture_threshold >= 0 && texture_threshold <= 100000000,
+        mrpt::format(
+            "[Stereo] texture_threshold = %d: must be in [0, 100000000]", texture_threshold));
     ASSERTMSG_(
         pre_filter_cap >= 1 && pre_filter_cap <= 63, "[Stereo] pre_filter_cap must be in [1, 63]");
     ASSERTMSG_(
         p1_per_pixel >= 0 && p1_per_pixel <= 10000, "[Stereo] p1_per_pixel must be in [0, 10000]");
     ASSERTMSG_(p2_per_pixel <= 10000, "[Stereo] p2_per_pixel must be <= 10000");
     ASSERTMSG_(p2_per_pixel > p1_per_pixel, "[Stereo] p2_per_pixel must be > p1_per_pixel");
-    ASSERTMSG_(min_range >= 0, "[Stereo] min_range must be >= 0");
-    ASSERTMSG_(max_range > min_range, "[Stereo] max_range must be > min_range");
+    // Farther than 10 km no stereo rig resolves depth; the bound keeps map
+    // cell indices (coordinate / cell size) far from int overflow.
+    ASSERTMSG_(
+        min_range >= 0 && min_range < 10000,
+        mrpt::format("[Stereo] min_range = %g: must be in [0, 10000) m", min_range));
+    ASSERTMSG_(
+        max_range > min_range && max_range <= 10000,
+        mrpt::format("[Stereo] max_range = %g: must be in (min_range, 10000] m", max_range));
 }
 
 struct StereoMatcher::Impl

@@ -6,15 +6,28 @@
 #include <emslam/stereo/ExceptionMessage.h>
 
 #include <iostream>
+#include <type_traits>
 
 namespace emslam::apps
 {
+/** True for an App with `int exitCode() const` (its verdict on a finished run). */
+template <class App, class = void>
+struct HasExitCode : std::false_type
+{
+};
+template <class App>
+struct HasExitCode<App, std::void_t<decltype(std::declval<const App&>().exitCode())>>
+    : std::true_type
+{
+};
+
 /** The body of every emslam main(): registers the classes, runs the App's
  * initialize() and run(), and turns an exception into one line on stderr
  * ("<name>: error: <message>") and exit code 1. `--help` exits 0. A run that
  * a signal stopped (StopSignal) and that still wrote its outputs exits with
  * 128 + the signal, as shells report a process the signal killed: 130 after
  * Ctrl-C (SIGINT), 143 after SIGTERM, so scripts can tell it from a full run.
+ * Otherwise an App with `exitCode()` decides (e.g. EXIT_DEGENERATE), else 0.
  * \ingroup emslam_apps_grp */
 template <class App>
 int appMain(const char* name, int argc, char** argv)
@@ -26,7 +39,15 @@ int appMain(const char* name, int argc, char** argv)
         app.initialize(argc, argv);
         app.run();
         const int signum = StopSignal::receivedSignal();
-        return signum != 0 ? 128 + signum : 0;
+        if (signum != 0)
+        {
+            return 128 + signum;
+        }
+        if constexpr (HasExitCode<App>::value)
+        {
+            return app.exitCode();
+        }
+        return 0;
     }
     catch (const std::exception& e)
     {

@@ -67,10 +67,15 @@ void requireKnownConfigEntries(
  * holds a number or a boolean under the same section and key,
  * the user's text (as read_string() returns it: trimmed, without a trailing
  * `//` comment, `$eval{}` done) must be one too. MRPT 2.5.8's read_int() and
- * read_double() parse with atoi() / atof(), so "abc" reads as 0 and "64x" as
- * 64; read_bool() takes true/false, yes/no, on/off or an integer. Whole and
- * fractional numbers are not told apart: some double parameters are saved in
- * integer form. Unknown sections and keys are left to findUnknownConfigEntries(). */
+ * read_double() parse with atoi() / atof(), so "abc" reads as 0, "64x" as 64,
+ * "64.9" as 64 and "2147483648" as -2147483648; read_bool() knows true/false
+ * and yes/no and reads anything else with atoi() ("on" is false). So:
+ * - a key whose reference is a whole number (an int key: MRPT saves doubles
+ *   with a decimal point) takes a whole number in int's range;
+ * - any other numeric key takes a number (`nan` and `inf` too: the
+ *   parameter's validate() decides);
+ * - a boolean key takes true/false, yes/no (any case) or 1/0.
+ * Unknown sections and keys are left to findUnknownConfigEntries(). */
 std::vector<ConfigProblem> findMalformedConfigValues(
     const mrpt::config::CConfigFileBase& user,
     const mrpt::config::CConfigFileBase& reference,

@@ -63,6 +63,13 @@ public:
     /** Asks a running run() to stop, as SIGINT does (thread- and signal-safe). */
     static void requestStop();
 
+    /** The check run() makes of the INI before opening any device: `[global]`
+     * and the sections of emslam's sensors hold values of their keys' kind
+     * (requireValidConfig()), and every sensor section loads (every
+     * parameter in its range). Throws std::exception naming the section and
+     * key. */
+    static void checkConfig(const mrpt::config::CConfigFileBase& params);
+
     /** \name Settings (filled by initialize(); may be edited before run())
      * @{ */
     /** The INI content. */

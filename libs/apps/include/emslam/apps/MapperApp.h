@@ -1,6 +1,7 @@
 // SPDX-License-Identifier: BSD-3-Clause
 #pragma once
 
+#include <emslam/apps/DegenerateRun.h>
 #include <emslam/apps/Mapper.h>
 #include <emslam/apps/MapperOutputs.h>
 #include <emslam/apps/ProgressLine.h>
@@ -68,6 +69,14 @@ public:
 
     bool helpRequested() const { return m_help_requested; }
 
+    /** The configuration check initialize() runs on the INI file plus the
+     * `--set` overrides, before any input is read: every section of the mapper ([Stereo]
+     * [Egomotion] [EntropyVoxelMap] [SpaceSampling] [Rectifier] [Mapper]) must hold only known
+     * keys, values of their kind (see requireValidConfig()) and values in their ranges (the
+     * parameter structs' validate()). Throws std::invalid_argument naming the section, key and
+     * value. */
+    static void checkConfig(const mrpt::config::CConfigFileBase& params);
+
     /** Effective configuration; tests may edit it between initialize() and run(). */
     mrpt::config::CConfigFileMemory params;
 
@@ -76,6 +85,13 @@ public:
     /** What the last run() added to the mapper's results. */
     const MapperRunInfo& runInfo() const { return m_info; }
 
+    /** Why the last run()'s result is degenerate (see degenerateRunWarning()),
+     * or "" if it is usable. */
+    const std::string& degenerateResult() const { return m_degenerate; }
+    /** The process exit code of a run() that returned: 0, or
+     * EXIT_DEGENERATE when degenerateResult() is not empty. */
+    int exitCode() const { return m_degenerate.empty() ? 0 : EXIT_DEGENERATE; }
+
 private:
     void writeOutputs(const emslam::stereo::TumTrajectory& ground_truth);
     /** Counts an observation the mapper could not use and warns about the
@@ -83,6 +99,7 @@ private:
     void skipObservation(std::size_t record, const std::string& reason, ProgressLine& progress);
 
     bool m_help_requested{false};
+    std::string m_degenerate;
     bool m_quiet{false};
     bool m_viewer{false};
     bool m_egomotion_only{false};

@@ -1,6 +1,7 @@
 // SPDX-License-Identifier: BSD-3-Clause
 #pragma once
 
+#include <emslam/apps/DegenerateRun.h>
 #include <emslam/stereo/TrajectoryWriter.h>
 #include <emslam/stereo/TumTrajectory.h>
 
@@ -40,6 +41,13 @@ public:
 
     bool helpRequested() const { return m_help_requested; }
 
+    /** The configuration check initialize() runs on the INI file plus the
+     * `--set` overrides, before any input is read: [Stereo] and [Egomotion] (other sections are
+     * ignored) must hold only known keys, values of their kind (see requireValidConfig()) and
+     * values in their ranges (the parameter structs' validate()). Throws std::invalid_argument
+     * naming the section, key and value. */
+    static void checkConfig(const mrpt::config::CConfigFileBase& params);
+
     /** Effective configuration; tests may edit it between initialize() and run(). */
     mrpt::config::CConfigFileMemory params;
 
@@ -54,6 +62,13 @@ public:
         mean_ms_lwo{0}, mean_ms_pose{0}, mean_ms_egomotion{0};
     /** Mean matches per step before / after LWO. */
     double mean_initial_matches{0}, mean_final_matches{0};
+    /** Why the trajectory is degenerate (more than half of the steps
+     * failed, see degenerateRunWarning()), or "" if it is usable. */
+    std::string degenerate;
+
+    /** The process exit code of a run() that returned: 0, or
+     * EXIT_DEGENERATE when `degenerate` is not empty. */
+    int exitCode() const { return degenerate.empty() ? 0 : EXIT_DEGENERATE; }
 
 private:
     bool m_help_requested{false};

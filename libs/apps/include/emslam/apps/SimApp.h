@@ -42,6 +42,14 @@ public:
     /** Renders and writes the outputs. Throws on any error, leaving no output. */
     void run();
 
+    /** The check run() makes of a world INI before rendering: the values of
+     * the sections of StereoSimulator, StereoRenderer, Trajectory and World
+     * must be of their keys' kind (requireValidConfig(); other keys and the
+     * `[Element*]` sections are left to the loaders) and the world must load
+     * (every parameter in its range). Throws std::exception naming the
+     * section and key. */
+    static void checkConfig(const mrpt::config::CConfigFileBase& params);
+
     /** \name Settings (filled by initialize(); may be edited before run())
      * @{ */
     /** The world INI content (with `--seed` applied as [World] seed). */

@@ -39,6 +39,13 @@ public:
 
     bool helpRequested() const { return m_help_requested; }
 
+    /** The configuration check initialize() runs on the INI file plus the
+     * `--set` overrides, before any input is read: [Stereo] (other sections are ignored) must
+     * hold only known keys, values of their kind (see requireValidConfig())
+     * and values in their ranges (the parameter structs' validate()).
+     * Throws std::invalid_argument naming the section, key and value. */
+    static void checkConfig(const mrpt::config::CConfigFileBase& params);
+
     /** Effective configuration; tests may edit it between initialize() and run(). */
     mrpt::config::CConfigFileMemory params;
 

@@ -26,7 +26,10 @@ public:
     ProceduralTexture() = default;
 
     /** Generates a texture of `kind` with `size`x`size` texels (size: a power
-     * of two >= 16). Throws std::invalid_argument naming the kind if unknown. */
+     * of two >= 16). Throws std::invalid_argument naming the kind if unknown.
+     * The same arguments give the same texture, so the last few are kept and
+     * shared (their pixels are never written after generation): loading a
+     * world again, as a configuration check does, costs no new textures. */
     static ProceduralTexture generate(const std::string& kind, std::uint64_t seed, int size = 256);
 
     /** True if `kind` names a known texture kind. */
@@ -52,6 +55,7 @@ public:
     const cv::Mat& image() const { return m_img; }
 
 private:
+    static ProceduralTexture generateNew(const std::string& kind, std::uint64_t seed, int size);
     static float bilinearWrap(const cv::Mat& m, int mask, double s, double t);
     static float bilinearClamp(const cv::Mat& m, double u, double v);
     void buildMipmaps();
