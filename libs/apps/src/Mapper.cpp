@@ -205,6 +205,7 @@ bool Mapper::process(const mrpt::obs::CObservation& obs)
             {
                 action_cov = ego.covariance;
             }
+            m_velocity = action;
         }
         else
         {
