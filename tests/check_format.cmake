@@ -1,8 +1,9 @@
 # SPDX-License-Identifier: BSD-3-Clause
-# Fails when any C++ source under libs/, apps/, tests/ or benchmarks/ is not clang-format clean.
+# Fails when any C++ source under libs/, apps/, tests/, benchmarks/ or fuzz/ is not clang-format
+# clean.
 file(GLOB_RECURSE _files
     ${ROOT}/libs/*.h ${ROOT}/libs/*.cpp ${ROOT}/apps/*.cpp
-    ${ROOT}/tests/*.h ${ROOT}/tests/*.cpp ${ROOT}/benchmarks/*.cpp)
+    ${ROOT}/tests/*.h ${ROOT}/tests/*.cpp ${ROOT}/benchmarks/*.cpp ${ROOT}/fuzz/*.h ${ROOT}/fuzz/*.cpp)
 execute_process(
     COMMAND ${CLANG_FORMAT} --dry-run -Werror --style=file ${_files}
     WORKING_DIRECTORY ${ROOT}

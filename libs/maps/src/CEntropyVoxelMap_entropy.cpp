@@ -801,11 +801,9 @@ double CEntropyVoxelMap::recomputeFromScratch()
 {
     commitMove();
     resetTracked();
-    std::size_t n = 0;
     for (auto& o : m_obs)
     {
         computeCells(o.cloud, o.pose, o.cells, &o.box);
-        n += o.cloud.size();
         m_total_weight += o.weight_sum;
         m_integral_weights = m_integral_weights && o.integral_weights;
     }
