@@ -225,6 +225,22 @@ void throwIfAny(
 }
 }  // namespace
 
+void requireWellFormedConfigValues(
+    const mrpt::config::CConfigFileBase& user, const mrpt::config::CConfigFileBase& reference)
+{
+    const auto problems = findMalformedConfigValues(user, reference);
+    if (problems.empty())
+    {
+        return;
+    }
+    std::string msg = problems.front().message();
+    for (std::size_t i = 1; i < problems.size(); i++)
+    {
+        msg += "; " + problems[i].message();
+    }
+    throw std::invalid_argument(msg);
+}
+
 std::string ConfigProblem::message() const
 {
     if (!expected.empty())

@@ -206,16 +206,7 @@ void requireWellFormedValues(const mrpt::config::CConfigFileBase& cfg)
                 known, section);
         }
     }
-    const auto problems = findMalformedConfigValues(cfg, known);
-    if (!problems.empty())
-    {
-        std::string msg = problems.front().message();
-        for (std::size_t i = 1; i < problems.size(); i++)
-        {
-            msg += "; " + problems[i].message();
-        }
-        throw std::invalid_argument(msg);
-    }
+    requireWellFormedConfigValues(cfg, known);
 }
 
 /** `[global] rawlog_GZ_compress_level`, checked. */

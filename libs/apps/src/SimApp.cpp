@@ -127,16 +127,7 @@ void requireWellFormedValues(const mrpt::config::CConfigFileBase& cfg)
     emslam::sim::World::TGroundParams().saveToConfigFile(known, "Ground");
     emslam::sim::World::TTerrainParams().saveToConfigFile(known, "Terrain");
     known.write("World", "seed", 1);
-    const auto problems = findMalformedConfigValues(cfg, known);
-    if (!problems.empty())
-    {
-        std::string msg = problems.front().message();
-        for (std::size_t i = 1; i < problems.size(); i++)
-        {
-            msg += "; " + problems[i].message();
-        }
-        throw std::invalid_argument(msg);
-    }
+    requireWellFormedConfigValues(cfg, known);
 }
 }  // namespace
 

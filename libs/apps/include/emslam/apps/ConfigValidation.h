@@ -81,6 +81,12 @@ std::vector<ConfigProblem> findMalformedConfigValues(
     const mrpt::config::CConfigFileBase& reference,
     const std::vector<std::string>& ignored_sections = {});
 
+/** Throws std::invalid_argument with every problem of
+ * findMalformedConfigValues(), joined by "; " (apps that read free-form
+ * sections, where unknown keys are not errors). */
+void requireWellFormedConfigValues(
+    const mrpt::config::CConfigFileBase& user, const mrpt::config::CConfigFileBase& reference);
+
 /** Throws std::invalid_argument listing every problem of
  * findUnknownConfigEntries() and findMalformedConfigValues(), one per line.
  * With `skip_unknown_sections`, sections that `reference` lacks are not
