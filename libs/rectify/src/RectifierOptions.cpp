@@ -5,6 +5,7 @@
 #include <mrpt/core/format.h>
 
 #include <cmath>
+#include <initializer_list>
 #include <stdexcept>
 
 namespace emslam::rectify
@@ -19,46 +20,28 @@ void require(bool ok, const std::string& key, const std::string& msg)
     }
 }
 
-Acceptance acceptanceFromString(const std::string& s)
+/** The value named `name` among `choices` of `[Rectifier] key`; throws naming
+ * the key and the valid names otherwise. */
+template <class Enum>
+Enum readChoice(
+    const mrpt::config::CConfigFileBase& c,
+    const std::string& section,
+    const std::string& key,
+    Enum current,
+    std::initializer_list<Enum> choices)
 {
-    if (s == "ratio")
-        return Acceptance::Ratio;
-    if (s == "greedy")
-        return Acceptance::Greedy;
+    const std::string name = c.read_string(section, key, toString(current));
+    std::string valid;
+    for (Enum e : choices)
+    {
+        if (name == toString(e))
+        {
+            return e;
+        }
+        valid += (valid.empty() ? "" : ", ") + toString(e);
+    }
     throw std::invalid_argument(
-        "[Rectifier] acceptance: unknown value '" + s + "' (valid: ratio, greedy)");
-}
-
-RectificationMode modeFromString(const std::string& s)
-{
-    if (s == "serial")
-        return RectificationMode::Serial;
-    if (s == "anytime")
-        return RectificationMode::AnyTime;
-    throw std::invalid_argument(
-        "[Rectifier] mode: unknown value '" + s + "' (valid: serial, anytime)");
-}
-
-PriorCovariance priorCovarianceFromString(const std::string& s)
-{
-    if (s == "fixed")
-        return PriorCovariance::Fixed;
-    if (s == "egomotion")
-        return PriorCovariance::Egomotion;
-    throw std::invalid_argument(
-        "[Rectifier] prior_covariance: unknown value '" + s + "' (valid: fixed, egomotion)");
-}
-
-ProposalShape proposalFromString(const std::string& s)
-{
-    if (s == "box")
-        return ProposalShape::Box;
-    if (s == "covariance")
-        return ProposalShape::Covariance;
-    if (s == "coherent")
-        return ProposalShape::Coherent;
-    throw std::invalid_argument(
-        "[Rectifier] proposal: unknown value '" + s + "' (valid: box, covariance, coherent)");
+        "[Rectifier] " + key + ": unknown value '" + name + "' (valid: " + valid + ")");
 }
 }  // namespace
 
@@ -94,10 +77,11 @@ void TRectifierOptions::loadFromConfigFile(
     MRPT_LOAD_CONFIG_VAR(nc_max, int, c, s);
     MRPT_LOAD_CONFIG_VAR(max_attempts, int, c, s);
     MRPT_LOAD_CONFIG_VAR(min_improvement, double, c, s);
-    acceptance = acceptanceFromString(c.read_string(s, "acceptance", toString(acceptance)));
+    acceptance =
+        readChoice(c, s, "acceptance", acceptance, {Acceptance::Ratio, Acceptance::Greedy});
     MRPT_LOAD_CONFIG_VAR(reuse_success, bool, c, s);
     MRPT_LOAD_CONFIG_VAR(rectify_every, int, c, s);
-    mode = modeFromString(c.read_string(s, "mode", toString(mode)));
+    mode = readChoice(c, s, "mode", mode, {RectificationMode::Serial, RectificationMode::AnyTime});
     MRPT_LOAD_CONFIG_VAR(buffer_size, int, c, s);
     MRPT_LOAD_CONFIG_VAR(n_max, int, c, s);
     const double seed_value = c.read_double(s, "seed", static_cast<double>(seed));
@@ -113,9 +97,12 @@ void TRectifierOptions::loadFromConfigFile(
     MRPT_LOAD_CONFIG_VAR(prior_sigma_xyz, double, c, s);
     MRPT_LOAD_CONFIG_VAR(prior_sigma_rot_deg, double, c, s);
     MRPT_LOAD_CONFIG_VAR(grid_phases, int, c, s);
-    prior_covariance =
-        priorCovarianceFromString(c.read_string(s, "prior_covariance", toString(prior_covariance)));
-    proposal = proposalFromString(c.read_string(s, "proposal", toString(proposal)));
+    prior_covariance = readChoice(
+        c, s, "prior_covariance", prior_covariance,
+        {PriorCovariance::Fixed, PriorCovariance::Egomotion});
+    proposal = readChoice(
+        c, s, "proposal", proposal,
+        {ProposalShape::Box, ProposalShape::Covariance, ProposalShape::Coherent});
     MRPT_LOAD_CONFIG_VAR(proposal_scale, double, c, s);
     validate();
 }
