@@ -513,6 +513,42 @@ TEST(MapperApp, truncatedRawlogMapsEveryCompleteFrame)
         emslam::stereo::TumTrajectory::fromFile(out + "/trajectory_egomotion.tum").size(), frames);
 }
 
+// A flipped byte in a gz rawlog: zlib's error is named (not MRPT's "cannot
+// read object streaming version"), the frames read are written, and the run
+// fails (exit 1), since some of them may hold damaged pixels.
+TEST(MapperApp, flippedByteInAGzRawlogIsACorruptInputError)
+{
+    std::string bytes = readText(simulatedHall(30));
+    ASSERT_GT(bytes.size(), 1000U);
+    bytes[bytes.size() / 2] ^= 0x04;
+    const std::string dir = emslam::test::makeTempDir("mapper_flip");
+    const std::string rawlog = dir + "/flipped.rawlog";
+    std::ofstream(rawlog, std::ios::binary).write(bytes.data(), static_cast<long>(bytes.size()));
+    const std::string out = dir + "/out";
+    MapperApp app;
+    initApp(app, {config("3dof-low-structured"), rawlog, "--out", out, "-q"});
+    testing::internal::CaptureStderr();
+    try
+    {
+        app.run();
+        ADD_FAILURE() << "a corrupt rawlog must fail the run";
+    }
+    catch (const std::runtime_error& e)
+    {
+        EXPECT_NE(std::string(e.what()).find("the gz data is corrupt (zlib: incorrect data check)"), std::string::npos)
+            << e.what();
+    }
+    testing::internal::GetCapturedStderr();
+    const std::size_t frames = app.mapper().frameCount();
+    EXPECT_GT(frames, 0U);
+    EXPECT_LT(frames, 30U);
+    const std::string json = readText(out + "/summary.json");
+    EXPECT_NE(json.find("\"stopped_by_error\": \"record "), std::string::npos) << json;
+    EXPECT_NE(json.find("the gz data is corrupt"), std::string::npos) << json;
+    EXPECT_EQ(
+        emslam::stereo::TumTrajectory::fromFile(out + "/trajectory_egomotion.tum").size(), frames);
+}
+
 TEST(MapperApp, badInputsFailWithAClearMessage)
 {
     const std::string dir = emslam::test::makeTempDir("mapper_bad");

@@ -16,6 +16,8 @@
 
 #include <cstdint>
 #include <filesystem>
+#include <fstream>
+#include <iterator>
 #include <string>
 #include <vector>
 
@@ -118,4 +120,76 @@ TEST(RawlogInput, uncompressedSizeFromTheGzipTrailer)
     // 5 GiB compressed to 1 GiB: first taken as 1 GiB, then 5 GiB once read past it.
     EXPECT_EQ(RawlogInput::estimateUncompressedSize(GIB, GIB - 100, 0), GIB);
     EXPECT_EQ(RawlogInput::estimateUncompressedSize(GIB, GIB - 100, GIB + 1), 5 * GIB);
+}
+
+namespace
+{
+/** A gz rawlog of FRAMES frames; returns its bytes. */
+std::string gzRawlogBytes(const std::string& file)
+{
+    {
+        emslam::apps::RawlogOutput out(file, 6);
+        for (std::size_t i = 0; i < FRAMES; i++)
+        {
+            out.archive() << frame(i);
+        }
+        out.commit();
+    }
+    std::ifstream f(file, std::ios::binary);
+    return std::string(std::istreambuf_iterator<char>(f), std::istreambuf_iterator<char>());
+}
+
+std::size_t readAll(RawlogInput& in)
+{
+    std::vector<mrpt::obs::CObservation::Ptr> batch;
+    std::size_t n = 0;
+    while (in.next(batch))
+    {
+        n += batch.size();
+    }
+    return n;
+}
+}  // namespace
+
+// A flipped byte in a gz rawlog is a corrupt file (zlib's CRC or deflate
+// error, named), not a file that ends early for lack of data.
+TEST(RawlogInput, flippedByteInAGzRawlogIsReportedAsCorrupt)
+{
+    const std::string dir = emslam::test::makeTempDir("rawlog_input_flip");
+    std::string bytes = gzRawlogBytes(dir + "/good.rawlog");
+    for (const double where : {0.3, 0.6, 0.9})
+    {
+        std::string damaged = bytes;
+        damaged[static_cast<std::size_t>(where * static_cast<double>(damaged.size()))] ^= 0x10;
+        const std::string file = dir + "/flipped.rawlog";
+        std::ofstream(file, std::ios::binary).write(damaged.data(), static_cast<long>(damaged.size()));
+        RawlogInput in(file);
+        EXPECT_LT(readAll(in), FRAMES) << where;
+        EXPECT_TRUE(in.endedEarly()) << where;
+        EXPECT_TRUE(in.corrupt()) << where << ": " << in.endReason();
+        EXPECT_NE(in.endReason().find("the gz data is corrupt (zlib: "), std::string::npos)
+            << in.endReason();
+    }
+    // The intact file reads to its end with no complaint.
+    RawlogInput good(dir + "/good.rawlog");
+    EXPECT_EQ(readAll(good), FRAMES);
+    EXPECT_FALSE(good.endedEarly());
+    EXPECT_FALSE(good.corrupt());
+}
+
+// A gz rawlog cut short is not corrupt: what was read is intact.
+TEST(RawlogInput, cutGzRawlogEndsEarlyWithoutBeingCorrupt)
+{
+    const std::string dir = emslam::test::makeTempDir("rawlog_input_gzcut");
+    const std::string bytes = gzRawlogBytes(dir + "/good.rawlog");
+    const std::string file = dir + "/cut.rawlog";
+    std::ofstream(file, std::ios::binary).write(bytes.data(), static_cast<long>(bytes.size() / 2));
+    RawlogInput in(file);
+    const std::size_t n = readAll(in);
+    EXPECT_GT(n, 0U);
+    EXPECT_LT(n, FRAMES);
+    EXPECT_TRUE(in.endedEarly());
+    EXPECT_FALSE(in.corrupt()) << in.endReason();
+    EXPECT_NE(in.endReason().find("the file ends in the middle of the record"), std::string::npos)
+        << in.endReason();
 }

@@ -299,10 +299,19 @@ void MapperApp::run()
             throw std::runtime_error(
                 "'" + m_rawlog + "' is not a readable rawlog: " + in.endReason());
         }
-        std::fprintf(
-            stderr,
-            "%s: warning: rawlog '%s' ended early at %s; mapping the %zu frames before it\n",
-            PROGRAM, m_rawlog.c_str(), in.endReason().c_str(), m_mapper->frameCount());
+        if (in.corrupt() && m_info.stopped_by_error.empty())
+        {
+            // Not a cut file: some frames read may hold damaged pixels, so the
+            // run fails after writing its outputs (exit 1), as after an error.
+            m_info.stopped_by_error = in.endReason();
+        }
+        else
+        {
+            std::fprintf(
+                stderr,
+                "%s: warning: rawlog '%s' ended early at %s; mapping the %zu frames before it\n",
+                PROGRAM, m_rawlog.c_str(), in.endReason().c_str(), m_mapper->frameCount());
+        }
     }
     if (m_info.interrupted)
     {
@@ -333,14 +342,15 @@ void MapperApp::run()
         m_mapper->finish();
         m_info.seconds =
             std::chrono::duration<double>(std::chrono::steady_clock::now() - t_start).count();
+        const Mapper& m = *m_mapper;
+        m_info.degenerate =
+            degenerateRunWarning(m.frameCount() - 1, m.egomotionFailures(), m.mapCloud().size());
         writeOutputs(ground_truth);
     };
     if (m_info.stopped_by_error.empty())
     {
         finishAndWrite();
-        const Mapper& m = *m_mapper;
-        m_degenerate =
-            degenerateRunWarning(m.frameCount() - 1, m.egomotionFailures(), m.mapCloud().size());
+        m_degenerate = m_info.degenerate;
         if (!m_degenerate.empty())
         {
             std::fflush(stdout);  // the summary first

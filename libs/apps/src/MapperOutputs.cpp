@@ -172,6 +172,8 @@ void writeSummaryJson(const Mapper& m, const MapperRunInfo& info, const std::str
       << "  \"interrupted\": " << (info.interrupted ? "true" : "false") << ",\n"
       << "  \"input_ended_early\": "
       << (info.input_ended_early.empty() ? "null" : jsonString(info.input_ended_early)) << ",\n"
+      << "  \"degenerate\": "
+      << (info.degenerate.empty() ? "null" : jsonString(info.degenerate)) << ",\n"
       << "  \"image_width\": " << m.imageWidth() << ",\n"
       << "  \"image_height\": " << m.imageHeight() << ",\n"
       << "  \"ms_per_frame\": {\"stereo\": " << jsonNumber(ms.stereo)
@@ -317,6 +319,10 @@ MapperReportData makeReportData(
     if (!info.input_ended_early.empty())
     {
         s.emplace_back("input ended early", info.input_ended_early);
+    }
+    if (!info.degenerate.empty())
+    {
+        s.emplace_back("degenerate result", info.degenerate);
     }
     if (info.skipped_observations > 0)
     {

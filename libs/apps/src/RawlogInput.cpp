@@ -14,24 +14,71 @@
 #include <fstream>
 #include <stdexcept>
 
+#include <zlib.h>
+
 namespace emslam::apps
 {
-/** The gz file stream, counting the uncompressed bytes handed out: a record
- * whose read hits the end of the file after consuming bytes is a cut record,
- * one that consumes none is the clean end. */
+/** The rawlog file read through zlib (plain files pass through unchanged),
+ * counting the uncompressed bytes handed out: a record whose read hits the
+ * end of the file after consuming bytes is a cut record, one that consumes
+ * none is the clean end. zlib's own error is kept, so a damaged gz file (a
+ * deflate error, a CRC or length mismatch at its end) is told from a cut one:
+ * MRPT's CFileGZInputStream reports both as a short read. */
 class RawlogInput::CountingStream : public mrpt::io::CStream
 {
 public:
-    mrpt::io::CFileGZInputStream file;
     std::uint64_t consumed{0};
     bool short_read{false};  //!< a read got fewer bytes than asked: the file ended
+    int zlib_error{Z_OK};    //!< zlib's error code once a read failed
+    std::string zlib_message;
+
+    ~CountingStream() override
+    {
+        if (m_gz != nullptr)
+        {
+            gzclose_r(m_gz);
+        }
+    }
+
+    bool open(const std::string& file)
+    {
+        m_path = file;
+        m_gz = gzopen(file.c_str(), "rb");
+        if (m_gz != nullptr)
+        {
+            gzbuffer(m_gz, 1U << 17);  // 128 KiB: fewer system calls than the 8 KiB default
+        }
+        return m_gz != nullptr;
+    }
 
     size_t Read(void* buffer, size_t count) override
     {
-        const size_t n = file.Read(buffer, count);
-        consumed += n;
-        short_read = short_read || n < count;
-        return n;
+        auto* out = static_cast<unsigned char*>(buffer);
+        size_t got = 0;
+        while (got < count && zlib_error == Z_OK)
+        {
+            const auto chunk = static_cast<unsigned>(std::min<size_t>(count - got, 1U << 30));
+            const int n = gzread(m_gz, out + got, chunk);
+            if (n < 0)
+            {
+                const char* message = gzerror(m_gz, &zlib_error);
+                zlib_message = message != nullptr ? message : "";
+                // zlib prefixes the path, which the caller names already.
+                if (zlib_message.rfind(m_path + ": ", 0) == 0)
+                {
+                    zlib_message.erase(0, m_path.size() + 2);
+                }
+                zlib_error = zlib_error == Z_OK ? Z_ERRNO : zlib_error;
+            }
+            if (n <= 0)
+            {
+                break;
+            }
+            got += static_cast<size_t>(n);
+        }
+        consumed += got;
+        short_read = short_read || got < count;
+        return got;
     }
     size_t Write(const void* /*buffer*/, size_t /*count*/) override
     {
@@ -41,8 +88,12 @@ public:
     {
         throw std::logic_error("RawlogInput cannot seek");
     }
-    uint64_t getTotalBytesCount() const override { return file.getTotalBytesCount(); }
-    uint64_t getPosition() const override { return file.getPosition(); }
+    uint64_t getTotalBytesCount() const override { return 0; }
+    uint64_t getPosition() const override { return consumed; }
+
+private:
+    gzFile m_gz{nullptr};
+    std::string m_path;
 };
 
 namespace
@@ -80,7 +131,7 @@ RawlogInput::RawlogInput(const std::string& file)
     : m_file(file), m_stream(std::make_unique<CountingStream>())
 {
     requireInputFile(file, "rawlog");
-    if (!m_stream->file.open(file))
+    if (!m_stream->open(file))
     {
         throw std::runtime_error("cannot open rawlog '" + file + "'");
     }
@@ -109,17 +160,48 @@ bool RawlogInput::next(std::vector<mrpt::obs::CObservation::Ptr>& batch)
     {
         m_ended = true;
         // MRPT wraps an EOF met inside an object into a generic exception:
-        // whether the file ended is known from the stream itself.
-        const bool clean_end = m_stream->consumed == start && m_stream->short_read;
-        if (!clean_end)
+        // whether the file ended, or zlib failed, is known from the stream.
+        const bool cut = m_stream->short_read;
+        if (m_stream->zlib_error == Z_OK && cut && m_stream->consumed == start)
         {
-            m_ended_early = true;
-            const bool cut = m_stream->short_read;
-            m_end_reason = "record " + std::to_string(m_records) + " (byte " +
-                           std::to_string(start) + "): " +
-                           (cut ? std::string("the file ends in the middle of the record")
-                                : emslam::stereo::shortExceptionMessage(e));
+            return false;  // the clean end of the file
         }
+        m_ended_early = true;
+        const bool unparsable = m_stream->zlib_error == Z_OK && !cut;
+        if (unparsable)
+        {
+            // A record MRPT cannot parse: damaged bytes inside a gz file whose
+            // check comes at its end? Read on to that end to know.
+            std::vector<unsigned char> rest(1U << 16);
+            const std::uint64_t at = m_stream->consumed;
+            while (m_stream->Read(rest.data(), rest.size()) == rest.size())
+            {
+            }
+            m_stream->consumed = at;  // bytesRead() stays where the record failed
+        }
+        std::string cause;
+        if (m_stream->zlib_error == Z_BUF_ERROR && !unparsable)  // "unexpected end of file"
+        {
+            cause = m_stream->consumed == start
+                        ? "the gz file is cut after the previous record (its end is missing)"
+                        : "the file ends in the middle of the record";
+        }
+        else if (m_stream->zlib_error != Z_OK && m_stream->zlib_error != Z_BUF_ERROR)
+        {
+            m_corrupt = true;
+            cause = "the gz data is corrupt (zlib: " + m_stream->zlib_message + ")" +
+                    (m_stream->zlib_message.find("check") != std::string::npos
+                         ? std::string(": its CRC-32 or length does not match the data, so "
+                                       "some earlier record holds damaged bytes")
+                         : std::string());
+        }
+        else
+        {
+            cause = cut ? "the file ends in the middle of the record"
+                        : emslam::stereo::shortExceptionMessage(e);
+        }
+        m_end_reason = "record " + std::to_string(m_records) + " (byte " + std::to_string(start) +
+                       "): " + cause;
         return false;
     }
     ++m_records;

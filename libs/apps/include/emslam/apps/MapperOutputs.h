@@ -25,6 +25,8 @@ struct MapperRunInfo
     std::string stopped_by_error;
     bool interrupted{false};        //!< stopped by SIGINT / SIGTERM
     std::string input_ended_early;  //!< truncated / corrupt rawlog: where and why
+    /** Why the result is degenerate (degenerateRunWarning()), or "". */
+    std::string degenerate;
     double seconds{0.0};            //!< wall time of the run
     /** Against the ground truth (--gt), when given. */
     std::optional<TrajectoryMetrics> egomotion_vs_gt, slam_vs_gt;

@@ -1,7 +1,6 @@
 // SPDX-License-Identifier: BSD-3-Clause
 #pragma once
 
-#include <mrpt/io/CFileGZInputStream.h>
 #include <mrpt/io/CStream.h>
 #include <mrpt/obs/CObservation.h>
 #include <mrpt/serialization/CArchive.h>
@@ -50,6 +49,12 @@ public:
     /** True if reading stopped before a clean end of file: the file is cut in
      * the middle of a record, or a record is corrupt or of an unknown class. */
     bool endedEarly() const { return m_ended_early; }
+    /** True if reading stopped because the gz data is damaged: zlib found
+     * an invalid deflate stream, or the CRC-32 / length in the gz trailer
+     * does not match what was decompressed (a flipped byte). Records read
+     * before may then hold damaged bytes: the check covers the whole file.
+     * Implies endedEarly(). */
+    bool corrupt() const { return m_corrupt; }
     /** Why reading stopped early: the record number, the byte offset (of the
      * uncompressed stream) where that record starts, and the cause. */
     const std::string& endReason() const { return m_end_reason; }
@@ -89,6 +94,7 @@ private:
     std::optional<std::uint32_t> m_isize;
     bool m_ended{false};
     bool m_ended_early{false};
+    bool m_corrupt{false};
     std::string m_end_reason;
 };
 
