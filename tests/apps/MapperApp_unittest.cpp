@@ -465,6 +465,9 @@ TEST(MapperApp, blackImagesGiveADegenerateRunWithExitStatus3)
     {
         EXPECT_TRUE(mrpt::system::fileExists(out + "/" + f)) << f;
     }
+    EXPECT_NE(
+        readText(out + "/summary.json").find("\"degenerate\": \"7 of 7 egomotion steps failed"),
+        std::string::npos);
 
     // A usable run exits 0.
     MapperApp ok;
@@ -472,6 +475,7 @@ TEST(MapperApp, blackImagesGiveADegenerateRunWithExitStatus3)
     ok.run();
     EXPECT_TRUE(ok.degenerateResult().empty()) << ok.degenerateResult();
     EXPECT_EQ(ok.exitCode(), 0);
+    EXPECT_NE(readText(dir + "/ok/summary.json").find("\"degenerate\": null"), std::string::npos);
 }
 
 TEST(MapperApp, egomotionOnlyNeverRectifiesAndCreatesMissingParentFolders)
