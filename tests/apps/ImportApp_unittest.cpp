@@ -16,6 +16,8 @@
 
 #include <sys/stat.h>
 
+#include <csignal>
+
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
@@ -520,3 +522,46 @@ TEST(ImportApp, badOutputPathsFailBeforeTheImport)
     emslam::test::expectThrowContaining([&] { fifo.run(); }, {"pipe.rawlog' exists and is a FIFO"});
     EXPECT_TRUE(fs::is_fifo(root + "/pipe.rawlog"));
 }
+
+#ifdef EMSLAM_IMPORT_EXE
+// Ctrl-C: the importer stops after the current frame, keeps a complete,
+// readable rawlog (and ground truth) of the frames imported, says so, and
+// exits 130 (128 + SIGINT); no `.partial` file is left.
+TEST(ImportApp, sigintKeepsACompleteRawlogOfTheFramesImported)
+{
+    constexpr int FRAMES = 200;
+    const std::string root = emslam::test::makeTempDir("import_sigint");
+    const std::string seq = writeKitti(root, FRAMES);
+    // Noise images, slow to decode and compress: the import outlasts the signal.
+    cv::Mat noise(240, 320, CV_8UC1);
+    cv::randu(noise, 0, 255);
+    cv::imwrite(frameName(seq, "image_0", 0), noise);
+    for (int i = 0; i < FRAMES; i++)
+    {
+        for (const char* sub : {"image_0", "image_1"})
+        {
+            if (i > 0 || sub != std::string("image_0"))
+            {
+                fs::copy_file(
+                    frameName(seq, "image_0", 0), frameName(seq, sub, i),
+                    fs::copy_options::overwrite_existing);
+            }
+        }
+    }
+    writeFile(seq + "/calib.txt", "P0: 300 0 160 0 0 300 120 0 0 0 1 0\n"
+                                  "P1: 300 0 160 -150 0 300 120 0 0 0 1 0\n");
+    const auto run = emslam::test::interruptedRun(
+        EMSLAM_IMPORT_EXE,
+        {"kitti", seq, "--gt", root + "/poses.txt", "-o", root + "/out.rawlog", "--gt-out",
+         root + "/out.tum"},
+        "frame ", SIGINT);
+    ASSERT_TRUE(run.exited) << run.stderr_text;
+    EXPECT_EQ(run.exit_code, 130) << run.stderr_text;
+    EXPECT_NE(run.stderr_text.find("interrupted after "), std::string::npos) << run.stderr_text;
+    const std::size_t frames = readRawlog(root + "/out.rawlog").size();
+    EXPECT_GE(frames, 20U);
+    EXPECT_LT(frames, static_cast<std::size_t>(FRAMES));
+    EXPECT_EQ(countLines(root + "/out.tum"), frames);
+    EXPECT_FALSE(hasPartialFiles(root));
+}
+#endif

@@ -746,30 +746,12 @@ TEST(MapperApp, sigintStopsAndWritesTheOutputs)
 {
     const std::string rawlog = simulatedHall(300);
     const std::string out = emslam::test::makeTempDir("mapper_sigint");
-    const std::string err = out + "/stderr.txt";
-    const pid_t pid = ::fork();
-    ASSERT_GE(pid, 0);
-    if (pid == 0)
-    {
-        std::freopen(err.c_str(), "w", stderr);
-        std::freopen("/dev/null", "w", stdout);
-        ::execl(
-            EMSLAM_MAPPER_EXE, "emslam-mapper", config("3dof-low-structured").c_str(),
-            rawlog.c_str(), "--out", out.c_str(), static_cast<char*>(nullptr));
-        ::_exit(127);
-    }
     // Non-TTY progress prints one line per 10 %: interrupt after the first.
-    const auto t0 = std::chrono::steady_clock::now();
-    while (readText(err).find("frame ") == std::string::npos &&
-           std::chrono::steady_clock::now() - t0 < std::chrono::seconds(60))
-    {
-        std::this_thread::sleep_for(std::chrono::milliseconds(20));
-    }
-    ::kill(pid, SIGINT);
-    int status = 0;
-    ::waitpid(pid, &status, 0);
-    ASSERT_TRUE(WIFEXITED(status)) << readText(err);
-    EXPECT_EQ(WEXITSTATUS(status), 130) << readText(err);
+    const auto run = emslam::test::interruptedRun(
+        EMSLAM_MAPPER_EXE, {config("3dof-low-structured"), rawlog, "--out", out}, "frame ",
+        SIGINT);
+    ASSERT_TRUE(run.exited) << run.stderr_text;
+    EXPECT_EQ(run.exit_code, 130) << run.stderr_text;
     const std::string json = readText(out + "/summary.json");
     EXPECT_NE(json.find("\"interrupted\": true"), std::string::npos) << json;
     const auto ego = emslam::stereo::TumTrajectory::fromFile(out + "/trajectory_egomotion.tum");

@@ -14,6 +14,8 @@
 
 #include <sys/stat.h>
 
+#include <csignal>
+
 #include <filesystem>
 #include <fstream>
 #include <iterator>
@@ -215,3 +217,28 @@ TEST(SimApp, outputFifoIsRefusedAndASymbolicLinkIsWrittenThrough)
     EXPECT_EQ(readRawlog(out + "/runs/hall.rawlog").size(), 2U);
     EXPECT_FALSE(fs::exists(out + "/runs/hall.rawlog.partial"));
 }
+
+#ifdef EMSLAM_SIM_EXE
+// Ctrl-C: the simulator stops after the current frame, keeps a complete,
+// readable rawlog (and ground truth) of the frames rendered, says so, and
+// exits 130 (128 + SIGINT); no `.partial` file is left.
+TEST(SimApp, sigintKeepsACompleteRawlogOfTheFramesRendered)
+{
+    const std::string out = emslam::test::makeTempDir("sim_app_sigint");
+    // Non-TTY progress prints one line per 10 %: interrupt after the first.
+    const auto run = emslam::test::interruptedRun(
+        EMSLAM_SIM_EXE,
+        {emslam::test::sourceDir() + HALL, "-o", out + "/hall.rawlog", "--gt-out",
+         out + "/hall.tum", "--frames", "400"},
+        "frame ", SIGINT);
+    ASSERT_TRUE(run.exited) << run.stderr_text;
+    EXPECT_EQ(run.exit_code, 130) << run.stderr_text;
+    EXPECT_NE(run.stderr_text.find("interrupted after "), std::string::npos) << run.stderr_text;
+    const std::size_t frames = readRawlog(out + "/hall.rawlog").size();
+    EXPECT_GE(frames, 40U);
+    EXPECT_LT(frames, 400U);
+    EXPECT_EQ(emslam::stereo::TumTrajectory::fromFile(out + "/hall.tum").size(), frames);
+    EXPECT_FALSE(fs::exists(out + "/hall.rawlog.partial"));
+    EXPECT_FALSE(fs::exists(out + "/hall.tum.partial"));
+}
+#endif

@@ -6,7 +6,16 @@
 #include <algorithm>
 #include <cmath>
 #include <exception>
+#include <chrono>
+#include <csignal>
+#include <cstdio>
 #include <fstream>
+#include <sstream>
+#include <thread>
+
+#include <sys/types.h>
+#include <sys/wait.h>
+#include <unistd.h>
 
 namespace emslam::test
 {
@@ -47,6 +56,58 @@ double maxPoseDifference(const mrpt::poses::CPose3D& a, const mrpt::poses::CPose
         }
     }
     return d;
+}
+
+InterruptedRun interruptedRun(
+    const std::string& exe, const std::vector<std::string>& args, const std::string& wait_for,
+    int signum)
+{
+    char err_template[] = "/tmp/emslam_interrupted_XXXXXX";
+    const int err_fd = ::mkstemp(err_template);
+    const std::string err_file = err_template;
+    const auto readErr = [&]
+    {
+        std::ifstream f(err_file);
+        std::stringstream s;
+        s << f.rdbuf();
+        return s.str();
+    };
+    std::vector<char*> argv;
+    argv.push_back(const_cast<char*>(exe.c_str()));
+    for (const auto& a : args)
+    {
+        argv.push_back(const_cast<char*>(a.c_str()));
+    }
+    argv.push_back(nullptr);
+    InterruptedRun r;
+    const pid_t pid = ::fork();
+    if (pid < 0)
+    {
+        ADD_FAILURE() << "fork failed";
+        return r;
+    }
+    if (pid == 0)
+    {
+        ::dup2(err_fd, 2);
+        std::freopen("/dev/null", "w", stdout);
+        ::execv(exe.c_str(), argv.data());
+        ::_exit(127);
+    }
+    ::close(err_fd);
+    const auto t0 = std::chrono::steady_clock::now();
+    while (readErr().find(wait_for) == std::string::npos &&
+           std::chrono::steady_clock::now() - t0 < std::chrono::seconds(120))
+    {
+        std::this_thread::sleep_for(std::chrono::milliseconds(20));
+    }
+    ::kill(pid, signum);
+    int status = 0;
+    ::waitpid(pid, &status, 0);
+    r.exited = WIFEXITED(status);
+    r.exit_code = r.exited ? WEXITSTATUS(status) : -1;
+    r.stderr_text = readErr();
+    std::remove(err_file.c_str());
+    return r;
 }
 
 }  // namespace emslam::test

@@ -6,6 +6,7 @@
 #include <functional>
 #include <initializer_list>
 #include <string>
+#include <vector>
 
 namespace emslam::test
 {
@@ -22,5 +23,20 @@ void expectThrowContaining(
 /** The largest difference between two poses: the distance between their
  * positions or the largest difference of a rotation matrix entry. */
 double maxPoseDifference(const mrpt::poses::CPose3D& a, const mrpt::poses::CPose3D& b);
+
+/** How a program run by interruptedRun() ended. */
+struct InterruptedRun
+{
+    bool exited{false};  //!< exited normally (not killed by the signal)
+    int exit_code{-1};
+    std::string stderr_text;
+};
+
+/** Runs the program `exe` with `args` (stdout discarded), waits until its
+ * stderr contains `wait_for` (or 120 s pass), sends it `signum` and waits for
+ * it to end. For the apps' Ctrl-C behaviour. */
+InterruptedRun interruptedRun(
+    const std::string& exe, const std::vector<std::string>& args, const std::string& wait_for,
+    int signum);
 
 }  // namespace emslam::test

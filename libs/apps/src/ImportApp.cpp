@@ -3,6 +3,7 @@
 #include <emslam/apps/ImportApp.h>
 #include <emslam/apps/ProgressLine.h>
 #include <emslam/apps/RawlogOutput.h>
+#include <emslam/apps/StopSignal.h>
 #include <emslam/stereo/EurocSequence.h>
 #include <emslam/stereo/KittiSequence.h>
 #include <emslam/stereo/TumRgbdSequence.h>
@@ -282,7 +283,8 @@ void ImportApp::initialize(int argc, const char** argv)
         "Imports a KITTI odometry, EuRoC MAV or TUM RGB-D sequence into a gz-compressed rawlog of "
         "stock MRPT observations (CObservationStereoImages / CObservation3DRangeScan), and its "
         "ground truth into a TUM trajectory file. Outputs are written as <name>.partial and "
-        "renamed only when the import succeeded. Examples: '" +
+        "renamed only when the import succeeded; Ctrl-C keeps the frames imported so far (exit "
+        "130). Examples: '" +
             std::string(PROGRAM) +
             " kitti sequences/06 --gt poses/06.txt -o k06.rawlog --gt-out k06.tum', '" + PROGRAM +
             " euroc V1_01_easy/mav0 --gt groundtruth_left_cam.csv -o v101.rawlog --gt-out "
@@ -544,12 +546,14 @@ void ImportApp::run()
 
     emslam::stereo::TumTrajectory gt;
     std::optional<mrpt::poses::CPose3D> T_world_ref;
+    StopSignal::clear();
+    const StopSignalGuard signals;
     try
     {
         RawlogOutput out(output_file, gz_level, gt_out_file);
         {
             ProgressLine progress(PROGRAM, indices.size(), !quiet);
-            for (std::size_t k = 0; k < indices.size(); k++)
+            for (std::size_t k = 0; k < indices.size() && !StopSignal::requested(); k++)
             {
                 auto fr = src.get(indices[k]);
                 if (retimed)
@@ -580,6 +584,7 @@ void ImportApp::run()
             }
             progress.finish();
         }
+        RawlogOutput::noteInterruption(PROGRAM, frames_written, indices.size(), output_file);
         poses_written = out.commit(gt);
     }
     catch (...)

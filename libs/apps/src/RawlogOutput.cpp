@@ -1,6 +1,7 @@
 // SPDX-License-Identifier: BSD-3-Clause
 #include <emslam/apps/OutputPathChecks.h>
 #include <emslam/apps/RawlogOutput.h>
+#include <emslam/apps/StopSignal.h>
 
 #include <mrpt/core/exceptions.h>
 
@@ -77,6 +78,22 @@ std::size_t RawlogOutput::commit(const emslam::stereo::TumTrajectory& ground_tru
     }
     m_committed = true;
     return poses;
+}
+
+void RawlogOutput::noteInterruption(
+    const std::string& program, std::size_t written, std::size_t planned, const std::string& file)
+{
+    if (!StopSignal::requested())
+    {
+        return;
+    }
+    if (written == 0)
+    {
+        throw std::runtime_error("interrupted before the first frame: nothing written");
+    }
+    std::fprintf(
+        stderr, "%s: interrupted after %zu of %zu frames; '%s' holds them\n", program.c_str(),
+        written, planned, file.c_str());
 }
 
 }  // namespace emslam::apps

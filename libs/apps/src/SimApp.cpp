@@ -4,6 +4,7 @@
 #include <emslam/apps/InputFileChecks.h>
 #include <emslam/apps/ProgressLine.h>
 #include <emslam/apps/RawlogOutput.h>
+#include <emslam/apps/StopSignal.h>
 #include <emslam/apps/SimApp.h>
 #include <emslam/sim/StereoSimulator.h>
 #include <emslam/stereo/TumTrajectory.h>
@@ -49,7 +50,8 @@ void SimApp::initialize(int argc, const char** argv)
     TCLAP::CmdLine cmd(
         "Renders a synthetic stereo world (config/sim/*.ini) into a gz-compressed rawlog of "
         "CObservationStereoImages and its exact ground truth (left camera in the first left "
-        "camera's frame) into a TUM file. Example: '" +
+        "camera's frame) into a TUM file; Ctrl-C keeps the frames rendered so far (exit 130). "
+        "Example: '" +
             std::string(PROGRAM) +
             " config/sim/hall_double_loop.ini -o hall.rawlog --gt-out hall.tum'.",
         ' ', std::string("emslam-sim (") + mrpt::system::MRPT_getVersion() + ")");
@@ -177,11 +179,13 @@ void SimApp::run()
                   << cam.height << ", seed " << sim.seed() << ") into '" << output_file << "'\n";
     }
     emslam::stereo::TumTrajectory gt;
+    StopSignal::clear();
+    const StopSignalGuard signals;
     try
     {
         RawlogOutput out(output_file, gz_level, gt_out_file);
         ProgressLine progress(PROGRAM, n, !quiet);
-        for (std::size_t i = 0; i < n; ++i)
+        for (std::size_t i = 0; i < n && !StopSignal::requested(); ++i)
         {
             const auto fr = sim.renderFrame(i);
             out.archive() << *fr.obs;
@@ -198,6 +202,7 @@ void SimApp::run()
             progress.update(i + 1);
         }
         progress.finish();
+        RawlogOutput::noteInterruption(PROGRAM, frames_written, n, output_file);
         poses_written = out.commit(gt);
     }
     catch (...)

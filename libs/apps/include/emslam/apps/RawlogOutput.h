@@ -50,6 +50,16 @@ public:
     /** The archive to serialize observations into. */
     mrpt::serialization::CArchive& archive() { return *m_archive; }
 
+    /** After a loop that stops early on StopSignal (SIGINT / SIGTERM): if a
+     * signal arrived, prints "PROGRAM: interrupted after N of M frames; FILE
+     * holds them" on stderr, so commit() keeps a complete, readable rawlog of
+     * the `written` frames (appMain() then exits 128 + the signal); throws
+     * std::runtime_error if no frame was written (nothing worth keeping).
+     * Does nothing without a signal. */
+    static void noteInterruption(
+        const std::string& program, std::size_t written, std::size_t planned,
+        const std::string& file);
+
     /** Closes the rawlog, saves `ground_truth` to `GT.partial` (if a ground-truth
      * file was given), then renames the rawlog and the ground truth to their
      * final names. Returns the number of poses written to the ground-truth
