@@ -248,6 +248,25 @@ TEST(ExperimentsApp, badArgumentsAreRefusedBeforeAnyWork)
             {"missing.ini", "not a file"});
     }
     {
+        // An --out that is a file, or in which a report name is a folder,
+        // is refused before the first run, not after hours of them.
+        ExperimentsApp app;
+        emslam::test::writeFile(out + "/file", "x");
+        emslam::test::expectThrowContaining(
+            [&] {
+                initApp(app, {suite(), "--out", out + "/file"});
+            },
+            {"output folder", "file"});
+        fs::remove(out + "/file");
+        fs::create_directory(out + "/experiments.json");
+        emslam::test::expectThrowContaining(
+            [&] {
+                initApp(app, {suite(), "--out", out});
+            },
+            {"experiments.json"});
+        fs::remove(out + "/experiments.json");
+    }
+    {
         ExperimentsApp app;
         initApp(app, {"--help"});
         EXPECT_TRUE(app.helpRequested());

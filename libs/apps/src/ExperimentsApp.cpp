@@ -2,6 +2,7 @@
 #include <emslam/apps/CommandLine.h>
 #include <emslam/apps/ExperimentReport.h>
 #include <emslam/apps/ExperimentsApp.h>
+#include <emslam/apps/OutputPathChecks.h>
 #include <emslam/apps/ProgressLine.h>
 #include <emslam/apps/StopSignal.h>
 
@@ -82,6 +83,9 @@ void ExperimentsApp::initialize(int argc, const char** argv)
         m_seeds.resize(1);
     }
     m_quick_frames = s.quick_frames;
+    // Before hours of runs: an --out that cannot take the reports fails now.
+    requireOutputFolder(m_out, "output folder");
+    requireReplaceableFiles(m_out, {"experiments.md", "experiments.json", "experiments.html"});
 }
 
 void ExperimentsApp::run()
@@ -91,12 +95,7 @@ void ExperimentsApp::run()
         return;
     }
     const auto t_start = std::chrono::steady_clock::now();
-    std::error_code ec;
-    std::filesystem::create_directories(m_out, ec);
-    if (ec || !std::filesystem::is_directory(m_out))
-    {
-        throw std::runtime_error("cannot create output folder '" + m_out + "'");
-    }
+    createOutputFolder(m_out);
     std::size_t total = 0;
     for (const auto& e : m_experiments)
     {
