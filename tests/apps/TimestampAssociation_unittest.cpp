@@ -193,6 +193,32 @@ TEST(TimestampAssociation, equalStampsAgainstADenseWindow)
     ASSERT_EQ(b.size(), N);
 }
 
+// Distinct interleaved stamps all within max_dt of each other (every pose a
+// candidate of every other: the all-pairs worst case), in time order and with
+// the estimates reversed in the file: the same pairs as the definition.
+TEST(TimestampAssociation, samePairsAsAllPairsGreedyOnADenseInterleavedWindow)
+{
+    constexpr std::size_t N = 1500;
+    std::vector<double> t_gt(N), t_est(N);
+    for (std::size_t i = 0; i < N; ++i)
+    {
+        t_gt[i] = 1000.0 + 1e-6 * static_cast<double>(2 * i + 1);
+        t_est[i] = 1000.0 + 1e-6 * static_cast<double>(2 * i) + (i % 3 == 0 ? 3e-7 : 0.0);
+    }
+    for (const bool reversed : {false, true})
+    {
+        auto t = t_est;
+        if (reversed)
+        {
+            std::reverse(t.begin(), t.end());
+        }
+        const auto got =
+            indexPairs(associateByTimestamp(withIndexedPoses(t_gt), withIndexedPoses(t), 0.02));
+        EXPECT_EQ(got.size(), N);
+        EXPECT_EQ(asSet(got), asSet(allPairsReference(t_gt, t, 0.02))) << reversed;
+    }
+}
+
 TEST(TimestampAssociation, nothingWithinANegativeOrNanMaxDt)
 {
     const auto t = withIndexedPoses({1.0, 2.0});

@@ -51,9 +51,10 @@ struct AssociatedPoses
  * increasing |dt| (ties: estimate index, then ground-truth time order), so a
  * pose is used at most once even when stamps jitter. The inputs need not be
  * sorted; a negative or NaN `max_dt` pairs nothing.
- * The candidates are visited lazily (a priority queue holding two per distinct
- * estimate stamp): memory is O(N + M) and poses sharing one stamp cost
- * O(log) each, where listing all candidates would take O(N·M) memory.
+ * Only neighbouring stamps of the two files are ever candidates (the next
+ * pair always joins them): O((N + M) log(N + M)) time and O(N + M) memory
+ * however many poses share a stamp or a max_dt window, where listing all
+ * candidates takes O(N·M) (bench_association).
  * \ingroup emslam_apps_grp */
 AssociatedPoses associateByTimestamp(
     const emslam::stereo::TumTrajectory& gt,
