@@ -9,6 +9,8 @@
 #include <cmath>
 #include <opencv2/calib3d.hpp>
 #include <opencv2/imgproc.hpp>
+#include <sstream>
+#include <stdexcept>
 
 namespace emslam::stereo
 {
@@ -101,60 +103,71 @@ void StereoMatcher::TParameters::saveToConfigFile(
     MRPT_SAVE_CONFIG_VAR_COMMENT(max_range, "Maximum depth kept [m]");
 }
 
+namespace
+{
+/** Throws "[Stereo] KEY = VALUE: must be RANGE" unless `ok`. */
+template <typename T>
+void requireStereo(bool ok, const char* key, T value, const char* range)
+{
+    if (!ok)
+    {
+        std::ostringstream msg;
+        msg << "[Stereo] " << key << " = " << value << ": must be " << range;
+        throw std::invalid_argument(msg.str());
+    }
+}
+}  // namespace
+
 void StereoMatcher::TParameters::validate() const
 {
-    ASSERTMSG_(
+    requireStereo(
         algorithm == "sgbm_hh" || algorithm == "sgbm" || algorithm == "sgbm_3way" ||
             algorithm == "bm",
-        "[Stereo] algorithm must be sgbm_hh, sgbm, sgbm_3way or bm, got '" + algorithm + "'");
+        "algorithm", "'" + algorithm + "'", "sgbm_hh, sgbm, sgbm_3way or bm");
     // Below 0.01 a 640x480 image has fewer pixels than one matching block.
-    ASSERTMSG_(
-        image_scale >= 0.01 && image_scale <= 1.0,
-        mrpt::format("[Stereo] image_scale = %g: must be in [0.01, 1]", image_scale));
+    requireStereo(
+        image_scale >= 0.01 && image_scale <= 1.0, "image_scale", image_scale, "in [0.01, 1]");
     // Ranges that keep OpenCV's fixed-point disparities (16 x disparity in a
     // short) and SGBM's penalties (p * block_size^2 in an int) from overflowing.
-    ASSERTMSG_(
-        num_disparities > 0 && num_disparities <= 1024,
-        "[Stereo] num_disparities must be in [1, 1024]");
-    ASSERTMSG_(
-        min_disparity >= -1000 && min_disparity <= 1000,
-        "[Stereo] min_disparity must be in [-1000, 1000]");
-    ASSERTMSG_(
-        block_size >= 1 && block_size <= 255 && block_size % 2 == 1,
-        "[Stereo] block_size must be odd, in [1, 255]");
-    ASSERTMSG_(lr_max_diff <= 1024, "[Stereo] lr_max_diff must be <= 1024 (< 0: off)");
-    ASSERTMSG_(
-        algorithm != "bm" || (block_size >= 5 && block_size <= 255),
-        "[Stereo] block_size must be in [5, 255] for bm");
-    ASSERTMSG_(
-        uniqueness_ratio >= 0 && uniqueness_ratio <= 100,
-        "[Stereo] uniqueness_ratio must be in [0, 100]");
-    ASSERTMSG_(
-        speckle_window_size >= 0 && speckle_window_size <= 100000000,
-        mrpt::format(
-            "[Stereo] speckle_window_size = %d: must be in [0, 100000000]", speckle_window_size));
+    requireStereo(
+        num_disparities > 0 && num_disparities <= 1024, "num_disparities", num_disparities,
+        "in [1, 1024]");
+    requireStereo(
+        min_disparity >= -1000 && min_disparity <= 1000, "min_disparity", min_disparity,
+        "in [-1000, 1000]");
+    requireStereo(
+        block_size >= 1 && block_size <= 255 && block_size % 2 == 1, "block_size", block_size,
+        "odd, in [1, 255]");
+    requireStereo(lr_max_diff <= 1024, "lr_max_diff", lr_max_diff, "<= 1024 (< 0: off)");
+    requireStereo(
+        algorithm != "bm" || block_size >= 5, "block_size", block_size, "in [5, 255] for bm");
+    requireStereo(
+        uniqueness_ratio >= 0 && uniqueness_ratio <= 100, "uniqueness_ratio", uniqueness_ratio,
+        "in [0, 100]");
+    requireStereo(
+        speckle_window_size >= 0 && speckle_window_size <= 100000000, "speckle_window_size",
+        speckle_window_size, "in [0, 100000000]");
     // OpenCV scales it by 16 (fixed-point disparities) in an int.
-    ASSERTMSG_(
-        speckle_range >= 0 && speckle_range <= 1024,
-        mrpt::format("[Stereo] speckle_range = %d: must be in [0, 1024]", speckle_range));
-    ASSERTMSG_(
-        texture_threshold >= 0 && texture_threshold <= 100000000,
-        mrpt::format(
-            "[Stereo] texture_threshold = %d: must be in [0, 100000000]", texture_threshold));
-    ASSERTMSG_(
-        pre_filter_cap >= 1 && pre_filter_cap <= 63, "[Stereo] pre_filter_cap must be in [1, 63]");
-    ASSERTMSG_(
-        p1_per_pixel >= 0 && p1_per_pixel <= 10000, "[Stereo] p1_per_pixel must be in [0, 10000]");
-    ASSERTMSG_(p2_per_pixel <= 10000, "[Stereo] p2_per_pixel must be <= 10000");
-    ASSERTMSG_(p2_per_pixel > p1_per_pixel, "[Stereo] p2_per_pixel must be > p1_per_pixel");
+    requireStereo(
+        speckle_range >= 0 && speckle_range <= 1024, "speckle_range", speckle_range,
+        "in [0, 1024]");
+    requireStereo(
+        texture_threshold >= 0 && texture_threshold <= 100000000, "texture_threshold",
+        texture_threshold, "in [0, 100000000]");
+    requireStereo(
+        pre_filter_cap >= 1 && pre_filter_cap <= 63, "pre_filter_cap", pre_filter_cap,
+        "in [1, 63]");
+    requireStereo(
+        p1_per_pixel >= 0 && p1_per_pixel <= 10000, "p1_per_pixel", p1_per_pixel, "in [0, 10000]");
+    requireStereo(
+        p2_per_pixel > p1_per_pixel && p2_per_pixel <= 10000, "p2_per_pixel", p2_per_pixel,
+        "in (p1_per_pixel, 10000]");
     // Farther than 10 km no stereo rig resolves depth; the bound keeps map
     // cell indices (coordinate / cell size) far from int overflow.
-    ASSERTMSG_(
-        min_range >= 0 && min_range < 10000,
-        mrpt::format("[Stereo] min_range = %g: must be in [0, 10000) m", min_range));
-    ASSERTMSG_(
-        max_range > min_range && max_range <= 10000,
-        mrpt::format("[Stereo] max_range = %g: must be in (min_range, 10000] m", max_range));
+    requireStereo(min_range >= 0 && min_range < 10000, "min_range", min_range, "in [0, 10000) m");
+    requireStereo(
+        max_range > min_range && max_range <= 10000, "max_range", max_range,
+        "in (min_range, 10000] m");
 }
 
 struct StereoMatcher::Impl
