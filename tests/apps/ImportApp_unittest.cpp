@@ -17,7 +17,6 @@
 #include <sys/stat.h>
 
 #include <csignal>
-
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
@@ -548,8 +547,10 @@ TEST(ImportApp, sigintKeepsACompleteRawlogOfTheFramesImported)
             }
         }
     }
-    writeFile(seq + "/calib.txt", "P0: 300 0 160 0 0 300 120 0 0 0 1 0\n"
-                                  "P1: 300 0 160 -150 0 300 120 0 0 0 1 0\n");
+    writeFile(
+        seq + "/calib.txt",
+        "P0: 300 0 160 0 0 300 120 0 0 0 1 0\n"
+        "P1: 300 0 160 -150 0 300 120 0 0 0 1 0\n");
     const auto run = emslam::test::interruptedRun(
         EMSLAM_IMPORT_EXE,
         {"kitti", seq, "--gt", root + "/poses.txt", "-o", root + "/out.rawlog", "--gt-out",

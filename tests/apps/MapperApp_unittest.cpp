@@ -539,7 +539,9 @@ TEST(MapperApp, flippedByteInAGzRawlogIsACorruptInputError)
     }
     catch (const std::runtime_error& e)
     {
-        EXPECT_NE(std::string(e.what()).find("the gz data is corrupt (zlib: incorrect data check)"), std::string::npos)
+        EXPECT_NE(
+            std::string(e.what()).find("the gz data is corrupt (zlib: incorrect data check)"),
+            std::string::npos)
             << e.what();
     }
     testing::internal::GetCapturedStderr();
@@ -748,8 +750,7 @@ TEST(MapperApp, sigintStopsAndWritesTheOutputs)
     const std::string out = emslam::test::makeTempDir("mapper_sigint");
     // Non-TTY progress prints one line per 10 %: interrupt after the first.
     const auto run = emslam::test::interruptedRun(
-        EMSLAM_MAPPER_EXE, {config("3dof-low-structured"), rawlog, "--out", out}, "frame ",
-        SIGINT);
+        EMSLAM_MAPPER_EXE, {config("3dof-low-structured"), rawlog, "--out", out}, "frame ", SIGINT);
     ASSERT_TRUE(run.exited) << run.stderr_text;
     EXPECT_EQ(run.exit_code, 130) << run.stderr_text;
     const std::string json = readText(out + "/summary.json");

@@ -162,7 +162,8 @@ TEST(RawlogInput, flippedByteInAGzRawlogIsReportedAsCorrupt)
         std::string damaged = bytes;
         damaged[static_cast<std::size_t>(where * static_cast<double>(damaged.size()))] ^= 0x10;
         const std::string file = dir + "/flipped.rawlog";
-        std::ofstream(file, std::ios::binary).write(damaged.data(), static_cast<long>(damaged.size()));
+        std::ofstream(file, std::ios::binary)
+            .write(damaged.data(), static_cast<long>(damaged.size()));
         RawlogInput in(file);
         EXPECT_LT(readAll(in), FRAMES) << where;
         EXPECT_TRUE(in.endedEarly()) << where;

@@ -3,19 +3,19 @@
 
 #include <gtest/gtest.h>
 
-#include <algorithm>
-#include <cmath>
-#include <exception>
-#include <chrono>
-#include <csignal>
-#include <cstdio>
-#include <fstream>
-#include <sstream>
-#include <thread>
-
 #include <sys/types.h>
 #include <sys/wait.h>
 #include <unistd.h>
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <csignal>
+#include <cstdio>
+#include <exception>
+#include <fstream>
+#include <sstream>
+#include <thread>
 
 namespace emslam::test
 {
@@ -59,7 +59,9 @@ double maxPoseDifference(const mrpt::poses::CPose3D& a, const mrpt::poses::CPose
 }
 
 InterruptedRun interruptedRun(
-    const std::string& exe, const std::vector<std::string>& args, const std::string& wait_for,
+    const std::string& exe,
+    const std::vector<std::string>& args,
+    const std::string& wait_for,
     int signum)
 {
     char err_template[] = "/tmp/emslam_interrupted_XXXXXX";

@@ -36,7 +36,9 @@ struct InterruptedRun
  * stderr contains `wait_for` (or 120 s pass), sends it `signum` and waits for
  * it to end. For the apps' Ctrl-C behaviour. */
 InterruptedRun interruptedRun(
-    const std::string& exe, const std::vector<std::string>& args, const std::string& wait_for,
+    const std::string& exe,
+    const std::vector<std::string>& args,
+    const std::string& wait_for,
     int signum);
 
 }  // namespace emslam::test

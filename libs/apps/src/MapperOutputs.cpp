@@ -172,8 +172,8 @@ void writeSummaryJson(const Mapper& m, const MapperRunInfo& info, const std::str
       << "  \"interrupted\": " << (info.interrupted ? "true" : "false") << ",\n"
       << "  \"input_ended_early\": "
       << (info.input_ended_early.empty() ? "null" : jsonString(info.input_ended_early)) << ",\n"
-      << "  \"degenerate\": "
-      << (info.degenerate.empty() ? "null" : jsonString(info.degenerate)) << ",\n"
+      << "  \"degenerate\": " << (info.degenerate.empty() ? "null" : jsonString(info.degenerate))
+      << ",\n"
       << "  \"image_width\": " << m.imageWidth() << ",\n"
       << "  \"image_height\": " << m.imageHeight() << ",\n"
       << "  \"ms_per_frame\": {\"stereo\": " << jsonNumber(ms.stereo)

@@ -9,12 +9,12 @@
 #include <mrpt/serialization/CSerializable.h>
 #include <mrpt/system/filesystem.h>
 
+#include <zlib.h>
+
 #include <algorithm>
 #include <cstdio>
 #include <fstream>
 #include <stdexcept>
-
-#include <zlib.h>
 
 namespace emslam::apps
 {

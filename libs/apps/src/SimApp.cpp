@@ -4,8 +4,8 @@
 #include <emslam/apps/InputFileChecks.h>
 #include <emslam/apps/ProgressLine.h>
 #include <emslam/apps/RawlogOutput.h>
-#include <emslam/apps/StopSignal.h>
 #include <emslam/apps/SimApp.h>
+#include <emslam/apps/StopSignal.h>
 #include <emslam/sim/StereoSimulator.h>
 #include <emslam/stereo/TumTrajectory.h>
 

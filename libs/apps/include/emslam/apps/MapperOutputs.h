@@ -27,7 +27,7 @@ struct MapperRunInfo
     std::string input_ended_early;  //!< truncated / corrupt rawlog: where and why
     /** Why the result is degenerate (degenerateRunWarning()), or "". */
     std::string degenerate;
-    double seconds{0.0};            //!< wall time of the run
+    double seconds{0.0};  //!< wall time of the run
     /** Against the ground truth (--gt), when given. */
     std::optional<TrajectoryMetrics> egomotion_vs_gt, slam_vs_gt;
     /** The energy scan around the ground truth (--energy-scan), when made. */

@@ -57,7 +57,9 @@ public:
      * std::runtime_error if no frame was written (nothing worth keeping).
      * Does nothing without a signal. */
     static void noteInterruption(
-        const std::string& program, std::size_t written, std::size_t planned,
+        const std::string& program,
+        std::size_t written,
+        std::size_t planned,
         const std::string& file);
 
     /** Closes the rawlog, saves `ground_truth` to `GT.partial` (if a ground-truth
