@@ -85,6 +85,14 @@ TEST(CSimulatedStereoCamera, invalidValuesThrow)
         [&]
         { cam.loadConfig(mrpt::config::CConfigFileMemory(ini("first_frame = 100000\n")), "SIM"); },
         {"first_frame 100000"});
+    // MRPT's read_uint64_t would wrap -1 to 2^64 - 1 (and first_frame +
+    // max_frames to 1: zero frames, silently).
+    expectThrowContaining(
+        [&] { cam.loadConfig(mrpt::config::CConfigFileMemory(ini("max_frames = -1\n")), "SIM"); },
+        {"max_frames = '-1'", "whole number"});
+    expectThrowContaining(
+        [&] { cam.loadConfig(mrpt::config::CConfigFileMemory(ini("first_frame = 1e3\n")), "SIM"); },
+        {"first_frame = '1e3'", "whole number"});
     EXPECT_THROW(cam.doProcess(), std::logic_error);
 }
 

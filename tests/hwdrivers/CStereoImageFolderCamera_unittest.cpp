@@ -2,6 +2,7 @@
 #include "TestData.h"
 #include "TestHelpers.h"
 
+#include <emslam/apps/ConfigValidation.h>
 #include <emslam/hwdrivers/CStereoImageFolderCamera.h>
 #include <emslam/hwdrivers/SensorStatus.h>
 #include <emslam/stereo/KittiSequence.h>
@@ -44,6 +45,18 @@ TEST(CStereoImageFolderCamera, loadsKeysAndRoundTrips)
     EXPECT_EQ(q.time_offset, p.time_offset);
 }
 
+// The saved defaults are the reference of the grabber's value checks: a
+// fractional time_offset (a UNIX time) must not read as an int key.
+TEST(CStereoImageFolderCamera, savedTimeOffsetIsANumberKey)
+{
+    mrpt::config::CConfigFileMemory reference;
+    CStereoImageFolderCamera::TParameters().saveToConfigFile(reference, "F");
+    const mrpt::config::CConfigFileMemory user("[F]\ntime_offset = 1317340800.5\n");
+    EXPECT_TRUE(emslam::apps::findMalformedConfigValues(user, reference).empty());
+    const mrpt::config::CConfigFileMemory typo("[F]\ntime_offset = 13e\n");
+    EXPECT_EQ(emslam::apps::findMalformedConfigValues(typo, reference).size(), 1U);
+}
+
 TEST(CStereoImageFolderCamera, invalidValuesThrow)
 {
     using emslam::test::expectThrowContaining;
@@ -66,6 +79,18 @@ TEST(CStereoImageFolderCamera, invalidValuesThrow)
         [&]
         { cam.loadConfig(mrpt::config::CConfigFileMemory("[F]\nfolder = " + empty + "\n"), "F"); },
         {"CStereoImageFolderCamera, section F", "image_0"});
+    expectThrowContaining(
+        [&] {
+            cam.loadConfig(
+                mrpt::config::CConfigFileMemory("[F]\nfolder = x\nfirst_frame = -2\n"), "F");
+        },
+        {"first_frame = '-2'", "whole number"});
+    expectThrowContaining(
+        [&] {
+            cam.loadConfig(
+                mrpt::config::CConfigFileMemory("[F]\nfolder = x\ntime_offset = nan\n"), "F");
+        },
+        {"time_offset", "nan", "1e11"});
 }
 
 TEST(CStereoImageFolderCamera, replaysKittiFramesAsTheReaderLoadsThem)

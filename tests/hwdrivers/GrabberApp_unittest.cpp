@@ -31,6 +31,7 @@
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
+#include <iterator>
 #include <opencv2/core.hpp>
 #include <opencv2/imgcodecs.hpp>
 #include <regex>
@@ -634,6 +635,19 @@ TEST(GrabberApp, digiclopsWithoutCameraFailsBeforeWritingAnything)
         [&] { app.run(); }, {"[DIGICLOPS]", "initialize() failed", "no device"});
     EXPECT_FALSE(fs::exists(dir + "/d.rawlog"));
     EXPECT_FALSE(fs::exists(dir + "/d.rawlog.partial"));
+
+    // A real (hexadecimal, 64-bit) GUID passes the value checks: the camera
+    // is then looked for, not refused as "not a whole number".
+    std::ifstream shipped(emslam::test::sourceDir() + "/config/grabber/digiclops.ini");
+    std::string text((std::istreambuf_iterator<char>(shipped)), std::istreambuf_iterator<char>());
+    const auto at = text.find("camera_guid = 0\n");
+    ASSERT_NE(at, std::string::npos);
+    text.replace(at, 16, "camera_guid = 00b09d0100a1b2c3\n");
+    writeFile(dir + "/guid.ini", text);
+    GrabberApp guid;
+    initApp(guid, {dir + "/guid.ini", "-o", dir + "/g.rawlog", "-q"});
+    emslam::test::expectThrowContaining(
+        [&] { guid.run(); }, {"[DIGICLOPS]", "initialize() failed", "no device"});
 }
 
 TEST(GrabberApp, secondsLimitStopsALoopingCamera)

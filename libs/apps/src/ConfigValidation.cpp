@@ -168,6 +168,11 @@ bool isBooleanWord(const std::string& v)
 
 ValueKind kindOf(const std::string& reference_value)
 {
+    // Written as "0x...": hexadecimal text (a camera GUID) its owner parses.
+    if (reference_value.rfind("0x", 0) == 0)
+    {
+        return ValueKind::Text;
+    }
     if (parsesAsInteger(reference_value))
     {
         return ValueKind::Integer;

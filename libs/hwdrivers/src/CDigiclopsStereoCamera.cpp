@@ -176,7 +176,8 @@ void CDigiclopsStereoCamera::TParameters::loadFromConfigFile(
 void CDigiclopsStereoCamera::TParameters::saveToConfigFile(
     mrpt::config::CConfigFileBase& c, const std::string& s) const
 {
-    c.write(s, "camera_guid", mrpt::format("%llx", static_cast<unsigned long long>(camera_guid)));
+    // "0x..." so that the key reads as hexadecimal text, not as an int key.
+    c.write(s, "camera_guid", mrpt::format("0x%llx", static_cast<unsigned long long>(camera_guid)));
     c.write(s, "camera_index", camera_index);
     c.write(s, "video_mode", video_mode);
     c.write(s, "framerate", framerate);

@@ -1,4 +1,6 @@
 // SPDX-License-Identifier: BSD-3-Clause
+#include "ConfigCount.h"
+
 #include <emslam/hwdrivers/CSimulatedStereoCamera.h>
 #include <emslam/hwdrivers/SensorStatus.h>
 #include <emslam/stereo/ExceptionMessage.h>
@@ -18,10 +20,8 @@ void CSimulatedStereoCamera::TParameters::loadFromConfigFile(
     const mrpt::config::CConfigFileBase& c, const std::string& s)
 {
     world_file = c.read_string(s, "world_file", world_file);
-    first_frame = static_cast<std::size_t>(
-        c.read_uint64_t(s, "first_frame", static_cast<std::uint64_t>(first_frame)));
-    max_frames = static_cast<std::size_t>(
-        c.read_uint64_t(s, "max_frames", static_cast<std::uint64_t>(max_frames)));
+    first_frame = readCount(c, s, "first_frame", first_frame);
+    max_frames = readCount(c, s, "max_frames", max_frames);
     loop = c.read_bool(s, "loop", loop);
     timestamps = c.read_string(s, "timestamps", timestamps);
     validate();

@@ -1,4 +1,6 @@
 // SPDX-License-Identifier: BSD-3-Clause
+#include "ConfigCount.h"
+
 #include <emslam/hwdrivers/CStereoImageFolderCamera.h>
 #include <emslam/hwdrivers/SensorStatus.h>
 #include <emslam/stereo/EurocSequence.h>
@@ -9,6 +11,7 @@
 #include <mrpt/core/Clock.h>
 
 #include <algorithm>
+#include <cmath>
 #include <filesystem>
 #include <memory>
 #include <stdexcept>
@@ -22,10 +25,8 @@ void CStereoImageFolderCamera::TParameters::loadFromConfigFile(
 {
     format = c.read_string(s, "format", format);
     folder = c.read_string(s, "folder", folder);
-    first_frame = static_cast<std::size_t>(
-        c.read_uint64_t(s, "first_frame", static_cast<std::uint64_t>(first_frame)));
-    max_frames = static_cast<std::size_t>(
-        c.read_uint64_t(s, "max_frames", static_cast<std::uint64_t>(max_frames)));
+    first_frame = readCount(c, s, "first_frame", first_frame);
+    max_frames = readCount(c, s, "max_frames", max_frames);
     loop = c.read_bool(s, "loop", loop);
     timestamps = c.read_string(s, "timestamps", timestamps);
     time_offset = c.read_double(s, "time_offset", time_offset);
@@ -41,7 +42,8 @@ void CStereoImageFolderCamera::TParameters::saveToConfigFile(
     c.write(s, "max_frames", static_cast<std::uint64_t>(max_frames));
     c.write(s, "loop", loop);
     c.write(s, "timestamps", timestamps);
-    c.write(s, "time_offset", mrpt::format("%.17g", time_offset));
+    // With a decimal point even when whole: a number key, not an integer one.
+    c.write(s, "time_offset", mrpt::format("%#.17g", time_offset));
 }
 
 void CStereoImageFolderCamera::TParameters::validate() const
@@ -60,6 +62,14 @@ void CStereoImageFolderCamera::TParameters::validate() const
         throw std::invalid_argument(
             "CStereoImageFolderCamera: 'timestamps' must be 'dataset' or 'now', not '" +
             timestamps + "'");
+    }
+    // A UNIX time: finite, and within +-1e11 s (about 3,000 years) so that
+    // adding dataset times keeps microsecond resolution.
+    if (!(std::abs(time_offset) <= 1e11))
+    {
+        throw std::invalid_argument(mrpt::format(
+            "CStereoImageFolderCamera: 'time_offset' = %g: must be a UNIX time within +-1e11 s",
+            time_offset));
     }
 }
 
