@@ -17,6 +17,7 @@
 
 using emslam::egomotion::Descriptors;
 using emslam::egomotion::matchMutual;
+using emslam::egomotion::matchMutualGuided;
 
 namespace
 {
@@ -56,6 +57,78 @@ Descriptors randomDescriptors(int n, int dim, unsigned seed)
     return d;
 }
 }  // namespace
+
+namespace
+{
+/** n features at random pixels of a w x h image (seeded). */
+emslam::egomotion::FeatureList randomFeatures(int n, int w, int h, unsigned seed)
+{
+    std::mt19937 rng(seed);
+    std::uniform_int_distribution<int> U(0, w - 1), V(0, h - 1);
+    emslam::egomotion::FeatureList f(static_cast<std::size_t>(n));
+    for (auto& x : f)
+    {
+        x.u = static_cast<std::uint16_t>(U(rng));
+        x.v = static_cast<std::uint16_t>(V(rng));
+    }
+    return f;
+}
+}  // namespace
+
+// A window wider than the image: the guided matches are the full search's.
+TEST(FeatureMatcher, guidedWithAWholeImageWindowIsTheFullSearch)
+{
+    const auto prev = randomDescriptors(300, 32, 11);
+    auto cur = randomDescriptors(280, 32, 12);
+    // Plant 150 true pairs (noisy copies) among random rows.
+    std::mt19937 rng(3);
+    std::normal_distribution<float> N(0.0f, 0.05f);
+    for (int k = 0; k < 150; ++k)
+    {
+        for (int d = 0; d < 32; ++d)
+        {
+            cur.data[static_cast<std::size_t>(k * 32 + d)] =
+                prev.data[static_cast<std::size_t>((2 * k) * 32 + d)] + N(rng);
+        }
+    }
+    const auto features = randomFeatures(280, 320, 240, 5);
+    const std::vector<cv::Point2f> predicted(300, cv::Point2f(160, 120));
+    const auto full = matchMutual(prev, cur, 0.5f);
+    const auto guided = matchMutualGuided(prev, cur, predicted, features, 1000.0f, 0.5f);
+    ASSERT_EQ(guided.size(), full.size());
+    EXPECT_GE(full.size(), 140u);
+    for (std::size_t k = 0; k < full.size(); ++k)
+    {
+        EXPECT_EQ(guided[k].prev, full[k].prev);
+        EXPECT_EQ(guided[k].cur, full[k].cur);
+        EXPECT_FLOAT_EQ(guided[k].similarity, full[k].similarity);
+    }
+}
+
+// A far look-alike that is a little more similar: the full search takes it;
+// the window around the prediction keeps only the near copy, and a feature
+// with no prediction matches nothing.
+TEST(FeatureMatcher, guidedWindowSeparatesFarLookAlikes)
+{
+    const auto prev = makeDescriptors(2, {{1, 0}, {0, 1}});
+    const auto cur = makeDescriptors(2, {{1, 0}, {0.99f, 0.141f}, {0, 1}});
+    emslam::egomotion::FeatureList features(3);
+    features[0].u = 10;  // look-alike of prev 0, far from where it is expected
+    features[0].v = 10;
+    features[1].u = 200;  // prev 0, where it is expected
+    features[1].v = 100;
+    features[2].u = 50;
+    features[2].v = 50;
+    const std::vector<cv::Point2f> predicted{{203, 98}, {NAN, NAN}};
+    const auto full = matchMutual(prev, cur, 0.5f);
+    ASSERT_EQ(full.size(), 2u);
+    EXPECT_EQ(full[0].cur, 0);  // the far copy
+    const auto guided = matchMutualGuided(prev, cur, predicted, features, 20.0f, 0.5f);
+    ASSERT_EQ(guided.size(), 1u);
+    EXPECT_EQ(guided[0].prev, 0);
+    EXPECT_EQ(guided[0].cur, 1);
+    EXPECT_NEAR(guided[0].similarity, 0.99f, 1e-6f);
+}
 
 TEST(FeatureMatcher, mutualConsistencyDropsOneSidedMatches)
 {

@@ -138,7 +138,7 @@ void OdometryApp::run()
     mrpt::poses::CPose3D velocity;  // the last estimated step: a failed one repeats it
     double sum_stereo = 0, sum_feat = 0, sum_desc = 0, sum_match = 0, sum_lwo = 0, sum_pose = 0,
            sum_ego = 0, sum_init = 0, sum_final = 0;
-    std::size_t steps = 0;
+    std::size_t steps = 0, guided_steps = 0, guided_fallbacks = 0;
 
     auto handle = [&](const mrpt::obs::CObservation& o)
     {
@@ -155,6 +155,8 @@ void OdometryApp::run()
         {
             ++steps;
             failures += !r.ok;
+            guided_steps += r.ok && r.guided;
+            guided_fallbacks += r.guided_fallback;
             sum_init += static_cast<double>(r.initial_matches);
             sum_final += static_cast<double>(r.final_matches);
             sum_match += r.ms_matching;
@@ -181,8 +183,9 @@ void OdometryApp::run()
                 "stereo %.1f features %.1f descr %.1f match %.1f lwo %.1f pose %.1f egomotion "
                 "%.1f\n",
                 frames_processed, f.size(), r.features_cur, r.initial_matches, r.final_matches,
-                r.lwo_iterations, r.ok ? "ok" : r.failure_reason.c_str(), ms_stereo, r.ms_features,
-                r.ms_descriptors, r.ms_matching, r.ms_lwo, r.ms_pose, r.ms_total);
+                r.lwo_iterations,
+                r.ok ? (r.guided ? "ok, guided" : "ok") : r.failure_reason.c_str(), ms_stereo,
+                r.ms_features, r.ms_descriptors, r.ms_matching, r.ms_lwo, r.ms_pose, r.ms_total);
         }
         ++frames_processed;
         return true;
@@ -223,6 +226,12 @@ void OdometryApp::run()
     if (ignored > 0)
     {
         std::printf("ignored %zu observations of other classes\n", ignored);
+    }
+    if (egomotion.parameters().guided_matching)
+    {
+        std::printf(
+            "guided matching: %zu steps guided, %zu fell back to the full search\n", guided_steps,
+            guided_fallbacks);
     }
     const auto& T = T_first_cur;
     std::printf(

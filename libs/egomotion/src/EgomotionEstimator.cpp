@@ -9,6 +9,7 @@
 #include <algorithm>
 #include <chrono>
 #include <cmath>
+#include <functional>
 #include <stdexcept>
 #include <string>
 
@@ -43,6 +44,7 @@ struct EgomotionEstimator::Described
 {
     FeatureList features;
     Descriptors descriptors;
+    mrpt::img::TCamera camera;  //!< of the intensity image, for guided matching
     double ms_features{0}, ms_descriptors{0};
 };
 
@@ -59,6 +61,8 @@ void EgomotionEstimator::TParameters::loadFromConfigFile(
     MRPT_LOAD_CONFIG_VAR(lp_radius, double, c, s);
     MRPT_LOAD_CONFIG_VAR(euclidean_init, bool, c, s);
     MRPT_LOAD_CONFIG_VAR(max_lwo_matches, int, c, s);
+    MRPT_LOAD_CONFIG_VAR(guided_matching, bool, c, s);
+    MRPT_LOAD_CONFIG_VAR(guided_radius, double, c, s);
     validate();
 }
 
@@ -75,6 +79,11 @@ void EgomotionEstimator::TParameters::saveToConfigFile(
     MRPT_SAVE_CONFIG_VAR_COMMENT(lp_radius, "log-polar window radius [px]");
     MRPT_SAVE_CONFIG_VAR_COMMENT(euclidean_init, "closed-form start of the Dpp minimisation");
     MRPT_SAVE_CONFIG_VAR_COMMENT(max_lwo_matches, "most similar matches kept for LWO");
+    MRPT_SAVE_CONFIG_VAR_COMMENT(
+        guided_matching,
+        "match near the constant-velocity prediction first (full search if it fails)");
+    MRPT_SAVE_CONFIG_VAR_COMMENT(
+        guided_radius, "guided search radius, fraction of the image width");
 }
 
 void EgomotionEstimator::TParameters::validate() const
@@ -110,6 +119,9 @@ void EgomotionEstimator::TParameters::validate() const
         max_lwo_matches >= min_final_matches && max_lwo_matches <= 1000000, "max_lwo_matches",
         "must be in [min_final_matches, 1000000] (got " + std::to_string(max_lwo_matches) +
             ", min_final_matches = " + std::to_string(min_final_matches) + ")");
+    require(
+        guided_radius > 0 && guided_radius <= 1, "guided_radius",
+        "must be in (0, 1] of the image width (got " + std::to_string(guided_radius) + ")");
 }
 
 EgomotionEstimator::EgomotionEstimator(const TParameters& p) : m_params(p)
@@ -121,6 +133,7 @@ EgomotionEstimator::Described EgomotionEstimator::describe(
     const emslam::stereo::StereoFrame& f) const
 {
     Described d;
+    d.camera = f.camera.leftCamera;
     auto t0 = Clock::now();
     if (!f.intensity.empty() && f.intensity.type() == CV_8UC1 && !f.points.empty())
     {
@@ -149,8 +162,84 @@ EgomotionEstimator::Described EgomotionEstimator::describe(
     return d;
 }
 
+MatchList EgomotionEstimator::guidedMatches(
+    const Described& prev, const Described& cur, const mrpt::poses::CPose3D& T_prev_cur,
+    double radius_factor) const
+{
+    // Where each previous feature appears if the camera moves as predicted:
+    // its point in the current frame (inverse action), projected.
+    const mrpt::poses::CPose3D T_cur_prev = -T_prev_cur;
+    const auto& K = cur.camera;
+    std::vector<cv::Point2f> predicted(prev.features.size());
+    for (std::size_t i = 0; i < prev.features.size(); ++i)
+    {
+        const auto& p = prev.features[i].point;
+        double x = 0, y = 0, z = 0;
+        T_cur_prev.composePoint(p.x, p.y, p.z, x, y, z);
+        predicted[i] = z > 1e-3 ? cv::Point2f(
+                                      static_cast<float>(K.fx() * x / z + K.cx()),
+                                      static_cast<float>(K.fy() * y / z + K.cy()))
+                                : cv::Point2f(NAN, NAN);
+    }
+    const auto radius =
+        static_cast<float>(radius_factor * m_params.guided_radius * static_cast<double>(K.ncols));
+    return matchMutualGuided(
+        prev.descriptors, cur.descriptors, predicted, cur.features, radius,
+        static_cast<float>(m_params.similarity_min));
+}
+
 EgomotionResult EgomotionEstimator::estimateDescribed(
-    const Described& prev, const Described& cur) const
+    const Described& prev, const Described& cur, const mrpt::poses::CPose3D* prediction) const
+{
+    if (prediction == nullptr || !m_params.guided_matching || cur.camera.ncols == 0)
+    {
+        return estimateWithMatches(
+            prev, cur,
+            [&]
+            {
+                return matchMutual(
+                    prev.descriptors, cur.descriptors, static_cast<float>(m_params.similarity_min));
+            });
+    }
+    EgomotionResult guided =
+        estimateWithMatches(prev, cur, [&] { return guidedMatches(prev, cur, *prediction, 1.0); });
+    guided.guided = true;
+    if (guided.ok)
+    {
+        // Match again around the motion just found, in a quarter of the
+        // window: features whose true match lay outside the window of a wrong
+        // prediction now get it, and far look-alikes drop out.
+        EgomotionResult again = estimateWithMatches(
+            prev, cur, [&] { return guidedMatches(prev, cur, guided.T_prev_cur, 0.25); });
+        if (again.ok)
+        {
+            again.guided = true;
+            again.ms_matching += guided.ms_matching;
+            again.ms_lwo += guided.ms_lwo;
+            again.ms_pose += guided.ms_pose;
+            again.ms_total += guided.ms_total - guided.ms_features - guided.ms_descriptors;
+            return again;
+        }
+        return guided;
+    }
+    // The motion was not the predicted one (a stop, a turn): search everywhere.
+    EgomotionResult full = estimateWithMatches(
+        prev, cur,
+        [&]
+        {
+            return matchMutual(
+                prev.descriptors, cur.descriptors, static_cast<float>(m_params.similarity_min));
+        });
+    full.guided_fallback = true;
+    full.ms_matching += guided.ms_matching;
+    full.ms_lwo += guided.ms_lwo;
+    full.ms_pose += guided.ms_pose;
+    full.ms_total += guided.ms_total - guided.ms_features - guided.ms_descriptors;
+    return full;
+}
+
+EgomotionResult EgomotionEstimator::estimateWithMatches(
+    const Described& prev, const Described& cur, const std::function<MatchList()>& match) const
 {
     const auto t_start = Clock::now();
     EgomotionResult r;
@@ -177,8 +266,7 @@ EgomotionResult EgomotionEstimator::estimateDescribed(
     }
 
     auto t0 = Clock::now();
-    MatchList matches =
-        matchMutual(prev.descriptors, cur.descriptors, static_cast<float>(m_params.similarity_min));
+    MatchList matches = match();
     const auto max_m = static_cast<std::size_t>(m_params.max_lwo_matches);
     if (matches.size() > max_m)
     {
@@ -240,7 +328,7 @@ EgomotionResult EgomotionEstimator::estimate(
 {
     const Described dp = describe(prev);
     const Described dc = describe(cur);
-    EgomotionResult r = estimateDescribed(dp, dc);
+    EgomotionResult r = estimateDescribed(dp, dc, nullptr);
     // Stateless use describes both frames: charge both to this step.
     r.ms_features += dp.ms_features;
     r.ms_descriptors += dp.ms_descriptors;
@@ -262,7 +350,11 @@ EgomotionResult EgomotionEstimator::process(const emslam::stereo::StereoFrame& c
     }
     else
     {
-        r = estimateDescribed(*m_prev, *d);
+        r = estimateDescribed(*m_prev, *d, m_velocity ? &*m_velocity : nullptr);
+        if (r.ok)
+        {
+            m_velocity = r.T_prev_cur;  // a failed step keeps the last velocity
+        }
     }
     m_prev = std::move(d);
     return r;
@@ -271,6 +363,7 @@ EgomotionResult EgomotionEstimator::process(const emslam::stereo::StereoFrame& c
 void EgomotionEstimator::reset()
 {
     m_prev.reset();
+    m_velocity.reset();
 }
 
 }  // namespace emslam::egomotion

@@ -84,4 +84,120 @@ MatchList matchMutual(const Descriptors& prev, const Descriptors& cur, float sim
     return out;
 }
 
+MatchList matchMutualGuided(
+    const Descriptors& prev,
+    const Descriptors& cur,
+    const std::vector<cv::Point2f>& predicted,
+    const FeatureList& cur_features,
+    float radius_px,
+    float similarity_min)
+{
+    MatchList out;
+    const std::size_t np = prev.size(), nc = cur.size();
+    ASSERT_EQUAL_(predicted.size(), np);
+    ASSERT_EQUAL_(cur_features.size(), nc);
+    if (np == 0 || nc == 0 || !(radius_px > 0))
+    {
+        return out;
+    }
+    ASSERT_EQUAL_(prev.dim, cur.dim);
+    const auto dim = static_cast<Eigen::Index>(prev.dim);
+
+    // Current features in grid cells of radius_px: a disc of that radius
+    // around any point touches at most the 3x3 cells around its own.
+    int max_u = 0, max_v = 0;
+    for (const auto& f : cur_features)
+    {
+        max_u = std::max<int>(max_u, f.u);
+        max_v = std::max<int>(max_v, f.v);
+    }
+    const float cell = radius_px;
+    const int cols = static_cast<int>(static_cast<float>(max_u) / cell) + 1;
+    const int rows = static_cast<int>(static_cast<float>(max_v) / cell) + 1;
+    std::vector<std::size_t> cell_start(static_cast<std::size_t>(cols * rows) + 1, 0);
+    std::vector<std::size_t> in_cell(nc);
+    const auto cellOf = [&](std::size_t j)
+    {
+        const auto& f = cur_features[j];
+        return static_cast<std::size_t>(
+            static_cast<int>(static_cast<float>(f.v) / cell) * cols +
+            static_cast<int>(static_cast<float>(f.u) / cell));
+    };
+    for (std::size_t j = 0; j < nc; ++j)
+    {
+        ++cell_start[cellOf(j) + 1];
+    }
+    for (std::size_t c = 1; c < cell_start.size(); ++c)
+    {
+        cell_start[c] += cell_start[c - 1];
+    }
+    {
+        std::vector<std::size_t> fill(cell_start.begin(), cell_start.end() - 1);
+        for (std::size_t j = 0; j < nc; ++j)
+        {
+            in_cell[fill[cellOf(j)]++] = j;
+        }
+    }
+
+    std::vector<int> best_cur(np, -1);
+    std::vector<float> best_cur_s(np, 0.0f);
+    std::vector<int> best_prev(nc, -1);
+    std::vector<float> best_prev_s(nc, 0.0f);
+    const float r2 = radius_px * radius_px;
+    for (std::size_t i = 0; i < np; ++i)
+    {
+        const cv::Point2f p = predicted[i];
+        if (!std::isfinite(p.x) || !std::isfinite(p.y))
+        {
+            continue;
+        }
+        const Eigen::Map<const Eigen::VectorXf> pi(prev.row(i), dim);
+        const int cu = static_cast<int>(std::floor(p.x / cell));
+        const int cv_ = static_cast<int>(std::floor(p.y / cell));
+        for (int y = std::max(cv_ - 1, 0); y <= std::min(cv_ + 1, rows - 1); ++y)
+        {
+            for (int x = std::max(cu - 1, 0); x <= std::min(cu + 1, cols - 1); ++x)
+            {
+                const auto c = static_cast<std::size_t>(y * cols + x);
+                for (std::size_t k = cell_start[c]; k < cell_start[c + 1]; ++k)
+                {
+                    const std::size_t j = in_cell[k];
+                    const float du = static_cast<float>(cur_features[j].u) - p.x;
+                    const float dv = static_cast<float>(cur_features[j].v) - p.y;
+                    if (du * du + dv * dv > r2)
+                    {
+                        continue;
+                    }
+                    // |rho|: a contrast inversion is still the same texture.
+                    const float s =
+                        std::abs(pi.dot(Eigen::Map<const Eigen::VectorXf>(cur.row(j), dim)));
+                    // Ties: the lowest index wins, as in matchMutual().
+                    if (s > best_cur_s[i] ||
+                        (s == best_cur_s[i] && s > 0 && static_cast<int>(j) < best_cur[i]))
+                    {
+                        best_cur_s[i] = s;
+                        best_cur[i] = static_cast<int>(j);
+                    }
+                    if (s > best_prev_s[j] ||
+                        (s == best_prev_s[j] && s > 0 && static_cast<int>(i) < best_prev[j]))
+                    {
+                        best_prev_s[j] = s;
+                        best_prev[j] = static_cast<int>(i);
+                    }
+                }
+            }
+        }
+    }
+    for (std::size_t i = 0; i < np; ++i)
+    {
+        const int j = best_cur[i];
+        if (j >= 0 && best_prev[static_cast<std::size_t>(j)] == static_cast<int>(i) &&
+            best_cur_s[i] >= similarity_min)
+        {
+            out.push_back({static_cast<int>(i), j, std::min(best_cur_s[i], 1.0f)});
+        }
+    }
+    return out;
+}
+
 }  // namespace emslam::egomotion

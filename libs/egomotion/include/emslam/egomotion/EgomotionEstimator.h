@@ -10,7 +10,9 @@
 #include <mrpt/config/CLoadableOptions.h>
 #include <mrpt/poses/CPose3D.h>
 
+#include <functional>
 #include <memory>
+#include <optional>
 #include <string>
 
 namespace emslam::egomotion
@@ -37,6 +39,11 @@ struct EgomotionResult
     mrpt::math::CMatrixDouble66 covariance;
     bool has_covariance{false};
 
+    /** Matched near the constant-velocity prediction (guided_matching), and
+     * that was enough; guided_fallback: it was not, and the full search gave
+     * this result. */
+    bool guided{false}, guided_fallback{false};
+
     // Time per stage [ms]
     double ms_features{0}, ms_descriptors{0}, ms_matching{0}, ms_lwo{0}, ms_pose{0}, ms_total{0};
 };
@@ -58,7 +65,14 @@ struct EgomotionResult
  * lp_radius         = 8      ; [px], (1, 256]
  * euclidean_init    = true   ; closed-form start before the Dpp conjugate gradient
  * max_lwo_matches   = 2000   ; most similar matches kept for LWO (O(M^2) memory/time)
+ * guided_matching   = false  ; match near the constant-velocity prediction first
+ * guided_radius     = 0.1    ; its search radius, fraction of the image width, (0, 1]
  * \endcode
+ * Guided matching (not in the paper; process() only): the last step's motion
+ * predicts where each previous feature appears, and only current features
+ * within guided_radius of that are compared, which costs O(N k) instead of
+ * O(N^2) and keeps far look-alikes out. If that step fails (a stop, a sudden
+ * turn), the paper's full search runs on the same frames.
  * \ingroup emslam_egomotion_grp */
 class EgomotionEstimator
 {
@@ -94,6 +108,10 @@ public:
         /** Upper bound on the matches given to LWO (the most similar are kept),
          * bounding its O(M^2) matrix; >= min_final_matches. (Default: 2000) */
         int max_lwo_matches{2000};
+        /** Guided matching first (see above). (Default: false, the paper's full search) */
+        bool guided_matching{false};
+        /** Guided search radius as a fraction of the image width, in (0, 1]. (Default: 0.1) */
+        double guided_radius{0.1};
     };
 
     EgomotionEstimator() = default;
@@ -114,10 +132,21 @@ public:
 private:
     struct Described;
     Described describe(const emslam::stereo::StereoFrame& f) const;
-    EgomotionResult estimateDescribed(const Described& prev, const Described& cur) const;
+    /** Guided if `prediction` (T_prev_cur) is given and guided_matching is on. */
+    EgomotionResult estimateDescribed(
+        const Described& prev, const Described& cur, const mrpt::poses::CPose3D* prediction) const;
+    EgomotionResult estimateWithMatches(
+        const Described& prev, const Described& cur, const std::function<MatchList()>& match) const;
+    /** Guided matching around where T_prev_cur puts the previous features,
+     * within radius_factor * guided_radius. */
+    MatchList guidedMatches(
+        const Described& prev, const Described& cur, const mrpt::poses::CPose3D& T_prev_cur,
+        double radius_factor) const;
 
     TParameters m_params;
     std::shared_ptr<const Described> m_prev;
+    /** The last successful step's action: the constant-velocity prediction. */
+    std::optional<mrpt::poses::CPose3D> m_velocity;
 };
 
 }  // namespace emslam::egomotion
