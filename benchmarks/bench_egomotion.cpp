@@ -1,7 +1,8 @@
 // SPDX-License-Identifier: BSD-3-Clause
 // Per-frame cost of the egomotion stages (§2.1) between two consecutive real
 // KITTI 06 frames (0 and 1), single-threaded, at the paper's 320x240 and at
-// KITTI's full 1226x370. Run: bench_egomotion [--benchmark_filter=...]
+// KITTI's full 1226x370; and one sequential step (frame 2 after 0 and 1) with
+// the paper's full search and with guided matching. Run: bench_egomotion [--benchmark_filter=...]
 // Needs the KITTI excerpt (EMSLAM_TEST_DATA, default ../shared/data).
 #include "BenchCommon.h"
 
@@ -143,6 +144,36 @@ void runEstimate(benchmark::State& state, const Pair* p)
     state.counters["ms_pose"] = r.ms_pose;
 }
 
+/** One sequential step, as the mapper runs it: process() of frame 2 after
+ * frames 0 and 1 (which give guided matching its constant-velocity
+ * prediction): describing frame 2, matching, LWO, pose. */
+void runProcess(benchmark::State& state, int width, int height, bool guided)
+{
+    const auto f0 = kittiFrame(0, width, height), f1 = kittiFrame(1, width, height),
+               f2 = kittiFrame(2, width, height);
+    if (!f0 || !f1 || !f2)
+    {
+        state.SkipWithError("test data not found (set EMSLAM_TEST_DATA)");
+        return;
+    }
+    EgomotionEstimator::TParameters p;
+    p.guided_matching = guided;
+    emslam::egomotion::EgomotionResult r;
+    for (auto _ : state)
+    {
+        state.PauseTiming();
+        EgomotionEstimator em(p);
+        em.process(*f0);
+        em.process(*f1);
+        state.ResumeTiming();
+        r = em.process(*f2);
+        benchmark::DoNotOptimize(r);
+    }
+    state.counters["guided"] = r.guided ? 1 : 0;
+    state.counters["final_matches"] = static_cast<double>(r.final_matches);
+    state.counters["ms_matching"] = r.ms_matching;
+}
+
 void BM_Kitti320x240_Lwo(benchmark::State& s)
 {
     runLwo(s, kittiPair(320, 240));
@@ -169,6 +200,11 @@ void BM_KittiFull_Estimate(benchmark::State& s)
 }
 }  // namespace
 
+BENCHMARK_CAPTURE(runProcess, Kitti320x240_FullSearch, 320, 240, false)
+    ->Unit(benchmark::kMillisecond);
+BENCHMARK_CAPTURE(runProcess, Kitti320x240_Guided, 320, 240, true)->Unit(benchmark::kMillisecond);
+BENCHMARK_CAPTURE(runProcess, KittiFull_FullSearch, 0, 0, false)->Unit(benchmark::kMillisecond);
+BENCHMARK_CAPTURE(runProcess, KittiFull_Guided, 0, 0, true)->Unit(benchmark::kMillisecond);
 BENCHMARK(BM_Kitti320x240_Lwo)->Unit(benchmark::kMillisecond);
 BENCHMARK(BM_Kitti320x240_Pose)->Unit(benchmark::kMillisecond);
 BENCHMARK(BM_Kitti320x240_Estimate)->Unit(benchmark::kMillisecond);
