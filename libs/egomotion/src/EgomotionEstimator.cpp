@@ -163,7 +163,9 @@ EgomotionEstimator::Described EgomotionEstimator::describe(
 }
 
 MatchList EgomotionEstimator::guidedMatches(
-    const Described& prev, const Described& cur, const mrpt::poses::CPose3D& T_prev_cur,
+    const Described& prev,
+    const Described& cur,
+    const mrpt::poses::CPose3D& T_prev_cur,
     double radius_factor) const
 {
     // Where each previous feature appears if the camera moves as predicted:
@@ -191,7 +193,7 @@ MatchList EgomotionEstimator::guidedMatches(
 EgomotionResult EgomotionEstimator::estimateDescribed(
     const Described& prev, const Described& cur, const mrpt::poses::CPose3D* prediction) const
 {
-    if (prediction == nullptr || !m_params.guided_matching || cur.camera.ncols == 0)
+    const auto fullSearch = [&]
     {
         return estimateWithMatches(
             prev, cur,
@@ -200,6 +202,18 @@ EgomotionResult EgomotionEstimator::estimateDescribed(
                 return matchMutual(
                     prev.descriptors, cur.descriptors, static_cast<float>(m_params.similarity_min));
             });
+    };
+    // The attempt `spent` was made before `r` on the same frames: charge its time to r.
+    const auto chargeEarlierAttempt = [](EgomotionResult& r, const EgomotionResult& spent)
+    {
+        r.ms_matching += spent.ms_matching;
+        r.ms_lwo += spent.ms_lwo;
+        r.ms_pose += spent.ms_pose;
+        r.ms_total += spent.ms_total - spent.ms_features - spent.ms_descriptors;
+    };
+    if (prediction == nullptr || !m_params.guided_matching || cur.camera.ncols == 0)
+    {
+        return fullSearch();
     }
     EgomotionResult guided =
         estimateWithMatches(prev, cur, [&] { return guidedMatches(prev, cur, *prediction, 1.0); });
@@ -211,30 +225,18 @@ EgomotionResult EgomotionEstimator::estimateDescribed(
         // prediction now get it, and far look-alikes drop out.
         EgomotionResult again = estimateWithMatches(
             prev, cur, [&] { return guidedMatches(prev, cur, guided.T_prev_cur, 0.25); });
-        if (again.ok)
+        if (!again.ok)
         {
-            again.guided = true;
-            again.ms_matching += guided.ms_matching;
-            again.ms_lwo += guided.ms_lwo;
-            again.ms_pose += guided.ms_pose;
-            again.ms_total += guided.ms_total - guided.ms_features - guided.ms_descriptors;
-            return again;
+            return guided;
         }
-        return guided;
+        again.guided = true;
+        chargeEarlierAttempt(again, guided);
+        return again;
     }
     // The motion was not the predicted one (a stop, a turn): search everywhere.
-    EgomotionResult full = estimateWithMatches(
-        prev, cur,
-        [&]
-        {
-            return matchMutual(
-                prev.descriptors, cur.descriptors, static_cast<float>(m_params.similarity_min));
-        });
+    EgomotionResult full = fullSearch();
     full.guided_fallback = true;
-    full.ms_matching += guided.ms_matching;
-    full.ms_lwo += guided.ms_lwo;
-    full.ms_pose += guided.ms_pose;
-    full.ms_total += guided.ms_total - guided.ms_features - guided.ms_descriptors;
+    chargeEarlierAttempt(full, guided);
     return full;
 }
 
