@@ -140,7 +140,9 @@ private:
     /** Guided matching around where T_prev_cur puts the previous features,
      * within radius_factor * guided_radius. */
     MatchList guidedMatches(
-        const Described& prev, const Described& cur, const mrpt::poses::CPose3D& T_prev_cur,
+        const Described& prev,
+        const Described& cur,
+        const mrpt::poses::CPose3D& T_prev_cur,
         double radius_factor) const;
 
     TParameters m_params;
