@@ -198,6 +198,8 @@ bool Mapper::process(const mrpt::obs::CObservation& obs)
         r.initial_matches = ego.initial_matches;
         r.final_matches = ego.final_matches;
         r.egomotion_ok = ego.ok;
+        m_guided_steps += ego.ok && ego.guided;
+        m_guided_fallbacks += ego.guided_fallback;
         if (ego.ok)
         {
             action = ego.T_prev_cur;

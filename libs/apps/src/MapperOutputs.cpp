@@ -164,6 +164,8 @@ void writeSummaryJson(const Mapper& m, const MapperRunInfo& info, const std::str
       << "  \"frames\": " << m.frameCount() << ",\n"
       << "  \"accepted_frames\": " << m.acceptedCount() << ",\n"
       << "  \"egomotion_failures\": " << m.egomotionFailures() << ",\n"
+      << "  \"guided_steps\": " << m.guidedSteps() << ",\n"
+      << "  \"guided_fallbacks\": " << m.guidedFallbacks() << ",\n"
       << "  \"ignored_observations\": " << info.ignored_observations << ",\n"
       << "  \"skipped_observations\": " << info.skipped_observations << ",\n"
       << "  \"skipped_reasons\": " << jsonStringArray(info.skipped_reasons) << ",\n"

@@ -128,6 +128,11 @@ public:
     std::size_t acceptedCount() const { return m_sampler.accepted(); }
     /** Steps whose egomotion failed. */
     std::size_t egomotionFailures() const { return m_failures; }
+    /** Successful steps matched near the constant-velocity prediction, and
+     * steps whose guided attempt fell back to the full search
+     * ([Egomotion] guided_matching; both 0 without it). */
+    std::size_t guidedSteps() const { return m_guided_steps; }
+    std::size_t guidedFallbacks() const { return m_guided_fallbacks; }
     /** One record per processed frame. */
     const std::vector<MapperFrameRecord>& frames() const { return m_records; }
     /** Energy of the map after the last rectification (or of the unrectified
@@ -222,6 +227,7 @@ private:
     std::vector<std::size_t> m_keyframes;
     std::vector<MapperFrameRecord> m_records;
     std::size_t m_failures{0};
+    std::size_t m_guided_steps{0}, m_guided_fallbacks{0};
     double m_energy{0.0};
     bool m_has_energy{false};
     double m_entropy{0.0};
