@@ -1,6 +1,7 @@
 // SPDX-License-Identifier: BSD-3-Clause
 #include "BenchCommon.h"
 
+#include <emslam/apps/FrameMemoryPolicy.h>
 #include <emslam/stereo/CalibrationReaders.h>
 
 #include <benchmark/benchmark.h>
@@ -17,6 +18,11 @@ std::string dataDir()
 {
     const char* env = std::getenv("EMSLAM_TEST_DATA");
     return (env != nullptr && *env != '\0') ? env : EMSLAM_TEST_DATA_DEFAULT;
+}
+
+std::string sourceDir()
+{
+    return EMSLAM_SOURCE_DIR;
 }
 
 mrpt::obs::CObservationStereoImages::Ptr kittiObservation(int index, int width, int height)
@@ -58,7 +64,8 @@ mrpt::obs::CObservationStereoImages::Ptr kittiObservation(int index, int width, 
 
 int runBenchmarks(int argc, char** argv)
 {
-    cv::setNumThreads(1);  // the target is per frame on one core
+    cv::setNumThreads(1);                       // the target is per frame on one core
+    emslam::apps::keepFrameBuffersInProcess();  // as the apps run
     benchmark::Initialize(&argc, argv);
     if (benchmark::ReportUnrecognizedArguments(argc, argv))
     {

@@ -13,6 +13,9 @@ namespace emslam::bench
  * EMSLAM_TEST_DATA_DEFAULT given at build time. */
 std::string dataDir();
 
+/** The source tree, for its config/ files. */
+std::string sourceDir();
+
 /** A rectified stereo observation of KITTI 06 frame `index` with its
  * calibration, optionally as a central crop to the aspect ratio of
  * `width` x `height` resized to that size (same optics, fewer pixels; the
@@ -21,7 +24,8 @@ std::string dataDir();
 mrpt::obs::CObservationStereoImages::Ptr kittiObservation(int index, int width, int height);
 
 /** The main() of every benchmark: one OpenCV thread (the targets are per frame
- * on one core), then Google Benchmark's initialization and run. */
+ * on one core), the apps' allocator policy (emslam::apps::keepFrameBuffersInProcess),
+ * then Google Benchmark's initialization and run. */
 int runBenchmarks(int argc, char** argv);
 
 }  // namespace emslam::bench

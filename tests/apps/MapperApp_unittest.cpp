@@ -838,10 +838,13 @@ TEST(MapperApp, kitti06RectificationDoesNoHarm)
     ASSERT_EQ(slam.matched_poses, 51U);
     EXPECT_LE(slam.ate_rmse_m, ego.ate_rmse_m + 1e-6);
     EXPECT_LE(slam.end_error_m, ego.end_error_m + 1e-6);
-    // kitti.ini matches guided (measured ATE 0.045 m; the full search 0.095 m):
-    // every step after the first has a prediction.
+    // kitti.ini matches guided, with sparse stereo at the features: every
+    // step after the first has a prediction. Measured ATE 0.085 m, end error
+    // 0.15 m (dense SGBM: 0.045 / 0.28 m; the paper's full search 0.095 /
+    // 0.38 m).
     EXPECT_GE(app.mapper().guidedSteps(), 45U);
-    EXPECT_LT(ego.ate_rmse_m, 0.08);
+    EXPECT_LT(ego.ate_rmse_m, 0.12);
+    EXPECT_LT(ego.end_error_m, 0.40);
     EXPECT_NE(readText(dir + "/map/summary.json").find("\"guided_steps\": "), std::string::npos);
 }
 

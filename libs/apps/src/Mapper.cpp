@@ -10,6 +10,7 @@
 #include <chrono>
 #include <cmath>
 #include <functional>
+#include <future>
 #include <limits>
 #include <map>
 #include <stdexcept>
@@ -152,6 +153,9 @@ Mapper::Mapper(const TParameters& p)
         m_p.rectifier.rectify_every = 0;
     }
     m_runner = emslam::rectify::createRectificationRunner(m_p.rectifier, m_p.map, m_p.insertion);
+    // [Stereo] sparse_at_features: stereo only at the egomotion's features.
+    m_front.setPixelSelector([this](const cv::Mat& image)
+                             { return m_egomotion_estimator.locateFeatures(image); });
 }
 
 Mapper::~Mapper() = default;
@@ -221,6 +225,11 @@ bool Mapper::process(const mrpt::obs::CObservation& obs)
     }
     m_T_world_cur = m_T_world_cur + action;
     m_egomotion.add(r.timestamp, m_T_world_cur);
+    // Sparse front-end: the previous keyframe's dense cloud was computed on
+    // the other core while this frame's stereo and egomotion ran; it joins
+    // the map now, before this frame may become a keyframe.
+    m_cloud_added = false;
+    completePendingKeyframe(&r);
 
     const emslam::rectify::ActionCovariance cov_since_keyframe = emslam::rectify::composeCovariance(
         m_T_keyframe_cur, m_cov_keyframe_cur, action, action_cov);
@@ -239,9 +248,25 @@ bool Mapper::process(const mrpt::obs::CObservation& obs)
     m_links.push_back({m_last_keyframe, m_T_keyframe_cur});
     if (r.accepted)
     {
-        const auto t_rect = Clock::now();
-        addAccepted(f, r.index, r.timestamp, cov_since_keyframe);
-        r.ms_rectification = msSince(t_rect);
+        PendingKeyframe k;
+        k.index = r.index;
+        k.timestamp = r.timestamp;
+        k.covariance = cov_since_keyframe;
+        // The first accepted frame is the world origin; later ones are placed
+        // by the motion since the previous accepted frame.
+        k.action =
+            m_sampler.accepted() == 1 ? mrpt::poses::CPose3D() : m_sampler.actionSinceAccepted();
+        if (auto task = m_front.mapFrameTask(f))
+        {
+            k.cloud = std::async(std::launch::async, std::move(task));
+            m_pending = std::move(k);
+        }
+        else
+        {
+            const auto t_rect = Clock::now();
+            addAccepted(f, k);
+            r.ms_rectification = msSince(t_rect);
+        }
     }
     r.energy = m_energy;
     r.ms_total = msSince(t0);
@@ -249,18 +274,36 @@ bool Mapper::process(const mrpt::obs::CObservation& obs)
     return true;
 }
 
-void Mapper::addAccepted(
-    const emslam::stereo::StereoFrame& f,
-    std::size_t index,
-    double t,
-    const emslam::rectify::ActionCovariance& covariance)
+void Mapper::completePendingKeyframe(MapperFrameRecord* record)
 {
-    // The first accepted frame is the world origin; later ones are placed by
-    // the motion since the previous accepted frame.
-    const mrpt::poses::CPose3D action =
-        m_sampler.accepted() == 1 ? mrpt::poses::CPose3D() : m_sampler.actionSinceAccepted();
+    if (!m_pending)
+    {
+        return;
+    }
+    const auto t_wait = Clock::now();
+    const emslam::stereo::StereoFrame cloud = m_pending->cloud.get();
+    const double ms_wait = msSince(t_wait);
+    const auto t_rect = Clock::now();
+    const PendingKeyframe k = std::move(*m_pending);
+    m_pending.reset();
+    addAccepted(cloud, k);
+    if (record != nullptr)
+    {
+        record->ms_stereo += ms_wait;  // the dense cloud was late
+        record->ms_rectification += msSince(t_rect);
+    }
+}
+
+void Mapper::addAccepted(const emslam::stereo::StereoFrame& f, const PendingKeyframe& k)
+{
+    const mrpt::poses::CPose3D& action = k.action;
+    const std::size_t index = k.index;
+    const double t = k.timestamp;
+    const emslam::rectify::ActionCovariance& covariance = k.covariance;
     m_runner->addFrame(action, toWeightedCloud(f, m_p.insertion), t, index, covariance);
     m_last_cloud = downsampleFrame(f, m_p.mapper.map_cell_size);
+    m_last_cloud_frame = index;
+    m_cloud_added = true;
     m_clouds.append(index, m_last_cloud);
     if (m_clouds.hasPendingFusions())
     {
@@ -283,6 +326,7 @@ void Mapper::finish()
         return;
     }
     m_finished = true;
+    completePendingKeyframe(nullptr);
     m_runner->finish();
     m_rectifications = m_runner->statistics();
     if (m_runner->trajectory().empty())
@@ -321,11 +365,7 @@ void Mapper::finish()
 
 const IntensityCloud* Mapper::lastAcceptedCloud() const
 {
-    if (m_records.empty() || !m_records.back().accepted)
-    {
-        return nullptr;
-    }
-    return &m_last_cloud;
+    return m_cloud_added ? &m_last_cloud : nullptr;
 }
 
 std::vector<emslam::rectify::TimedPose> Mapper::currentSlamPoses() const

@@ -33,7 +33,8 @@ void MapperLiveFeed::update(const Mapper& m)
     if (const IntensityCloud* cloud = m.lastAcceptedCloud())
     {
         IntensityCloud world;
-        world.appendTransformed(*cloud, T_world_cam);
+        world.appendTransformed(
+            *cloud, m.egomotionTrajectory().poses.at(m.lastAcceptedCloudFrame()).pose);
         // The same ceiling cut as map.3Dscene, so the trajectories stay visible.
         m_viewer.addMapPoints(cutAboveHeight(world, m.parameters().mapper.export_max_height));
     }

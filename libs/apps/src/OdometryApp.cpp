@@ -122,6 +122,9 @@ void OdometryApp::run()
     ep.loadFromConfigFile(params, EGOMOTION_SECTION);
     emslam::stereo::StereoFrontEnd front(sp);
     emslam::egomotion::EgomotionEstimator egomotion(ep);
+    // [Stereo] sparse_at_features: stereo only at the features (no map here).
+    front.setPixelSelector([&egomotion](const cv::Mat& image)
+                           { return egomotion.locateFeatures(image); });
     std::printf(
         "[Stereo] num_disparities=%d range=[%g, %g] m  [Egomotion] |W|=%d S_min=%g sigma_min=%g "
         "min_final_matches=%d\n",

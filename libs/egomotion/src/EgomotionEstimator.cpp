@@ -129,6 +129,15 @@ EgomotionEstimator::EgomotionEstimator(const TParameters& p) : m_params(p)
     m_params.validate();
 }
 
+std::vector<emslam::stereo::PixelCoord> EgomotionEstimator::locateFeatures(
+    const cv::Mat& intensity) const
+{
+    GlmFeatureExtractor::TParameters gp;
+    gp.window_size = m_params.window_size;
+    gp.min_gradient = static_cast<float>(m_params.min_gradient);
+    return GlmFeatureExtractor(gp).locate(intensity);
+}
+
 EgomotionEstimator::Described EgomotionEstimator::describe(
     const emslam::stereo::StereoFrame& f) const
 {

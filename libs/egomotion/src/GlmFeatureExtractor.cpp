@@ -31,6 +31,61 @@ bool isUniqueInWindow(const cv::Mat& sq, int u, int v, int lo, int hi, float val
     }
     return true;
 }
+
+/** |grad I| (squared), its direction and its window maximum: what the GLM
+ * tests read. */
+struct GradientMaps
+{
+    cv::Mat gx, gy, sq, local_max;
+    int lo{0}, hi{0};  //!< window offsets
+    float min_sq{0};
+
+    GradientMaps(const cv::Mat& img, int w, float min_gradient)
+    {
+        cv::Sobel(img, gx, CV_32F, 1, 0, 3);
+        cv::Sobel(img, gy, CV_32F, 0, 1, 3);
+        // Squared magnitude: Sobel of an 8-bit image gives integer gx, gy, so
+        // |grad|^2 is an exact integer in float and the "strictly greater" test
+        // is free of rounding ties; the square root is monotonic.
+        cv::multiply(gx, gx, sq);
+        cv::Mat gy2;
+        cv::multiply(gy, gy, gy2);
+        sq += gy2;
+        // Window offsets lo..hi, i.e. -W/2 .. W-1-W/2: centred for odd W, one
+        // pixel more on the negative side for even W. The dilate anchor at W/2
+        // realises exactly these offsets; the outside of the image never wins.
+        lo = -(w / 2);
+        hi = w - 1 - w / 2;
+        cv::dilate(
+            sq, local_max, cv::getStructuringElement(cv::MORPH_RECT, cv::Size(w, w)),
+            cv::Point(w / 2, w / 2), 1, cv::BORDER_CONSTANT, cv::morphologyDefaultBorderValue());
+        // Cheap pre-filter on the square, slightly loose so that rounding never
+        // drops a pixel; the exact test is on |grad I| in isFeature().
+        min_sq = 0.999f * min_gradient * min_gradient;
+    }
+
+    /** Every test but the 3D point's; `mag` gets |grad I| when true. */
+    bool isFeature(int u, int v, float min_gradient, float& mag) const
+    {
+        // The Sobel response on the outermost pixels sees a mirrored image:
+        // not a real gradient, so never a feature.
+        if (u < 1 || v < 1 || u >= sq.cols - 1 || v >= sq.rows - 1)
+        {
+            return false;
+        }
+        const float m2 = sq.at<float>(v, u);
+        if (m2 <= 0.0f || m2 < min_sq || m2 != local_max.at<float>(v, u))
+        {
+            return false;
+        }
+        if (!isUniqueInWindow(sq, u, v, lo, hi, m2))
+        {
+            return false;
+        }
+        mag = std::sqrt(m2);
+        return mag >= min_gradient;
+    }
+};
 }  // namespace
 
 FeatureList GlmFeatureExtractor::extract(const emslam::stereo::StereoFrame& frame) const
@@ -51,59 +106,17 @@ FeatureList GlmFeatureExtractor::extract(const emslam::stereo::StereoFrame& fram
     {
         return out;
     }
-
-    cv::Mat gx, gy;
-    cv::Sobel(img, gx, CV_32F, 1, 0, 3);
-    cv::Sobel(img, gy, CV_32F, 0, 1, 3);
-    // Squared magnitude: Sobel of an 8-bit image gives integer gx, gy, so
-    // |grad|^2 is an exact integer in float and the "strictly greater" test
-    // is free of rounding ties; the square root is monotonic.
-    cv::Mat sq;
-    cv::multiply(gx, gx, sq);
-    cv::Mat gy2;
-    cv::multiply(gy, gy, gy2);
-    sq += gy2;
-
-    // Window offsets lo..hi, i.e. -W/2 .. W-1-W/2: centred for odd W, one
-    // pixel more on the negative side for even W. The dilate anchor at W/2
-    // realises exactly these offsets; the outside of the image never wins.
+    const GradientMaps g(img, m_params.window_size, m_params.min_gradient);
     const int w = m_params.window_size;
-    const int lo = -(w / 2), hi = w - 1 - w / 2;
-    cv::Mat local_max;
-    cv::dilate(
-        sq, local_max, cv::getStructuringElement(cv::MORPH_RECT, cv::Size(w, w)),
-        cv::Point(w / 2, w / 2), 1, cv::BORDER_CONSTANT, cv::morphologyDefaultBorderValue());
-
-    // Cheap pre-filter on the square, slightly loose so that rounding never
-    // drops a pixel; the exact test is on |grad I| below.
-    const float min_sq = 0.999f * m_params.min_gradient * m_params.min_gradient;
     out.reserve(frame.pixels.size() / static_cast<std::size_t>(std::max(1, w * w / 4)) + 16);
     // Visiting the 3D points (instead of all pixels) looks the point up for
     // free; it is the pixel->point map read in the other direction.
     for (std::size_t i = 0; i < frame.pixels.size(); ++i)
     {
         const int u = frame.pixels[i].u, v = frame.pixels[i].v;
-        // The Sobel response on the outermost pixels sees a mirrored image:
-        // not a real gradient, so never a feature.
-        if (u < 1 || v < 1 || u >= img.cols - 1 || v >= img.rows - 1)
-        {
-            continue;
-        }
-        const float m2 = sq.at<float>(v, u);
-        if (m2 <= 0.0f || m2 < min_sq || m2 != local_max.at<float>(v, u))
-        {
-            continue;
-        }
-        if (has_mask && frame.valid.at<uint8_t>(v, u) == 0)
-        {
-            continue;
-        }
-        if (!isUniqueInWindow(sq, u, v, lo, hi, m2))
-        {
-            continue;
-        }
-        const float mag = std::sqrt(m2);
-        if (mag < m_params.min_gradient)
+        float mag = 0;
+        if (u >= img.cols || v >= img.rows || (has_mask && frame.valid.at<uint8_t>(v, u) == 0) ||
+            !g.isFeature(u, v, m_params.min_gradient, mag))
         {
             continue;
         }
@@ -111,7 +124,7 @@ FeatureList GlmFeatureExtractor::extract(const emslam::stereo::StereoFrame& fram
         f.u = static_cast<std::uint16_t>(u);
         f.v = static_cast<std::uint16_t>(v);
         f.point = frame.points[i];
-        float angle = std::atan2(gy.at<float>(v, u), gx.at<float>(v, u));
+        float angle = std::atan2(g.gy.at<float>(v, u), g.gx.at<float>(v, u));
         if (angle <= -static_cast<float>(M_PI))
         {
             angle = static_cast<float>(M_PI);  // keep the documented (-pi, pi]
@@ -119,6 +132,34 @@ FeatureList GlmFeatureExtractor::extract(const emslam::stereo::StereoFrame& fram
         f.gradient_angle = angle;
         f.gradient_magnitude = mag;
         out.push_back(f);
+    }
+    return out;
+}
+
+std::vector<emslam::stereo::PixelCoord> GlmFeatureExtractor::locate(const cv::Mat& img) const
+{
+    ASSERT_GE_(m_params.window_size, 1);
+    ASSERT_GE_(m_params.min_gradient, 0.0f);
+    ASSERT_(img.type() == CV_8UC1);
+    std::vector<emslam::stereo::PixelCoord> out;
+    if (img.rows < 3 || img.cols < 3)
+    {
+        return out;
+    }
+    const GradientMaps g(img, m_params.window_size, m_params.min_gradient);
+    for (int v = 1; v < img.rows - 1; ++v)
+    {
+        const float* sq = g.sq.ptr<float>(v);
+        const float* mx = g.local_max.ptr<float>(v);
+        for (int u = 1; u < img.cols - 1; ++u)
+        {
+            float mag = 0;
+            // The row test first: most pixels are not their window's maximum.
+            if (sq[u] == mx[u] && g.isFeature(u, v, m_params.min_gradient, mag))
+            {
+                out.push_back({static_cast<std::uint16_t>(u), static_cast<std::uint16_t>(v)});
+            }
+        }
     }
     return out;
 }

@@ -5,8 +5,51 @@
 
 #include <mrpt/core/exceptions.h>
 
+#include <opencv2/imgproc.hpp>
+
 namespace emslam::stereo
 {
+namespace
+{
+cv::Mat grayOf(const cv::Mat& im)
+{
+    if (im.channels() == 1)
+    {
+        return im;
+    }
+    cv::Mat g;
+    cv::cvtColor(im, g, im.channels() == 4 ? cv::COLOR_BGRA2GRAY : cv::COLOR_BGR2GRAY);
+    return g;
+}
+}  // namespace
+
+StereoFrontEnd::StereoFrontEnd(const StereoMatcher::TParameters& p)
+    : m_matcher(p), m_sparse(SparseStereoMatcher::fromStereo(p))
+{
+}
+
+void StereoFrontEnd::setPixelSelector(PixelSelector selector)
+{
+    m_selector = std::move(selector);
+}
+
+std::function<StereoFrame()> StereoFrontEnd::mapFrameTask(const StereoFrame& processed) const
+{
+    if (!sparse() || m_rect_left.empty())
+    {
+        return {};
+    }
+    return [matcher = &m_matcher, left = m_rect_left, right = m_rect_right,
+            camera = m_rectifier.rectifiedCamera(), timestamp = processed.timestamp,
+            label = processed.sensor_label]
+    {
+        StereoFrame d = matcher->compute(left, right, camera);
+        d.timestamp = timestamp;
+        d.sensor_label = label;
+        return d;
+    };
+}
+
 StereoFrame StereoFrontEnd::process(const mrpt::obs::CObservationStereoImages& obs)
 {
     const std::string who = "stereo observation '" + obs.sensorLabel + "'";
@@ -32,7 +75,22 @@ StereoFrame StereoFrontEnd::process(const mrpt::obs::CObservationStereoImages& o
     m_rectifier.setCalibration(cam);
     cv::Mat rl, rr;
     m_rectifier.rectify(left, right, rl, rr);
-    StereoFrame f = m_matcher.compute(rl, rr, m_rectifier.rectifiedCamera());
+    m_rect_left.release();
+    m_rect_right.release();
+    StereoFrame f;
+    if (sparse())
+    {
+        const cv::Mat gl = grayOf(rl), gr = grayOf(rr);
+        f = m_sparse.compute(gl, gr, m_rectifier.rectifiedCamera(), m_selector(gl));
+        // An already rectified pair shares the observation's pixels, which
+        // the caller may reuse before a map-frame task runs.
+        m_rect_left = m_rectifier.isIdentity() ? rl.clone() : rl;
+        m_rect_right = m_rectifier.isIdentity() ? rr.clone() : rr;
+    }
+    else
+    {
+        f = m_matcher.compute(rl, rr, m_rectifier.rectifiedCamera());
+    }
     f.timestamp = obs.timestamp;
     f.sensor_label = obs.sensorLabel;
     return f;
@@ -40,6 +98,8 @@ StereoFrame StereoFrontEnd::process(const mrpt::obs::CObservationStereoImages& o
 
 StereoFrame StereoFrontEnd::process(const mrpt::obs::CObservation3DRangeScan& obs)
 {
+    m_rect_left.release();
+    m_rect_right.release();
     return fromRangeScan(obs);
 }
 

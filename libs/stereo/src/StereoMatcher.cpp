@@ -80,6 +80,8 @@ void StereoMatcher::TParameters::loadFromConfigFile(
     MRPT_LOAD_CONFIG_VAR(p2_per_pixel, int, c, s);
     MRPT_LOAD_CONFIG_VAR(min_range, double, c, s);
     MRPT_LOAD_CONFIG_VAR(max_range, double, c, s);
+    MRPT_LOAD_CONFIG_VAR(sparse_at_features, bool, c, s);
+    MRPT_LOAD_CONFIG_VAR(sparse_block_size, int, c, s);
     validate();
 }
 
@@ -101,6 +103,9 @@ void StereoMatcher::TParameters::saveToConfigFile(
     MRPT_SAVE_CONFIG_VAR_COMMENT(p2_per_pixel, "SGBM: P2 = p2_per_pixel * block_size^2");
     MRPT_SAVE_CONFIG_VAR_COMMENT(min_range, "Minimum depth kept [m]");
     MRPT_SAVE_CONFIG_VAR_COMMENT(max_range, "Maximum depth kept [m]");
+    MRPT_SAVE_CONFIG_VAR_COMMENT(
+        sparse_at_features, "egomotion points by a row search at its features, full size");
+    MRPT_SAVE_CONFIG_VAR_COMMENT(sparse_block_size, "that search's SAD window [px], odd, 3..15");
 }
 
 namespace
@@ -168,6 +173,9 @@ void StereoMatcher::TParameters::validate() const
     requireStereo(
         max_range > min_range && max_range <= 10000, "max_range", max_range,
         "in (min_range, 10000] m");
+    requireStereo(
+        sparse_block_size >= 3 && sparse_block_size <= 15 && sparse_block_size % 2 == 1,
+        "sparse_block_size", sparse_block_size, "odd, in [3, 15]");
 }
 
 struct StereoMatcher::Impl

@@ -1,6 +1,7 @@
 // SPDX-License-Identifier: BSD-3-Clause
 #pragma once
 
+#include <emslam/apps/FrameMemoryPolicy.h>
 #include <emslam/apps/StopSignal.h>
 #include <emslam/apps/registerAllClasses.h>
 #include <emslam/stereo/ExceptionMessage.h>
@@ -21,7 +22,8 @@ struct HasExitCode<App, std::void_t<decltype(std::declval<const App&>().exitCode
 {
 };
 
-/** The body of every emslam main(): registers the classes, runs the App's
+/** The body of every emslam main(): keeps frame buffers in the process
+ * (keepFrameBuffersInProcess()), registers the classes, runs the App's
  * initialize() and run(), and turns an exception into one line on stderr
  * ("<name>: error: <message>") and exit code 1. `--help` exits 0. A run that
  * a signal stopped (StopSignal) and that still wrote its outputs exits with
@@ -34,6 +36,7 @@ int appMain(const char* name, int argc, char** argv)
 {
     try
     {
+        keepFrameBuffersInProcess();
         registerAllClasses();
         App app;
         app.initialize(argc, argv);

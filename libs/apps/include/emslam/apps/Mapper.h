@@ -19,9 +19,11 @@
 #include <mrpt/poses/CPose3D.h>
 
 #include <cstddef>
+#include <future>
 #include <limits>
 #include <memory>
 #include <opencv2/core.hpp>
+#include <optional>
 #include <stdexcept>
 #include <string>
 #include <vector>
@@ -154,9 +156,13 @@ public:
     /** Reference (left) image of the last processed frame (shares its
      * pixels; empty before the first frame). */
     const cv::Mat& lastImage() const { return m_last_image; }
-    /** Map cloud (own camera frame) of the last processed frame if it was
-     * accepted, else nullptr. */
+    /** Map cloud (own camera frame) of the keyframe the last process()
+     * added to the map, else nullptr: the frame just processed, or with a
+     * sparse front-end ([Stereo] sparse_at_features) the keyframe before it,
+     * whose dense cloud was computed meanwhile on another thread. */
     const IntensityCloud* lastAcceptedCloud() const;
+    /** Frame index (as in frames()) of lastAcceptedCloud(). */
+    std::size_t lastAcceptedCloudFrame() const { return m_last_cloud_frame; }
     /** World poses of the accepted frames as rectified so far (a copy;
      * thread-safe; AnyTime: buffered frames not yet included). */
     std::vector<emslam::rectify::TimedPose> currentSlamPoses() const;
@@ -198,11 +204,19 @@ public:
     /** @} */
 
 private:
-    void addAccepted(
-        const emslam::stereo::StereoFrame& f,
-        std::size_t index,
-        double t,
-        const emslam::rectify::ActionCovariance& covariance);
+    /** A keyframe whose map cloud is being computed on another thread. */
+    struct PendingKeyframe
+    {
+        std::size_t index{0};
+        double timestamp{0};
+        mrpt::poses::CPose3D action;  //!< since the previous keyframe
+        emslam::rectify::ActionCovariance covariance;
+        std::future<emslam::stereo::StereoFrame> cloud;
+    };
+    /** Waits for the pending keyframe's cloud (if any) and adds it; its
+     * times go to `record` (if given). */
+    void completePendingKeyframe(MapperFrameRecord* record);
+    void addAccepted(const emslam::stereo::StereoFrame& f, const PendingKeyframe& k);
 
     TParameters m_p;
     emslam::stereo::StereoFrontEnd m_front;
@@ -234,6 +248,9 @@ private:
     /** The map cloud per trajectory element, fused as the trajectory compresses. */
     ElementClouds m_clouds;
     IntensityCloud m_last_cloud;  //!< the last accepted frame's cloud, camera frame
+    std::size_t m_last_cloud_frame{0};
+    bool m_cloud_added{false};  //!< by the last process()
+    std::optional<PendingKeyframe> m_pending;
     IntensityCloud m_map_cloud;
     std::vector<emslam::rectify::RectificationStats> m_rectifications;
     int m_image_width{0}, m_image_height{0};

@@ -14,6 +14,7 @@
 #include <memory>
 #include <optional>
 #include <string>
+#include <vector>
 
 namespace emslam::egomotion
 {
@@ -125,6 +126,11 @@ public:
     /** Sequential use: the action from the previously processed frame to
      * `cur`. The first call returns ok=false with reason "first frame". */
     EgomotionResult process(const emslam::stereo::StereoFrame& cur);
+
+    /** The pixels of a rectified 8-bit image that would be features if they
+     * had a 3D point (GlmFeatureExtractor::locate with these parameters):
+     * the pixel selector of a sparse StereoFrontEnd. */
+    std::vector<emslam::stereo::PixelCoord> locateFeatures(const cv::Mat& intensity) const;
 
     /** Forget the previous frame (e.g. after a failure, to restart). */
     void reset();

@@ -38,6 +38,12 @@ public:
      * CV_8UC1, or `valid`/`pixels` disagree in size with the image/points. */
     FeatureList extract(const emslam::stereo::StereoFrame& frame) const;
 
+    /** Every pixel of `intensity` (CV_8UC1) that passes the feature tests
+     * other than having a 3D point, in raster order: where a sparse stereo
+     * front-end must find points (StereoFrontEnd::setPixelSelector). extract()
+     * of a frame with points at these pixels gives back the same pixels. */
+    std::vector<emslam::stereo::PixelCoord> locate(const cv::Mat& intensity) const;
+
 private:
     TParameters m_params;
 };

@@ -38,7 +38,12 @@ namespace emslam::stereo
  * p2_per_pixel       = 32     ; SGBM: P2 = p2_per_pixel * block_size^2, > p1, <= 10000
  * min_range          = 0.3    ; [m] closer points are dropped
  * max_range          = 12.0   ; [m] farther points are dropped (paper: 12 m)
+ * sparse_at_features = false  ; egomotion points by a row search at its features (full size)
+ * sparse_block_size  = 9      ; that search's SAD window [px], odd, 3..15
  * \endcode
+ * With `sparse_at_features`, StereoFrontEnd gives the egomotion the points of
+ * SparseStereoMatcher at its features, at full resolution, and computes this
+ * dense cloud (at `image_scale`) only for the frames the map takes.
  * \ingroup emslam_stereo_grp */
 class StereoMatcher
 {
@@ -92,6 +97,12 @@ public:
         double min_range{0.3};
         /** Maximum depth kept [m]; the paper uses 12 m. (Default: 12.0) */
         double max_range{12.0};
+        /** The egomotion's points come from SparseStereoMatcher at its
+         * features, at full resolution; the dense cloud only for the frames
+         * the map takes (StereoFrontEnd). Not in the paper. (Default: false) */
+        bool sparse_at_features{false};
+        /** SparseStereoMatcher's SAD window side [px], odd, in [3, 15]. (Default: 9) */
+        int sparse_block_size{9};
     };
 
     StereoMatcher();

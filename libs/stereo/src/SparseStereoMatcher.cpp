@@ -1,0 +1,314 @@
+// SPDX-License-Identifier: BSD-3-Clause
+#include <emslam/stereo/CalibrationReaders.h>
+#include <emslam/stereo/SparseStereoMatcher.h>
+
+#include <mrpt/core/exceptions.h>
+#include <mrpt/core/format.h>
+
+#include <algorithm>
+#include <cmath>
+#include <cstdint>
+#include <limits>
+#include <opencv2/imgproc.hpp>
+#include <sstream>
+#include <stdexcept>
+
+namespace emslam::stereo
+{
+namespace
+{
+constexpr int PREFILTER_CAP = 31;
+
+template <typename T>
+void requireStereo(bool ok, const char* key, T value, const char* range)
+{
+    if (!ok)
+    {
+        std::ostringstream msg;
+        msg << "[Stereo] " << key << " = " << value << ": must be " << range;
+        throw std::invalid_argument(msg.str());
+    }
+}
+
+/** SAD costs of the disparities d = d_hi - j (j = 0 .. n-1) between the
+ * block of `a` centred at column `ua` and the blocks of `b` centred at
+ * ua + sign * d, rows v-h .. v+h. Written so that the inner loop runs over
+ * contiguous pixels of `b` (the compiler vectorises it). */
+void blockCosts(
+    const cv::Mat& a,
+    const cv::Mat& b,
+    int ua,
+    int v,
+    int h,
+    int first_col_b,
+    int n,
+    std::uint16_t* cost)
+{
+    std::fill(cost, cost + n, std::uint16_t{0});
+    for (int r = v - h; r <= v + h; ++r)
+    {
+        const std::uint8_t* ra = a.ptr<std::uint8_t>(r);
+        const std::uint8_t* rb = b.ptr<std::uint8_t>(r);
+        for (int c = -h; c <= h; ++c)
+        {
+            const int va = ra[ua + c];
+            const std::uint8_t* pb = rb + first_col_b + c;
+            for (int j = 0; j < n; ++j)
+            {
+                cost[j] = static_cast<std::uint16_t>(cost[j] + std::abs(va - int{pb[j]}));
+            }
+        }
+    }
+}
+
+/** Gauss-Newton on the zero-mean sum of squared differences of the raw
+ * intensities, R linearly interpolated: the disparity near `d` that aligns
+ * the two blocks best, free of the pixel-locking of a fit to integer costs.
+ * Returns `d` unchanged if the block has no horizontal texture or the
+ * iteration leaves [d - 1, d + 1]. */
+double refineByGradient(const cv::Mat& left, const cv::Mat& right, int u, int v, int h, double d)
+{
+    const int side = 2 * h + 1;
+    const double n = side * side;
+    double x = d;
+    for (int it = 0; it < 4; ++it)
+    {
+        const double x0 = std::floor(x), a = x - x0;
+        // Right sample at column u + c - x, between columns k - 1 and k
+        // with k = u + c - x0: weight a on k - 1.
+        double sl = 0, sr = 0, sg = 0, slg = 0, srg = 0, sgg = 0;
+        for (int r = v - h; r <= v + h; ++r)
+        {
+            const std::uint8_t* pl = left.ptr<std::uint8_t>(r);
+            const std::uint8_t* pr = right.ptr<std::uint8_t>(r);
+            for (int c = -h; c <= h; ++c)
+            {
+                const int k = u + c - static_cast<int>(x0);
+                if (k - 2 < 0 || k + 1 >= right.cols)
+                {
+                    return d;
+                }
+                const double lv = pl[u + c];
+                const double rv = (1 - a) * pr[k] + a * pr[k - 1];
+                // dR(u + c - x)/dx = -R'(column)
+                const double g =
+                    -0.5 * ((1 - a) * (pr[k + 1] - pr[k - 1]) + a * (pr[k] - pr[k - 2]));
+                sl += lv;
+                sr += rv;
+                sg += g;
+                slg += lv * g;
+                srg += rv * g;
+                sgg += g * g;
+            }
+        }
+        // Residual e = (L - mean L) - (R - mean R); de/dx = -(g - mean g).
+        const double gg = sgg - sg * sg / n;
+        if (gg < 1e-6)
+        {
+            return d;
+        }
+        const double eg = (slg - sl * sg / n) - (srg - sr * sg / n);
+        x += eg / gg;
+        if (std::abs(x - d) > 1.0)
+        {
+            return d;
+        }
+    }
+    return x;
+}
+
+int argMin(const std::uint16_t* cost, int n)
+{
+    return static_cast<int>(std::min_element(cost, cost + n) - cost);
+}
+}  // namespace
+
+void SparseStereoMatcher::TParameters::validate() const
+{
+    requireStereo(
+        num_disparities >= 3 && num_disparities <= 4096, "num_disparities / image_scale",
+        num_disparities, "in [3, 4096] at full resolution");
+    requireStereo(
+        min_disparity >= -1000 && min_disparity <= 1000, "min_disparity", min_disparity,
+        "in [-1000, 1000]");
+    // 15 x 15 x 62 (the largest prefiltered difference) fits in 16 bits.
+    requireStereo(
+        block_size >= 3 && block_size <= 15 && block_size % 2 == 1, "sparse_block_size", block_size,
+        "odd, in [3, 15]");
+    requireStereo(
+        uniqueness_ratio >= 0 && uniqueness_ratio < 100, "uniqueness_ratio", uniqueness_ratio,
+        "in [0, 100) for the sparse matcher");
+    requireStereo(lr_max_diff <= 1024, "lr_max_diff", lr_max_diff, "<= 1024 (< 0: off)");
+    requireStereo(min_range >= 0 && min_range < 10000, "min_range", min_range, "in [0, 10000) m");
+    requireStereo(
+        max_range > min_range && max_range <= 10000, "max_range", max_range,
+        "in (min_range, 10000] m");
+}
+
+SparseStereoMatcher::TParameters SparseStereoMatcher::fromStereo(
+    const StereoMatcher::TParameters& p)
+{
+    TParameters s;
+    const double scale = p.image_scale > 0 ? p.image_scale : 1.0;
+    const int nd = ((p.num_disparities + 15) / 16) * 16;  // what SGBM searches
+    s.num_disparities = static_cast<int>(std::ceil(nd / scale));
+    s.min_disparity = static_cast<int>(std::floor(p.min_disparity / scale));
+    s.block_size = p.sparse_block_size;
+    s.uniqueness_ratio = std::min(p.uniqueness_ratio, 99);
+    s.lr_max_diff = p.lr_max_diff;
+    s.min_range = p.min_range;
+    s.max_range = p.max_range;
+    return s;
+}
+
+SparseStereoMatcher::SparseStereoMatcher(const TParameters& p) : m_params(p)
+{
+    m_params.validate();
+}
+
+cv::Mat SparseStereoMatcher::prefilter(const cv::Mat& gray)
+{
+    ASSERTMSG_(gray.type() == CV_8UC1, "Stereo: the sparse matcher needs 8-bit gray images");
+    cv::Mat dx;
+    cv::Sobel(gray, dx, CV_16S, 1, 0, 3, 1, 0, cv::BORDER_REPLICATE);
+    cv::Mat out(gray.size(), CV_8UC1);
+    for (int r = 0; r < gray.rows; ++r)
+    {
+        const short* s = dx.ptr<short>(r);
+        std::uint8_t* o = out.ptr<std::uint8_t>(r);
+        for (int c = 0; c < gray.cols; ++c)
+        {
+            o[c] = static_cast<std::uint8_t>(
+                std::clamp(static_cast<int>(s[c]), -PREFILTER_CAP, PREFILTER_CAP) + PREFILTER_CAP);
+        }
+    }
+    return out;
+}
+
+double SparseStereoMatcher::disparityAt(const cv::Mat& lf, const cv::Mat& rf, int u, int v) const
+{
+    const int h = m_params.block_size / 2;
+    if (v - h < 0 || v + h >= lf.rows || u - h < 0 || u + h >= lf.cols)
+    {
+        return -1;
+    }
+    // Right block centre u - d must keep the block inside the image.
+    const int d_lo = std::max(m_params.min_disparity, u + h - (rf.cols - 1));
+    const int d_hi = std::min(m_params.min_disparity + m_params.num_disparities - 1, u - h);
+    const int n = d_hi - d_lo + 1;
+    if (n < 3)
+    {
+        return -1;
+    }
+    thread_local std::vector<std::uint16_t> cost;
+    cost.resize(static_cast<std::size_t>(n));
+    // j = 0 is d_hi: the right block at u - d_hi, the leftmost.
+    blockCosts(lf, rf, u, v, h, u - d_hi, n, cost.data());
+    const int j_best = argMin(cost.data(), n);
+    if (j_best == 0 || j_best == n - 1)
+    {
+        return -1;  // at an end of the range: the minimum may lie beyond it
+    }
+    const int c1 = cost[static_cast<std::size_t>(j_best)];
+    // Uniqueness, as SGBM: any disparity more than 1 px away must cost more
+    // than c1 * 100 / (100 - ratio).
+    for (int j = 0; j < n; ++j)
+    {
+        if (std::abs(j - j_best) > 1 &&
+            cost[static_cast<std::size_t>(j)] * (100 - m_params.uniqueness_ratio) <= c1 * 100)
+        {
+            return -1;
+        }
+    }
+    const int d_best = d_hi - j_best;
+    // Costs at d - 1 and d + 1 (j grows as d shrinks).
+    const double c_minus = cost[static_cast<std::size_t>(j_best + 1)];
+    const double c_plus = cost[static_cast<std::size_t>(j_best - 1)];
+    const double curv = c_minus + c_plus - 2.0 * c1;
+    const double delta = curv > 0 ? (c_minus - c_plus) / (2.0 * curv) : 0.0;
+
+    if (m_params.lr_max_diff >= 0)
+    {
+        // The right pixel's best match among left pixels ur + d'.
+        const int ur = u - d_best;
+        const int e_lo = std::max(m_params.min_disparity, h - ur);
+        const int e_hi =
+            std::min(m_params.min_disparity + m_params.num_disparities - 1, lf.cols - 1 - h - ur);
+        const int m = e_hi - e_lo + 1;
+        if (m < 1)
+        {
+            return -1;
+        }
+        thread_local std::vector<std::uint16_t> back;
+        back.resize(static_cast<std::size_t>(m));
+        // Here index k is d' = e_lo + k: the left block at ur + e_lo + k.
+        blockCosts(rf, lf, ur, v, h, ur + e_lo, m, back.data());
+        const int d_back = e_lo + argMin(back.data(), m);
+        if (std::abs(d_back - d_best) > m_params.lr_max_diff)
+        {
+            return -1;
+        }
+    }
+    return d_best + delta;
+}
+
+StereoFrame SparseStereoMatcher::compute(
+    const cv::Mat& left_gray,
+    const cv::Mat& right_gray,
+    const mrpt::img::TStereoCamera& camera,
+    const std::vector<PixelCoord>& pixels) const
+{
+    ASSERTMSG_(!left_gray.empty() && !right_gray.empty(), "Stereo: empty image");
+    ASSERTMSG_(left_gray.size() == right_gray.size(), "Stereo: left/right image sizes differ");
+    ASSERTMSG_(
+        left_gray.type() == CV_8UC1 && right_gray.type() == CV_8UC1,
+        "Stereo: the sparse matcher needs 8-bit gray images");
+    ASSERTMSG_(
+        left_gray.cols == static_cast<int>(camera.leftCamera.ncols) &&
+            left_gray.rows == static_cast<int>(camera.leftCamera.nrows),
+        mrpt::format(
+            "Stereo: image size %dx%d differs from the calibration's %ux%u", left_gray.cols,
+            left_gray.rows, camera.leftCamera.ncols, camera.leftCamera.nrows));
+    validateStereoCamera(camera, "stereo calibration");
+
+    StereoFrame f;
+    f.camera = camera;
+    f.intensity = left_gray.clone();  // the caller may reuse its image buffer
+    f.valid = cv::Mat::zeros(left_gray.size(), CV_8UC1);
+    const cv::Mat lf = prefilter(left_gray), rf = prefilter(right_gray);
+
+    const auto& lc = camera.leftCamera;
+    const double fx = lc.fx(), fy = lc.fy(), cx = lc.cx(), cy = lc.cy();
+    const double doffs = camera.rightCamera.cx() - cx;  // as StereoMatcher::compute
+    const double fb = fx * baselineOf(camera);
+    f.points.reserve(pixels.size());
+    f.pixels.reserve(pixels.size());
+    for (const PixelCoord& p : pixels)
+    {
+        const int u = p.u, v = p.v;
+        if (u >= left_gray.cols || v >= left_gray.rows)
+        {
+            continue;
+        }
+        double disp = disparityAt(lf, rf, u, v);
+        if (disp <= 0)
+        {
+            continue;
+        }
+        disp = refineByGradient(left_gray, right_gray, u, v, m_params.block_size / 2, disp);
+        const double d = disp + doffs;
+        const double z = d > 0.0 ? fb / d : -1.0;
+        if (z < m_params.min_range || z > m_params.max_range)
+        {
+            continue;
+        }
+        f.valid.at<std::uint8_t>(v, u) = 255;
+        f.points.emplace_back(
+            static_cast<float>((u - cx) * z / fx), static_cast<float>((v - cy) * z / fy),
+            static_cast<float>(z));
+        f.pixels.push_back(p);
+    }
+    return f;
+}
+
+}  // namespace emslam::stereo
