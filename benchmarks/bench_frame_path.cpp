@@ -55,8 +55,9 @@ emslam::apps::Mapper::TParameters kittiParameters(int width)
     p.loadFromConfigFile(cfg);
     if (width > 0)
     {
-        // 320x240 of a 1226x370 crop: 0.65 of the full size.
-        p.stereo.num_disparities = 96;
+        // The paper's size, as bench_egomotion and bench_stereo_frontend run it.
+        p.stereo.image_scale = 1.0;
+        p.stereo.num_disparities = 64;
     }
     return p;
 }

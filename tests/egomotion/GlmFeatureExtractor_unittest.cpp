@@ -272,3 +272,36 @@ TEST(GlmFeatureExtractor, emptyFrameAndBadParameters)
     EXPECT_ANY_THROW(extractor(0).extract(frame));
     EXPECT_ANY_THROW(extractor(8, -1.0f).extract(frame));
 }
+
+// locate() is extract() without the 3D points: where every pixel has a
+// point, the same pixels in the same (raster) order; with a mask, extract()
+// keeps exactly the located pixels that the mask allows.
+TEST(GlmFeatureExtractor, locateFindsThePixelsExtractKeeps)
+{
+    const cv::Mat img = randomTexture(160, 120, 21, 1.5);
+    for (const int w : {3, 8})
+    {
+        GlmFeatureExtractor::TParameters p;
+        p.window_size = w;
+        p.min_gradient = 20.0f;
+        const GlmFeatureExtractor glm(p);
+        const auto located = glm.locate(img);
+        const FeatureList all = glm.extract(frameFromImage(img));
+        ASSERT_EQ(located.size(), all.size()) << "W = " << w;
+        ASSERT_GT(located.size(), 50U);
+        for (std::size_t i = 0; i < all.size(); ++i)
+        {
+            EXPECT_EQ(located[i].u, all[i].u);
+            EXPECT_EQ(located[i].v, all[i].v);
+        }
+        // A mask of the left half: extract() keeps the located pixels there.
+        cv::Mat mask = cv::Mat::zeros(img.size(), CV_8UC1);
+        mask.colRange(0, 80).setTo(255);
+        const FeatureList left = glm.extract(frameFromImage(img, mask));
+        const auto in_left =
+            std::count_if(located.begin(), located.end(), [](const auto& px) { return px.u < 80; });
+        EXPECT_EQ(static_cast<std::ptrdiff_t>(left.size()), in_left);
+    }
+    EXPECT_TRUE(GlmFeatureExtractor().locate(cv::Mat(2, 2, CV_8UC1, cv::Scalar(0))).empty());
+    EXPECT_THROW(GlmFeatureExtractor().locate(cv::Mat(10, 10, CV_8UC3)), std::exception);
+}

@@ -133,3 +133,62 @@ TEST(StereoFrontEnd, rgbdObservationFromMrptSampleBecomesAFrame)
         EXPECT_LT(f.points[i].z, 15.0f);
     }
 }
+
+// Sparse mode: points only at the selected pixels, at full size; the map's
+// dense cloud from a task that owns its images, at image_scale.
+TEST(StereoFrontEnd, sparseModeGivesPointsAtTheSelectedPixelsAndADenseMapFrameTask)
+{
+    StereoMatcher::TParameters p;
+    p.image_scale = 0.5;
+    p.num_disparities = 32;  // 64 at full size
+    p.sparse_at_features = true;
+    StereoFrontEnd fe(p);
+    EXPECT_FALSE(fe.sparse());  // no selector yet
+    std::vector<PixelCoord> asked;
+    for (int v = 20; v < 220; v += 10)
+    {
+        for (int u = 100; u < 300; u += 10)
+        {
+            asked.push_back({static_cast<std::uint16_t>(u), static_cast<std::uint16_t>(v)});
+        }
+    }
+    fe.setPixelSelector(
+        [&](const cv::Mat& gray)
+        {
+            EXPECT_EQ(gray.type(), CV_8UC1);
+            return asked;
+        });
+    ASSERT_TRUE(fe.sparse());
+    auto obs = planeObservation(2.5);
+    const StereoFrame f = fe.process(*obs);
+    EXPECT_EQ(f.intensity.cols, 320);
+    EXPECT_EQ(f.camera.leftCamera.ncols, 320U);
+    EXPECT_GT(f.size(), asked.size() * 9 / 10);
+    for (std::size_t i = 0; i < f.size(); ++i)
+    {
+        EXPECT_EQ(f.pixels[i].u % 10, 0);
+        EXPECT_NEAR(f.points[i].z, 2.5, 0.02);
+    }
+    auto task = fe.mapFrameTask(f);
+    ASSERT_TRUE(task);
+    // The caller may reuse its image buffers before the task runs.
+    obs->imageLeft.asCvMatRef().setTo(cv::Scalar(0));
+    const StereoFrame dense = task();
+    EXPECT_EQ(dense.intensity.cols, 160);
+    EXPECT_EQ(dense.timestamp, f.timestamp);
+    EXPECT_GT(dense.size(), 5000U);
+    double sum = 0;
+    for (const auto& pt : dense.points)
+    {
+        sum += pt.z;
+    }
+    EXPECT_NEAR(sum / static_cast<double>(dense.size()), 2.5, 0.05);
+
+    // Without sparse_at_features (or for RGB-D) there is no task: the frame
+    // process() returns is the map's cloud.
+    p.sparse_at_features = false;
+    StereoFrontEnd dense_fe(p);
+    dense_fe.setPixelSelector([&](const cv::Mat&) { return asked; });
+    EXPECT_FALSE(dense_fe.sparse());
+    EXPECT_FALSE(dense_fe.mapFrameTask(dense_fe.process(*planeObservation(2.5))));
+}

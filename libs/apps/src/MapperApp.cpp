@@ -10,6 +10,7 @@
 #include <emslam/apps/OutputPathChecks.h>
 #include <emslam/apps/ProgressLine.h>
 #include <emslam/apps/RawlogInput.h>
+#include <emslam/apps/RawlogReadAhead.h>
 #include <emslam/apps/StopSignal.h>
 #include <emslam/apps/TrajectoryInput.h>
 #include <emslam/stereo/ExceptionMessage.h>
@@ -248,7 +249,8 @@ void MapperApp::run()
     const auto live = m_viewer ? std::make_unique<MapperLiveFeed>(PROGRAM) : nullptr;
     std::vector<mrpt::obs::CObservation::Ptr> batch;
     bool done = false;
-    while (!done && in.next(batch))
+    RawlogReadAhead reader(in);  // the next record is read while this one is mapped
+    while (!done && reader.next(batch))
     {
         for (const auto& o : batch)
         {
@@ -258,7 +260,7 @@ void MapperApp::run()
                 done = true;
                 break;
             }
-            const std::size_t record = in.recordsRead() - 1;
+            const std::size_t record = reader.recordsRead() - 1;
             try
             {
                 if (!m_mapper->process(*o))
@@ -285,32 +287,32 @@ void MapperApp::run()
                 live->update(*m_mapper);
             }
             progress.updateFraction(
-                m_mapper->frameCount(), in.fractionRead(), energyText(*m_mapper));
+                m_mapper->frameCount(), reader.fractionRead(), energyText(*m_mapper));
         }
         done = done || StopSignal::requested();
     }
     progress.finish();
     m_info.interrupted = StopSignal::requested();
-    if (in.endedEarly())
+    if (reader.endedEarly())
     {
-        m_info.input_ended_early = in.endReason();
-        if (in.recordsRead() == 0)
+        m_info.input_ended_early = reader.endReason();
+        if (reader.recordsRead() == 0)
         {
             throw std::runtime_error(
-                "'" + m_rawlog + "' is not a readable rawlog: " + in.endReason());
+                "'" + m_rawlog + "' is not a readable rawlog: " + reader.endReason());
         }
-        if (in.corrupt() && m_info.stopped_by_error.empty())
+        if (reader.corrupt() && m_info.stopped_by_error.empty())
         {
             // Not a cut file: some frames read may hold damaged pixels, so the
             // run fails after writing its outputs (exit 1), as after an error.
-            m_info.stopped_by_error = in.endReason();
+            m_info.stopped_by_error = reader.endReason();
         }
         else
         {
             std::fprintf(
                 stderr,
                 "%s: warning: rawlog '%s' ended early at %s; mapping the %zu frames before it\n",
-                PROGRAM, m_rawlog.c_str(), in.endReason().c_str(), m_mapper->frameCount());
+                PROGRAM, m_rawlog.c_str(), reader.endReason().c_str(), m_mapper->frameCount());
         }
     }
     if (m_info.interrupted)

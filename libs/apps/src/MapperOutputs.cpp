@@ -197,7 +197,10 @@ void writeSummaryJson(const Mapper& m, const MapperRunInfo& info, const std::str
       << "  \"map_points\": " << m.mapCloud().size() << ",\n"
       << "  \"loop_gap_egomotion_m\": " << jsonNumber(loopGap(m.egomotionTrajectory())) << ",\n"
       << "  \"loop_gap_slam_m\": " << jsonNumber(loopGap(m.slamTrajectory())) << ",\n"
-      << "  \"seconds\": " << jsonNumber(info.seconds);
+      << "  \"seconds\": " << jsonNumber(info.seconds) << ",\n"
+      << "  \"wall_ms_per_frame\": "
+      << jsonNumber(
+             m.frameCount() > 0 ? 1e3 * info.seconds / static_cast<double>(m.frameCount()) : 0.0);
     if (info.egomotion_vs_gt)
     {
         j << ",\n  \"egomotion_vs_gt\": " << nestedJson(info.egomotion_vs_gt->toJson());

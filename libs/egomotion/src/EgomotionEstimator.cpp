@@ -224,8 +224,14 @@ EgomotionResult EgomotionEstimator::estimateDescribed(
     {
         return fullSearch();
     }
-    EgomotionResult guided =
-        estimateWithMatches(prev, cur, [&] { return guidedMatches(prev, cur, *prediction, 1.0); });
+    // The first pass only predicts where to match again: its motion comes
+    // from the closed-form fit of its LWO inliers, not the Dpp minimisation.
+    const auto firstPass = [&](PoseStage stage)
+    {
+        return estimateWithMatches(
+            prev, cur, [&] { return guidedMatches(prev, cur, *prediction, 1.0); }, stage);
+    };
+    EgomotionResult guided = firstPass(PoseStage::ClosedFormOnly);
     guided.guided = true;
     if (guided.ok)
     {
@@ -233,10 +239,16 @@ EgomotionResult EgomotionEstimator::estimateDescribed(
         // window: features whose true match lay outside the window of a wrong
         // prediction now get it, and far look-alikes drop out.
         EgomotionResult again = estimateWithMatches(
-            prev, cur, [&] { return guidedMatches(prev, cur, guided.T_prev_cur, 0.25); });
+            prev, cur, [&] { return guidedMatches(prev, cur, guided.T_prev_cur, 0.25); },
+            PoseStage::Dpp);
         if (!again.ok)
         {
-            return guided;
+            // Rare: the first pass's matches, with the Dpp pose after all.
+            EgomotionResult first = firstPass(PoseStage::Dpp);
+            first.guided = true;
+            chargeEarlierAttempt(first, guided);
+            chargeEarlierAttempt(first, again);
+            return first;
         }
         again.guided = true;
         chargeEarlierAttempt(again, guided);
@@ -250,7 +262,10 @@ EgomotionResult EgomotionEstimator::estimateDescribed(
 }
 
 EgomotionResult EgomotionEstimator::estimateWithMatches(
-    const Described& prev, const Described& cur, const std::function<MatchList()>& match) const
+    const Described& prev,
+    const Described& cur,
+    const std::function<MatchList()>& match,
+    PoseStage stage) const
 {
     const auto t_start = Clock::now();
     EgomotionResult r;
@@ -320,6 +335,14 @@ EgomotionResult EgomotionEstimator::estimateWithMatches(
     {
         ka.push_back(a[static_cast<std::size_t>(i)]);
         kb.push_back(b[static_cast<std::size_t>(i)]);
+    }
+    if (stage == PoseStage::ClosedFormOnly)
+    {
+        r.T_prev_cur = DppPoseEstimator::euclideanFit(ka, kb);
+        r.ms_pose = msSince(t0);
+        r.ok = true;
+        r.ms_total = r.ms_features + r.ms_descriptors + msSince(t_start);
+        return r;
     }
     DppPoseEstimator::TParameters pp;
     pp.euclidean_init = m_params.euclidean_init;

@@ -32,8 +32,10 @@ void requireStereo(bool ok, const char* key, T value, const char* range)
 
 /** SAD costs of the disparities d = d_hi - j (j = 0 .. n-1) between the
  * block of `a` centred at column `ua` and the blocks of `b` centred at
- * ua + sign * d, rows v-h .. v+h. Written so that the inner loop runs over
- * contiguous pixels of `b` (the compiler vectorises it). */
+ * ua + sign * d, rows v-h .. v+h, of two prefiltered images (values in
+ * [0, 2 PREFILTER_CAP]). Written so that the inner loops run over contiguous
+ * pixels of `b` in 8-bit lanes: a difference is at most 62, so four of them
+ * add up in 8 bits before being widened into the 16-bit costs. */
 void blockCosts(
     const cv::Mat& a,
     const cv::Mat& b,
@@ -44,18 +46,32 @@ void blockCosts(
     int n,
     std::uint16_t* cost)
 {
+    constexpr int GROUP = 4;  // 4 * 62 < 256
+    static_assert(GROUP * 2 * PREFILTER_CAP < 256, "8-bit partial sums overflow");
+    thread_local std::vector<std::uint8_t> partial;
+    partial.resize(static_cast<std::size_t>(n));
+    std::uint8_t* part = partial.data();
     std::fill(cost, cost + n, std::uint16_t{0});
     for (int r = v - h; r <= v + h; ++r)
     {
         const std::uint8_t* ra = a.ptr<std::uint8_t>(r);
         const std::uint8_t* rb = b.ptr<std::uint8_t>(r);
-        for (int c = -h; c <= h; ++c)
+        for (int c0 = -h; c0 <= h; c0 += GROUP)
         {
-            const int va = ra[ua + c];
-            const std::uint8_t* pb = rb + first_col_b + c;
+            std::fill(part, part + n, std::uint8_t{0});
+            for (int c = c0; c < std::min(c0 + GROUP, h + 1); ++c)
+            {
+                const std::uint8_t va = ra[ua + c];
+                const std::uint8_t* pb = rb + first_col_b + c;
+                for (int j = 0; j < n; ++j)
+                {
+                    part[j] = static_cast<std::uint8_t>(
+                        part[j] + (std::max(va, pb[j]) - std::min(va, pb[j])));
+                }
+            }
             for (int j = 0; j < n; ++j)
             {
-                cost[j] = static_cast<std::uint16_t>(cost[j] + std::abs(va - int{pb[j]}));
+                cost[j] = static_cast<std::uint16_t>(cost[j] + part[j]);
             }
         }
     }

@@ -8,7 +8,7 @@ namespace emslam::apps
  * instead of returning them to the kernel, so the next frame reuses them
  * without page faults. By default glibc maps such blocks with mmap and
  * unmaps them on free: at KITTI's full resolution that cost more than the
- * work itself (GLM features 25.9 -> 1.2 ms per frame, doc/egomotion.md).
+ * work itself (GLM features 25.9 -> 1.2 ms per frame, doc/apps/emslam-odometry.md).
  * The peak memory is the same; only its release at the end is deferred.
  * Call it once, before the first frame; appMain() and the benchmarks do.
  * A no-op where the C library is not glibc.

@@ -141,8 +141,18 @@ private:
     /** Guided if `prediction` (T_prev_cur) is given and guided_matching is on. */
     EgomotionResult estimateDescribed(
         const Described& prev, const Described& cur, const mrpt::poses::CPose3D* prediction) const;
+    /** How far stage 4 goes: the paper's Dpp minimisation, or only its
+     * closed-form (Euclidean) start, enough for a prediction. */
+    enum class PoseStage
+    {
+        Dpp,
+        ClosedFormOnly
+    };
     EgomotionResult estimateWithMatches(
-        const Described& prev, const Described& cur, const std::function<MatchList()>& match) const;
+        const Described& prev,
+        const Described& cur,
+        const std::function<MatchList()>& match,
+        PoseStage stage = PoseStage::Dpp) const;
     /** Guided matching around where T_prev_cur puts the previous features,
      * within radius_factor * guided_radius. */
     MatchList guidedMatches(
