@@ -15,3 +15,8 @@ execute_process(COMMAND ${BIN}/tsan_anytime RESULT_VARIABLE rc)
 if(rc)
     message(FATAL_ERROR "tsan: the AnyTime test failed or ThreadSanitizer reported (exit ${rc})")
 endif()
+execute_process(COMMAND ${BIN}/tsan_sparse_front_end RESULT_VARIABLE rc)
+if(rc)
+    message(FATAL_ERROR
+        "tsan: the sparse front-end test failed or ThreadSanitizer reported (exit ${rc})")
+endif()
