@@ -1,13 +1,18 @@
 #!/usr/bin/env bash
 # SPDX-License-Identifier: BSD-3-Clause
-# Runs the tests: every test of ./build (scripts/setup.sh built it), then the
-# unit tests again under AddressSanitizer (with leak detection) and
+# Runs the tests: every test of ./build (scripts/setup.sh built it), the
+# installed package (scripts/check-install.sh), then the unit tests again
+# under AddressSanitizer (with leak detection) and
 # UndefinedBehaviorSanitizer, built into ./build-asan (libraries and unit
 # tests only; see doc/sanitizers.md). Stops at the first failing step.
 set -euo pipefail
 cd "$(dirname "$0")/.."
 
 ctest --test-dir build --output-on-failure -j2
+
+# The installed package: find_package(emslam), the examples, the stock
+# rawlog-grabber with the installed plugin, the .deb (scripts/check-install.sh).
+./scripts/check-install.sh
 
 launcher=()
 if command -v ccache >/dev/null; then

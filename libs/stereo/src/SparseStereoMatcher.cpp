@@ -1,4 +1,6 @@
 // SPDX-License-Identifier: BSD-3-Clause
+#include "StereoKeyCheck.h"
+
 #include <emslam/stereo/CalibrationReaders.h>
 #include <emslam/stereo/SparseStereoMatcher.h>
 
@@ -10,7 +12,6 @@
 #include <cstdint>
 #include <limits>
 #include <opencv2/imgproc.hpp>
-#include <sstream>
 #include <stdexcept>
 
 namespace emslam::stereo
@@ -18,17 +19,6 @@ namespace emslam::stereo
 namespace
 {
 constexpr int PREFILTER_CAP = 31;
-
-template <typename T>
-void requireStereo(bool ok, const char* key, T value, const char* range)
-{
-    if (!ok)
-    {
-        std::ostringstream msg;
-        msg << "[Stereo] " << key << " = " << value << ": must be " << range;
-        throw std::invalid_argument(msg.str());
-    }
-}
 
 /** SAD costs of the disparities d = d_hi - j (j = 0 .. n-1) between the
  * block of `a` centred at column `ua` and the blocks of `b` centred at

@@ -1,28 +1,14 @@
 // SPDX-License-Identifier: BSD-3-Clause
+#include "GrayImage.h"
+
 #include <emslam/stereo/CalibrationReaders.h>
 #include <emslam/stereo/RangeScanConversion.h>
 #include <emslam/stereo/StereoFrontEnd.h>
 
 #include <mrpt/core/exceptions.h>
 
-#include <opencv2/imgproc.hpp>
-
 namespace emslam::stereo
 {
-namespace
-{
-cv::Mat grayOf(const cv::Mat& im)
-{
-    if (im.channels() == 1)
-    {
-        return im;
-    }
-    cv::Mat g;
-    cv::cvtColor(im, g, im.channels() == 4 ? cv::COLOR_BGRA2GRAY : cv::COLOR_BGR2GRAY);
-    return g;
-}
-}  // namespace
-
 StereoFrontEnd::StereoFrontEnd(const StereoMatcher::TParameters& p)
     : m_matcher(p), m_sparse(SparseStereoMatcher::fromStereo(p))
 {
@@ -80,7 +66,7 @@ StereoFrame StereoFrontEnd::process(const mrpt::obs::CObservationStereoImages& o
     StereoFrame f;
     if (sparse())
     {
-        const cv::Mat gl = grayOf(rl), gr = grayOf(rr);
+        const cv::Mat gl = grayImage(rl), gr = grayImage(rr);
         f = m_sparse.compute(gl, gr, m_rectifier.rectifiedCamera(), m_selector(gl));
         // An already rectified pair shares the observation's pixels, which
         // the caller may reuse before a map-frame task runs.

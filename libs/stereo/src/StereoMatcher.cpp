@@ -1,4 +1,7 @@
 // SPDX-License-Identifier: BSD-3-Clause
+#include "GrayImage.h"
+#include "StereoKeyCheck.h"
+
 #include <emslam/stereo/CalibrationReaders.h>
 #include <emslam/stereo/StereoMatcher.h>
 
@@ -9,7 +12,6 @@
 #include <cmath>
 #include <opencv2/calib3d.hpp>
 #include <opencv2/imgproc.hpp>
-#include <sstream>
 #include <stdexcept>
 
 namespace emslam::stereo
@@ -19,17 +21,6 @@ namespace
 int roundUpTo16(int n)
 {
     return ((n + 15) / 16) * 16;
-}
-
-cv::Mat toGray(const cv::Mat& im)
-{
-    if (im.channels() == 1)
-    {
-        return im;
-    }
-    cv::Mat g;
-    cv::cvtColor(im, g, im.channels() == 4 ? cv::COLOR_BGRA2GRAY : cv::COLOR_BGR2GRAY);
-    return g;
 }
 
 /** Intrinsics after resizing an image by `s` (pixel centres stay aligned). */
@@ -107,21 +98,6 @@ void StereoMatcher::TParameters::saveToConfigFile(
         sparse_at_features, "egomotion points by a row search at its features, full size");
     MRPT_SAVE_CONFIG_VAR_COMMENT(sparse_block_size, "that search's SAD window [px], odd, 3..15");
 }
-
-namespace
-{
-/** Throws "[Stereo] KEY = VALUE: must be RANGE" unless `ok`. */
-template <typename T>
-void requireStereo(bool ok, const char* key, T value, const char* range)
-{
-    if (!ok)
-    {
-        std::ostringstream msg;
-        msg << "[Stereo] " << key << " = " << value << ": must be " << range;
-        throw std::invalid_argument(msg.str());
-    }
-}
-}  // namespace
 
 void StereoMatcher::TParameters::validate() const
 {
@@ -223,7 +199,7 @@ cv::Mat StereoMatcher::computeDisparity(const cv::Mat& left_gray, const cv::Mat&
 {
     ASSERTMSG_(!left_gray.empty() && !right_gray.empty(), "Stereo: empty image");
     ASSERTMSG_(left_gray.size() == right_gray.size(), "Stereo: left/right image sizes differ");
-    cv::Mat l = toGray(left_gray), r = toGray(right_gray);
+    cv::Mat l = grayImage(left_gray), r = grayImage(right_gray);
     ASSERTMSG_(l.depth() == CV_8U, "Stereo: images must be 8-bit");
     if (m_params.image_scale != 1.0)
     {
@@ -259,7 +235,7 @@ StereoFrame StereoMatcher::compute(
     f.camera.rightCamera = scaledCamera(camera.rightCamera, s);
 
     f.disparity = computeDisparity(left, right);
-    const cv::Mat gray = toGray(left);
+    const cv::Mat gray = grayImage(left);
     if (s != 1.0)
     {
         cv::resize(gray, f.intensity, f.disparity.size(), 0, 0, cv::INTER_AREA);
