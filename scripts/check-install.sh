@@ -56,12 +56,15 @@ step "Debian package"
 (cd build && cpack -G DEB >/dev/null)
 deb=$(ls -t build/emslam_*.deb | head -n 1)
 echo "built $deb"
-if [ "$(id -u)" = 0 ] && ! dpkg -s emslam >/dev/null 2>&1 && [ "${EMSLAM_CHECK_DPKG:-1}" = 1 ]; then
+installed() { dpkg-query -W -f='${Status}' emslam 2>/dev/null | grep -q "ok installed"; }
+if [ "$(id -u)" = 0 ] && ! installed && [ "${EMSLAM_CHECK_DPKG:-1}" = 1 ]; then
     dpkg -i "$deb" >/dev/null
     emslam-mapper --help >/dev/null
     ls /usr/share/emslam/config/mapper/kitti.ini >/dev/null
-    dpkg -r emslam >/dev/null
-    step "dpkg -i, emslam-mapper --help from PATH, dpkg -r: ok"
+    dpkg --purge emslam >/dev/null
+    step "dpkg -i, emslam-mapper --help from PATH, dpkg --purge: ok"
+else
+    step "dpkg -i skipped (not root, emslam already installed, or EMSLAM_CHECK_DPKG=0)"
 fi
 cd "$root"
 step "ok"
