@@ -280,12 +280,14 @@ void Mapper::completePendingKeyframe(MapperFrameRecord* record)
     {
         return;
     }
+    // Taken out first: if the task threw, get() rethrows once and no
+    // consumed future is left behind for finish().
+    PendingKeyframe k = std::move(*m_pending);
+    m_pending.reset();
     const auto t_wait = Clock::now();
-    const emslam::stereo::StereoFrame cloud = m_pending->cloud.get();
+    const emslam::stereo::StereoFrame cloud = k.cloud.get();
     const double ms_wait = msSince(t_wait);
     const auto t_rect = Clock::now();
-    const PendingKeyframe k = std::move(*m_pending);
-    m_pending.reset();
     addAccepted(cloud, k);
     if (record != nullptr)
     {
