@@ -6,7 +6,7 @@
 // bench_association [--benchmark_filter=...].
 #include "BenchCommon.h"
 
-#include <emslam/apps/TrajectoryMetrics.h>
+#include <emslam/eval/TrajectoryMetrics.h>
 
 #include <benchmark/benchmark.h>
 
@@ -16,7 +16,7 @@
 
 namespace
 {
-using emslam::stereo::TumTrajectory;
+using emslam::io::TumTrajectory;
 
 TumTrajectory trajectoryAt(const std::vector<double>& times)
 {
@@ -37,7 +37,7 @@ void associate(
     std::size_t pairs = 0;
     for (auto _ : state)
     {
-        const auto a = emslam::apps::associateByTimestamp(gt, est, 0.02);
+        const auto a = emslam::eval::associateByTimestamp(gt, est, 0.02);
         pairs = a.size();
         benchmark::DoNotOptimize(pairs);
     }

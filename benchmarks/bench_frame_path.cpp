@@ -8,8 +8,8 @@
 // Needs the KITTI excerpt (EMSLAM_TEST_DATA, default ../shared/data).
 #include "BenchCommon.h"
 
-#include <emslam/apps/Mapper.h>
 #include <emslam/egomotion/EgomotionEstimator.h>
+#include <emslam/slam/EntropySlam.h>
 #include <emslam/stereo/StereoFrontEnd.h>
 
 #include <mrpt/config/CConfigFile.h>
@@ -48,10 +48,10 @@ const Observations& excerpt(int width, int height)
     return obs;
 }
 
-emslam::apps::Mapper::TParameters kittiParameters(int width)
+emslam::slam::EntropySlam::TParameters kittiParameters(int width)
 {
     mrpt::config::CConfigFile cfg(emslam::bench::sourceDir() + "/config/mapper/kitti.ini");
-    emslam::apps::Mapper::TParameters p;
+    emslam::slam::EntropySlam::TParameters p;
     p.loadFromConfigFile(cfg);
     if (width > 0)
     {
@@ -107,7 +107,7 @@ void runMapper(benchmark::State& state)
     const auto p = kittiParameters(0);
     for (auto _ : state)
     {
-        emslam::apps::Mapper mapper(p);
+        emslam::slam::EntropySlam mapper(p);
         for (const auto& o : obs)
         {
             mapper.process(*o);

@@ -4,7 +4,7 @@
 // Needs the KITTI / EuRoC excerpts (EMSLAM_TEST_DATA, default ../shared/data).
 #include "BenchCommon.h"
 
-#include <emslam/stereo/CalibrationReaders.h>
+#include <emslam/io/CalibrationFiles.h>
 #include <emslam/stereo/StereoFrontEnd.h>
 
 #include <mrpt/system/filesystem.h>
@@ -35,7 +35,7 @@ mrpt::obs::CObservationStereoImages::Ptr eurocObservation()
     obs->imageRight = mrpt::img::CImage(r, mrpt::img::DEEP_COPY);
     obs->hasImageRight = true;
     obs->setStereoCameraParams(
-        emslam::stereo::loadEurocCalibration(mav + "cam0/sensor.yaml", mav + "cam1/sensor.yaml"));
+        emslam::io::loadEurocCalibration(mav + "cam0/sensor.yaml", mav + "cam1/sensor.yaml"));
     return obs;
 }
 

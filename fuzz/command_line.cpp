@@ -5,7 +5,7 @@
 #include "FuzzFile.h"
 
 #include <emslam/apps/CommandLine.h>
-#include <emslam/stereo/TrajectoryFormat.h>
+#include <emslam/io/TrajectoryFormat.h>
 
 #include <mrpt/3rdparty/tclap/CmdLine.h>
 #include <mrpt/config/CConfigFileMemory.h>
@@ -52,7 +52,7 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
             return 0;
         }
         emslam::apps::countOption(count.getValue(), "--max-frames", 0, "emslam-fuzz");
-        emslam::stereo::parseTrajectoryFormat(gt_format.getValue());
+        emslam::io::parseTrajectoryFormat(gt_format.getValue());
         mrpt::config::CConfigFileMemory cfg;
         emslam::apps::applyConfigOverrides(cfg, sets.getValue());
     }

@@ -7,9 +7,9 @@
 
 #include <emslam/apps/CommandLine.h>
 #include <emslam/apps/ConfigValidation.h>
-#include <emslam/apps/Mapper.h>
 #include <emslam/hwdrivers/CDigiclopsStereoCamera.h>
 #include <emslam/sim/StereoRenderer.h>
+#include <emslam/slam/EntropySlam.h>
 
 #include <mrpt/config/CConfigFileMemory.h>
 
@@ -27,7 +27,7 @@ const mrpt::config::CConfigFileMemory& reference()
     static const mrpt::config::CConfigFileMemory known = []
     {
         mrpt::config::CConfigFileMemory c;
-        emslam::apps::Mapper::TParameters().saveToConfigFile(c);
+        emslam::slam::EntropySlam::TParameters().saveToConfigFile(c);
         return c;
     }();
     return known;
@@ -91,7 +91,7 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
     }
     try
     {
-        emslam::apps::Mapper::TParameters p;
+        emslam::slam::EntropySlam::TParameters p;
         p.loadFromConfigFile(cfg);
     }
     catch (const std::exception&)

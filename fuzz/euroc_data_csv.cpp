@@ -4,7 +4,7 @@
 // (without it, both cameras get the whole input).
 #include "FuzzFile.h"
 
-#include <emslam/stereo/EurocSequence.h>
+#include <emslam/io/EurocSequence.h>
 
 #include <cstddef>
 #include <cstdint>
@@ -23,7 +23,7 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
     folder.write("mav0/cam1/data.csv", right);
     try
     {
-        emslam::stereo::EurocSequence sequence(folder.path("mav0"));
+        emslam::io::EurocSequence sequence(folder.path("mav0"));
     }
     catch (const std::exception&)
     {

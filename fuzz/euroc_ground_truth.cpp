@@ -3,8 +3,8 @@
 // evaluation's EurocTrajectory::load() on arbitrary text.
 #include "FuzzFile.h"
 
-#include <emslam/stereo/EurocSequence.h>
-#include <emslam/stereo/EurocTrajectory.h>
+#include <emslam/io/EurocSequence.h>
+#include <emslam/io/EurocTrajectory.h>
 
 #include <cstddef>
 #include <cstdint>
@@ -16,7 +16,7 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
     const std::string file = folder.write("data.csv", emslam::fuzz::asText(data, size));
     try
     {
-        emslam::stereo::EurocSequence::readGroundTruthCsv(file);
+        emslam::io::EurocSequence::readGroundTruthCsv(file);
     }
     catch (const std::exception&)
     {
@@ -24,7 +24,7 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
     }
     try
     {
-        emslam::stereo::EurocTrajectory::load(file);
+        emslam::io::EurocTrajectory::load(file);
     }
     catch (const std::exception&)
     {

@@ -3,8 +3,8 @@
 // whole calibration reader with the input as both cameras.
 #include "FuzzFile.h"
 
-#include <emslam/stereo/CalibrationReaders.h>
-#include <emslam/stereo/EurocSensorYaml.h>
+#include <emslam/io/CalibrationFiles.h>
+#include <emslam/io/EurocSensorYaml.h>
 
 #include <cstddef>
 #include <cstdint>
@@ -12,7 +12,7 @@
 
 namespace
 {
-void readKeys(const emslam::stereo::EurocSensorYaml& yaml)
+void readKeys(const emslam::io::EurocSensorYaml& yaml)
 {
     // Each accessor may throw on its own: try them one by one.
     for (const char* key : {"camera_model", "distortion_model", "rate_hz", "T_BS.cols"})
@@ -55,7 +55,7 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
     const auto text = emslam::fuzz::asText(data, size);
     try
     {
-        readKeys(emslam::stereo::EurocSensorYaml::parse(text, "sensor.yaml"));
+        readKeys(emslam::io::EurocSensorYaml::parse(text, "sensor.yaml"));
     }
     catch (const std::exception&)
     {
@@ -65,7 +65,7 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
     const std::string file = folder.write("sensor.yaml", text);
     try
     {
-        emslam::stereo::loadEurocCalibration(file, file);
+        emslam::io::loadEurocCalibration(file, file);
     }
     catch (const std::exception&)
     {

@@ -2,7 +2,8 @@
 // KITTI odometry calib.txt: loadKittiCalibration() on arbitrary text.
 #include "FuzzFile.h"
 
-#include <emslam/stereo/CalibrationReaders.h>
+#include <emslam/io/CalibrationFiles.h>
+#include <emslam/stereo/StereoCalibration.h>
 
 #include <cstddef>
 #include <cstdint>
@@ -14,7 +15,7 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
     const std::string file = folder.write("calib.txt", emslam::fuzz::asText(data, size));
     try
     {
-        const auto cam = emslam::stereo::loadKittiCalibration(file, 1241, 376);
+        const auto cam = emslam::io::loadKittiCalibration(file, 1241, 376);
         emslam::stereo::validateStereoCamera(cam, file);
     }
     catch (const std::exception&)

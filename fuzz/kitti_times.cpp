@@ -2,7 +2,7 @@
 // KITTI times.txt: KittiTrajectory::readTimes() on arbitrary text.
 #include "FuzzFile.h"
 
-#include <emslam/stereo/KittiTrajectory.h>
+#include <emslam/io/KittiTrajectory.h>
 
 #include <cstddef>
 #include <cstdint>
@@ -14,7 +14,7 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
     const std::string file = folder.write("times.txt", emslam::fuzz::asText(data, size));
     try
     {
-        emslam::stereo::KittiTrajectory::readTimes(file);
+        emslam::io::KittiTrajectory::readTimes(file);
     }
     catch (const std::exception&)
     {

@@ -5,7 +5,7 @@
 // KITTI times file.
 #include "FuzzFile.h"
 
-#include <emslam/stereo/TrajectoryReader.h>
+#include <emslam/io/TrajectoryReader.h>
 
 #include <cstddef>
 #include <cstdint>
@@ -17,11 +17,11 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
     {
         return 0;
     }
-    using emslam::stereo::TrajectoryFormat;
+    using emslam::io::TrajectoryFormat;
     constexpr TrajectoryFormat FORMATS[] = {
         TrajectoryFormat::Auto, TrajectoryFormat::Tum, TrajectoryFormat::Kitti,
         TrajectoryFormat::Euroc};
-    emslam::stereo::TrajectoryReadOptions options;
+    emslam::io::TrajectoryReadOptions options;
     options.format = FORMATS[data[0] % 4];
     const auto [poses, times] =
         emslam::fuzz::splitAtLine(emslam::fuzz::asText(data + 1, size - 1), "---");
@@ -30,7 +30,7 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
     options.times_file = folder.write("trajectory_times.txt", times);
     try
     {
-        const auto loaded = emslam::stereo::loadTrajectory(file, options);
+        const auto loaded = emslam::io::loadTrajectory(file, options);
         loaded.missingTimesMessage(file);
     }
     catch (const std::exception&)

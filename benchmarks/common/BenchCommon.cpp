@@ -1,8 +1,8 @@
 // SPDX-License-Identifier: BSD-3-Clause
 #include "BenchCommon.h"
 
-#include <emslam/apps/FrameMemoryPolicy.h>
-#include <emslam/stereo/CalibrationReaders.h>
+#include <emslam/io/CalibrationFiles.h>
+#include <emslam/slam/FrameMemoryPolicy.h>
 
 #include <benchmark/benchmark.h>
 
@@ -36,7 +36,7 @@ mrpt::obs::CObservationStereoImages::Ptr kittiObservation(int index, int width, 
     {
         return nullptr;
     }
-    auto cam = emslam::stereo::loadKittiCalibration(seq + "calib.txt", l.cols, l.rows);
+    auto cam = emslam::io::loadKittiCalibration(seq + "calib.txt", l.cols, l.rows);
     if (width > 0)
     {
         // Central 4:3 crop, then resize: same optics, fewer pixels.
@@ -65,7 +65,7 @@ mrpt::obs::CObservationStereoImages::Ptr kittiObservation(int index, int width, 
 int runBenchmarks(int argc, char** argv)
 {
     cv::setNumThreads(1);                       // the target is per frame on one core
-    emslam::apps::keepFrameBuffersInProcess();  // as the apps run
+    emslam::slam::keepFrameBuffersInProcess();  // as the apps run
     benchmark::Initialize(&argc, argv);
     if (benchmark::ReportUnrecognizedArguments(argc, argv))
     {

@@ -24,7 +24,7 @@ std::string sourceDir();
 mrpt::obs::CObservationStereoImages::Ptr kittiObservation(int index, int width, int height);
 
 /** The main() of every benchmark: one OpenCV thread (the targets are per frame
- * on one core), the apps' allocator policy (emslam::apps::keepFrameBuffersInProcess),
+ * on one core), the apps' allocator policy (emslam::slam::keepFrameBuffersInProcess),
  * then Google Benchmark's initialization and run. */
 int runBenchmarks(int argc, char** argv);
 

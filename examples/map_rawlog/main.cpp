@@ -1,11 +1,11 @@
 // SPDX-License-Identifier: BSD-3-Clause
 // Maps a rawlog with emslam's SLAM pipeline from C++, as emslam-mapper does
 // without its outputs: every stereo / RGB-D observation goes through
-// Mapper::process(), then finish() runs the final rectification.
+// EntropySlam::process(), then finish() runs the final rectification.
 //   map_rawlog CONFIG.ini DATASET.rawlog [MAX_FRAMES]
-#include <emslam/apps/Mapper.h>
-#include <emslam/apps/RawlogInput.h>
-#include <emslam/apps/registerAllClasses.h>
+#include <emslam/io/RawlogInput.h>
+#include <emslam/slam/EntropySlam.h>
+#include <emslam/slam/registerAllClasses.h>
 
 #include <mrpt/config/CConfigFile.h>
 
@@ -23,14 +23,14 @@ int main(int argc, char** argv)
     }
     try
     {
-        emslam::apps::registerAllClasses();
+        emslam::slam::registerAllClasses();
         mrpt::config::CConfigFile ini(argv[1]);
-        emslam::apps::Mapper::TParameters p;
+        emslam::slam::EntropySlam::TParameters p;
         p.loadFromConfigFile(ini);  // throws naming a bad key
         const std::size_t max_frames = argc > 3 ? std::strtoul(argv[3], nullptr, 10) : 0;
 
-        emslam::apps::Mapper mapper(p);
-        emslam::apps::RawlogInput in(argv[2]);
+        emslam::slam::EntropySlam mapper(p);
+        emslam::io::RawlogInput in(argv[2]);
         std::vector<mrpt::obs::CObservation::Ptr> batch;
         while ((max_frames == 0 || mapper.frameCount() < max_frames) && in.next(batch))
         {
@@ -49,7 +49,7 @@ int main(int argc, char** argv)
             return 1;
         }
         mapper.finish();
-        const auto& last = mapper.slamTrajectory().poses.back().pose;
+        const auto& last = mapper.slamPoses().back().T_world_frame;
         std::printf(
             "%zu frames, %zu keyframes, %zu egomotion failures, final energy %.4f\n"
             "last SLAM pose: x %.3f y %.3f z %.3f m\n",

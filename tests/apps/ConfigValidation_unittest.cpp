@@ -2,11 +2,12 @@
 #include "TestHelpers.h"
 
 #include <emslam/apps/ConfigValidation.h>
-#include <emslam/apps/Mapper.h>
 #include <emslam/egomotion/EgomotionEstimator.h>
+#include <emslam/hwdrivers/CStereoImageFolderCamera.h>
 #include <emslam/maps/CEntropyVoxelMap.h>
 #include <emslam/rectify/RectifierOptions.h>
 #include <emslam/rectify/SpaceSampler.h>
+#include <emslam/slam/EntropySlam.h>
 #include <emslam/stereo/StereoMatcher.h>
 
 #include <mrpt/config/CConfigFileMemory.h>
@@ -333,7 +334,7 @@ TEST(ConfigValidation, intKeysTakeWholeNumbersInRangeAndBooleansTheirWords)
 // save its value in that form, or a fractional value would be refused.
 TEST(ConfigValidation, noDoubleParameterIsSavedInIntegerForm)
 {
-    emslam::apps::Mapper::TParameters p;
+    emslam::slam::EntropySlam::TParameters p;
     CConfigFileMemory saved;
     p.saveToConfigFile(saved);
     const CConfigFileMemory reference(saved.getContent());
@@ -353,7 +354,7 @@ TEST(ConfigValidation, noDoubleParameterIsSavedInIntegerForm)
             // Load "v.5": an int key reads it as v (and saves "v"), a double one as v.5.
             CConfigFileMemory edited(saved.getContent());
             edited.write(s, k, v + ".5");
-            emslam::apps::Mapper::TParameters q;
+            emslam::slam::EntropySlam::TParameters q;
             try
             {
                 q.loadFromConfigFile(CConfigFileMemory(edited.getContent()));
@@ -368,4 +369,16 @@ TEST(ConfigValidation, noDoubleParameterIsSavedInIntegerForm)
                 << "[" << s << "] " << k << " is a double saved as '" << v << "'";
         }
     }
+}
+
+// The saved defaults are the reference of the grabber's value checks: a
+// fractional time_offset (a UNIX time) must not read as an int key.
+TEST(CStereoImageFolderCamera, savedTimeOffsetIsANumberKey)
+{
+    mrpt::config::CConfigFileMemory reference;
+    emslam::hwdrivers::CStereoImageFolderCamera::TParameters().saveToConfigFile(reference, "F");
+    const mrpt::config::CConfigFileMemory user("[F]\ntime_offset = 1317340800.5\n");
+    EXPECT_TRUE(emslam::apps::findMalformedConfigValues(user, reference).empty());
+    const mrpt::config::CConfigFileMemory typo("[F]\ntime_offset = 13e\n");
+    EXPECT_EQ(emslam::apps::findMalformedConfigValues(typo, reference).size(), 1U);
 }

@@ -4,10 +4,10 @@
 
 #include <emslam/apps/AppMain.h>
 #include <emslam/apps/EvalApp.h>
-#include <emslam/stereo/EurocTrajectory.h>
-#include <emslam/stereo/KittiSequence.h>
-#include <emslam/stereo/KittiTrajectory.h>
-#include <emslam/stereo/TumTrajectory.h>
+#include <emslam/io/EurocTrajectory.h>
+#include <emslam/io/KittiSequence.h>
+#include <emslam/io/KittiTrajectory.h>
+#include <emslam/io/TumTrajectory.h>
 
 #include <gtest/gtest.h>
 
@@ -21,7 +21,7 @@
 #include <string>
 #include <vector>
 
-using emslam::stereo::TumTrajectory;
+using emslam::io::TumTrajectory;
 using mrpt::poses::CPose3D;
 
 namespace
@@ -168,7 +168,7 @@ TEST(EvalApp, kitti06GroundTruth)
 {
     EMSLAM_REQUIRE_TEST_DATA(seq_dir, "kitti-odometry/sequences/06");
     EMSLAM_REQUIRE_TEST_DATA(poses, "kitti-odometry/poses/06.txt");
-    const emslam::stereo::KittiSequence seq(seq_dir, poses);
+    const emslam::io::KittiSequence seq(seq_dir, poses);
     TumTrajectory gt, est;
     for (std::size_t i = 0; i < seq.size(); ++i)
     {
@@ -221,7 +221,7 @@ TEST(EvalApp, readsKittiAndEurocGroundTruth)
     std::string poses, times, csv;
     for (const auto& p : gt.poses)
     {
-        poses += emslam::stereo::KittiTrajectory::formatLine(p.pose) + "\n";
+        poses += emslam::io::KittiTrajectory::formatLine(p.pose) + "\n";
         times += std::to_string(p.t - 1000.0) + "\n";  // seconds from the start
         csv += std::to_string(static_cast<long long>(std::llround(p.t * 1e9))) + "," +
                std::to_string(p.pose.x()) + ",0,0,1,0,0,0\n";  // w first (header)
@@ -278,11 +278,11 @@ TEST(EvalApp, kittiWithoutTimes)
     std::string gt, est;
     for (const auto& p : line(1.0).poses)
     {
-        gt += emslam::stereo::KittiTrajectory::formatLine(p.pose) + "\n";
+        gt += emslam::io::KittiTrajectory::formatLine(p.pose) + "\n";
     }
     for (const auto& p : line(1.02).poses)
     {
-        est += emslam::stereo::KittiTrajectory::formatLine(p.pose) + "\n";
+        est += emslam::io::KittiTrajectory::formatLine(p.pose) + "\n";
     }
     emslam::test::writeFile(dir + "/gt.txt", gt);
     emslam::test::writeFile(dir + "/est.txt", est);
@@ -311,14 +311,14 @@ TEST(EvalApp, realKittiAndEurocGroundTruthFiles)
     EMSLAM_REQUIRE_TEST_DATA(euroc, "euroc-v101-rest/groundtruth_left_cam.csv");
     const std::string dir = emslam::test::makeTempDir("eval_app_real");
     // As emslam-import kitti writes it (--gt-out): UNIX times.
-    const emslam::stereo::KittiSequence seq(seq_dir, poses);
+    const emslam::io::KittiSequence seq(seq_dir, poses);
     TumTrajectory k;
     for (std::size_t i = 0; i < seq.size(); ++i)
     {
         k.add(seq.timestamp(i), seq.groundTruth(i));
     }
     k.saveToFile(dir + "/k06.tum");
-    emslam::stereo::EurocTrajectory::load(euroc).saveToFile(dir + "/euroc.tum");
+    emslam::io::EurocTrajectory::load(euroc).saveToFile(dir + "/euroc.tum");
 
     const EvalRun kr =
         runEval({"--gt", poses, "--est", dir + "/k06.tum", "--json", dir + "/k.json"});

@@ -3,8 +3,8 @@
 #include "TestHelpers.h"
 
 #include <emslam/apps/ImportApp.h>
-#include <emslam/stereo/KittiSequence.h>
-#include <emslam/stereo/TumTrajectory.h>
+#include <emslam/io/KittiSequence.h>
+#include <emslam/io/TumTrajectory.h>
 
 #include <mrpt/core/Clock.h>
 #include <mrpt/io/CFileGZInputStream.h>
@@ -159,7 +159,7 @@ TEST(ImportApp, importsRealKittiWithStep)
 
     const auto objs = readRawlog(out + "/k06.rawlog");
     ASSERT_EQ(objs.size(), 6U);
-    const auto gt = emslam::stereo::TumTrajectory::fromFile(out + "/k06.tum");
+    const auto gt = emslam::io::TumTrajectory::fromFile(out + "/k06.tum");
     ASSERT_EQ(gt.size(), 6U);
     EXPECT_EQ(countLines(out + "/k06.tum"), 6U);
     double last_t = -1;
@@ -181,7 +181,7 @@ TEST(ImportApp, importsRealKittiWithStep)
         EXPECT_NEAR(gt.poses[k].t, t, 1e-6);
     }
     // GT relative to the first imported frame: identity first, then ~1.2 m per frame forward.
-    const std::string first_line = emslam::stereo::TumTrajectory::formatLine(gt.poses[0]);
+    const std::string first_line = emslam::io::TumTrajectory::formatLine(gt.poses[0]);
     EXPECT_EQ(first_line.substr(first_line.find(' ')), " 0 0 0 0 0 0 1");
     EXPECT_NEAR(gt.poses[5].pose.z(), 59.84, 0.01);
 }
@@ -204,7 +204,7 @@ TEST(ImportApp, importsRealEurocRange)
     ASSERT_TRUE(obs);
     EXPECT_EQ(obs->sensorLabel, "VI");
     EXPECT_NEAR(obs->rightCameraPose.x(), 0.110, 0.002);
-    const auto traj = emslam::stereo::TumTrajectory::fromFile(out + "/e.tum");
+    const auto traj = emslam::io::TumTrajectory::fromFile(out + "/e.tum");
     ASSERT_EQ(traj.size(), 4U);
     EXPECT_NEAR(traj.poses[0].t, mrpt::Clock::toDouble(obs->timestamp), 1e-6);
     EXPECT_LT(traj.poses[3].pose.translation().norm(), 0.003);  // at rest
@@ -246,7 +246,7 @@ TEST(ImportApp, importsSyntheticTumRgbd)
     EXPECT_DOUBLE_EQ(obs->cameraParams.fy(), 101.0);
     EXPECT_TRUE(obs->hasRangeImage);
     EXPECT_NEAR(obs->rangeImage(3, 4) * obs->rangeUnits, 1.0, 1e-6);
-    const auto traj = emslam::stereo::TumTrajectory::fromFile(root + "/t.tum");
+    const auto traj = emslam::io::TumTrajectory::fromFile(root + "/t.tum");
     ASSERT_EQ(traj.size(), 2U);
     EXPECT_DOUBLE_EQ(traj.poses[0].t, 101.0);
     EXPECT_NEAR(traj.poses[1].pose.x(), 1.0, 1e-12);  // relative to frame 1 (x = 1)
@@ -382,9 +382,9 @@ TEST(ImportApp, importsRealKittiPseudoLoopFrameList)
     const auto objs = readRawlog(out + "/loop.rawlog");
     ASSERT_EQ(objs.size(), 51U);
     const auto t = stereoTimes(objs);
-    const auto gt = emslam::stereo::TumTrajectory::fromFile(out + "/loop.tum");
+    const auto gt = emslam::io::TumTrajectory::fromFile(out + "/loop.tum");
     ASSERT_EQ(gt.size(), 51U);
-    emslam::stereo::KittiSequence kitti;
+    emslam::io::KittiSequence kitti;
     kitti.open(seq, poses);
     const double period = t[1] - t[0];
     EXPECT_NEAR(period, 0.1, 0.01);  // KITTI's median period, ~10 Hz

@@ -294,7 +294,7 @@ ViewerRun runViewer(const std::string& display)
     std::this_thread::sleep_for(std::chrono::milliseconds(500));
     r.before = countColors(grab(display, W, H), W, H);
 
-    emslam::apps::IntensityCloud wall;
+    emslam::slam::IntensityCloud wall;
     for (int i = 0; i < 400; ++i)
     {
         wall.points.emplace_back(-5.0f + 0.025f * static_cast<float>(i), -1.0f, 9.0f);

@@ -7,9 +7,9 @@ namespace
 {
 /** A rectangular loop in the horizontal plane at camera height (y = 0):
  * x in [x0, x1], z in [z0, z1], one pose every 0.25 m. */
-emslam::stereo::TumTrajectory loop(double x0, double x1, double z0, double z1)
+emslam::io::TumTrajectory loop(double x0, double x1, double z0, double z1)
 {
-    emslam::stereo::TumTrajectory t;
+    emslam::io::TumTrajectory t;
     const double corners[5][2] = {{x0, z0}, {x1, z0}, {x1, z1}, {x0, z1}, {x0, z0}};
     double time = 0;
     for (int k = 0; k < 4; ++k)
@@ -25,7 +25,7 @@ emslam::stereo::TumTrajectory loop(double x0, double x1, double z0, double z1)
     return t;
 }
 
-void addPoint(emslam::apps::IntensityCloud& c, double x, double y, double z)
+void addPoint(emslam::slam::IntensityCloud& c, double x, double y, double z)
 {
     c.points.emplace_back(static_cast<float>(x), static_cast<float>(y), static_cast<float>(z));
     c.intensity.push_back(128);

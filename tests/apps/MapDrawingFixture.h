@@ -14,8 +14,8 @@ struct MapDrawingFixture
 {
     MapDrawingFixture();
 
-    emslam::apps::IntensityCloud cloud;
-    emslam::stereo::TumTrajectory egomotion, slam, ground_truth;
+    emslam::slam::IntensityCloud cloud;
+    emslam::io::TumTrajectory egomotion, slam, ground_truth;
     emslam::CEntropyVoxelMap entropy_map;
 
     /** Everything above, with no height cut. */

@@ -139,7 +139,7 @@ TEST(MapScene, groundTruthIsLaidOnTheEstimate)
     // and moved; brought into the map frame, it lands on the estimate.
     const emslam::test::MapDrawingFixture f;
     const mrpt::poses::CPose3D T_gt_map(5, -1, 2, 0, M_PI / 2, 0);
-    emslam::stereo::TumTrajectory gt;
+    emslam::io::TumTrajectory gt;
     for (const auto& p : f.egomotion.poses)
     {
         gt.add(p.t, T_gt_map + p.pose);

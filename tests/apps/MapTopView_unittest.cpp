@@ -117,7 +117,7 @@ TEST(MapTopView, theCeilingCutRemovesTheCeilingFromThePlan)
     // Only the fixture's ceiling (2 m above the camera): it covers the room
     // in the plan, and nothing is left of it below a 1.5 m cut.
     const emslam::test::MapDrawingFixture f;
-    emslam::apps::IntensityCloud ceiling;
+    emslam::slam::IntensityCloud ceiling;
     for (std::size_t i = 0; i < f.cloud.size(); ++i)
     {
         if (f.cloud.points[i].y < -1.99f)

@@ -9,11 +9,11 @@
 #include <emslam/apps/ImportApp.h>
 #include <emslam/apps/MapScene.h>
 #include <emslam/apps/MapperApp.h>
-#include <emslam/apps/RawlogInput.h>
 #include <emslam/apps/SimApp.h>
+#include <emslam/io/RawlogInput.h>
+#include <emslam/io/TrajectoryReader.h>
+#include <emslam/io/TumTrajectory.h>
 #include <emslam/maps/CEntropyVoxelMap.h>
-#include <emslam/stereo/TrajectoryReader.h>
-#include <emslam/stereo/TumTrajectory.h>
 
 #include <mrpt/io/CFileGZOutputStream.h>
 #include <mrpt/io/CFileInputStream.h>
@@ -135,7 +135,7 @@ void writeEditedHall(
     std::size_t frames,
     const std::function<void(std::size_t, mrpt::obs::CObservationStereoImages&)>& edit)
 {
-    emslam::apps::RawlogInput in(simulatedHall(frames));
+    emslam::io::RawlogInput in(simulatedHall(frames));
     mrpt::io::CFileGZOutputStream out(rawlog);
     auto arch = mrpt::serialization::archiveFrom(out);
     std::vector<mrpt::obs::CObservation::Ptr> batch;
@@ -163,7 +163,7 @@ TEST(MapperApp, everyShippedConfigLoads)
 
 TEST(MapperApp, exportMaxHeightLoadsSavesAndRejectsNan)
 {
-    using Options = emslam::apps::Mapper::TOptions;
+    using Options = emslam::slam::EntropySlam::TOptions;
     Options defaults;
     EXPECT_TRUE(std::isinf(defaults.export_max_height));
     mrpt::config::CConfigFileMemory saved;
@@ -199,8 +199,8 @@ TEST(MapperApp, mapsASimulatedRawlogAndWritesEveryOutput)
     const std::string out =
         mapRawlog(rawlog, "mapper_outputs", {"--gt", groundTruthOf(rawlog), "--energy-scan"});
 
-    const auto ego = emslam::stereo::TumTrajectory::fromFile(out + "/trajectory_egomotion.tum");
-    const auto slam = emslam::stereo::TumTrajectory::fromFile(out + "/trajectory_slam.tum");
+    const auto ego = emslam::io::TumTrajectory::fromFile(out + "/trajectory_egomotion.tum");
+    const auto slam = emslam::io::TumTrajectory::fromFile(out + "/trajectory_slam.tum");
     EXPECT_EQ(ego.size(), 60U);
     EXPECT_EQ(slam.size(), 60U);  // every frame, keyframes or not
     // Space sampling drops the on-the-spot slow frames: fewer keyframes.
@@ -284,7 +284,7 @@ TEST(MapperApp, mapsASimulatedRawlogAndWritesEveryOutput)
     MapperApp again;
     initApp(again, {out + "/effective.ini", rawlog, "--out", out + "/again", "-q"});
     again.run();
-    EXPECT_EQ(again.mapper().slamTrajectory().size(), slam.size());
+    EXPECT_EQ(again.mapper().slamPoses().size(), slam.size());
     // The serialized map holds the entropy; the energy adds the odometry prior.
     EXPECT_NEAR(again.mapper().finalEntropy(), map->energy(), 1e-9);
     EXPECT_GT(again.mapper().finalEnergy(), again.mapper().finalEntropy());
@@ -303,8 +303,8 @@ TEST(MapperApp, everyFrameHasASlamPoseAndTheKeyframesAreListed)
     app.run();
     const auto& m = app.mapper();
     ASSERT_EQ(m.frameCount(), 60U);
-    ASSERT_EQ(m.slamTrajectory().size(), 60U);
-    ASSERT_EQ(m.keyframeTrajectory().size(), m.acceptedCount());
+    ASSERT_EQ(m.slamPoses().size(), 60U);
+    ASSERT_EQ(m.keyframePoses().size(), m.acceptedCount());
     EXPECT_TRUE(m.hasEnergy());
     // At least one rectification moved the keyframes off the egomotion.
     ASSERT_GE(m.rectifications().size(), 2U);
@@ -334,19 +334,21 @@ TEST(MapperApp, everyFrameHasASlamPoseAndTheKeyframesAreListed)
     }
     EXPECT_EQ(listed, accepted);
 
-    const auto& slam = m.slamTrajectory().poses;
-    const auto& ego = m.egomotionTrajectory().poses;
+    const auto& slam = m.slamPoses();
+    const auto& ego = m.egomotionPoses();
     double max_keyframe_move = 0;
     for (std::size_t j = 0; j < accepted.size(); j++)
     {
         const std::size_t k = accepted[j];
         EXPECT_LT(
-            emslam::test::maxPoseDifference(slam[k].pose, m.keyframeTrajectory().poses[j].pose),
+            emslam::test::maxPoseDifference(
+                slam[k].T_world_frame, m.keyframePoses()[j].T_world_frame),
             1e-12)
             << k;
-        EXPECT_DOUBLE_EQ(slam[k].t, ego[k].t);
-        max_keyframe_move =
-            std::max(max_keyframe_move, emslam::test::maxPoseDifference(slam[k].pose, ego[k].pose));
+        EXPECT_DOUBLE_EQ(slam[k].timestamp, ego[k].timestamp);
+        max_keyframe_move = std::max(
+            max_keyframe_move,
+            emslam::test::maxPoseDifference(slam[k].T_world_frame, ego[k].T_world_frame));
     }
     EXPECT_GT(max_keyframe_move, 1e-4);
     for (std::size_t i = 0; i < slam.size(); i++)
@@ -354,24 +356,25 @@ TEST(MapperApp, everyFrameHasASlamPoseAndTheKeyframesAreListed)
         const auto kf = std::upper_bound(accepted.begin(), accepted.end(), i) - 1;
         const std::size_t k = *kf;
         // T_world_i = T_world_k(SLAM) + (T_world_k(ego)^-1 + T_world_i(ego))
-        const auto expected = slam[k].pose + (ego[i].pose - ego[k].pose);
-        EXPECT_LT(emslam::test::maxPoseDifference(slam[i].pose, expected), 1e-9) << i;
-        EXPECT_DOUBLE_EQ(slam[i].t, ego[i].t);
+        const auto expected = slam[k].T_world_frame + (ego[i].T_world_frame - ego[k].T_world_frame);
+        EXPECT_LT(emslam::test::maxPoseDifference(slam[i].T_world_frame, expected), 1e-9) << i;
+        EXPECT_DOUBLE_EQ(slam[i].timestamp, ego[i].timestamp);
     }
 
     // The files hold the same: TUM and KITTI, every frame.
-    const auto tum = emslam::stereo::TumTrajectory::fromFile(out + "/trajectory_slam.tum");
-    const auto kitti = emslam::stereo::loadTrajectory(out + "/trajectory_slam_kitti.txt");
+    const auto tum = emslam::io::TumTrajectory::fromFile(out + "/trajectory_slam.tum");
+    const auto kitti = emslam::io::loadTrajectory(out + "/trajectory_slam_kitti.txt");
     ASSERT_EQ(tum.size(), 60U);
     ASSERT_EQ(kitti.trajectory.size(), 60U);
     EXPECT_EQ(kitti.times_file, out + "/trajectory_slam_times.txt");
     for (std::size_t i = 0; i < slam.size(); i++)
     {
-        EXPECT_NEAR(tum.poses[i].t, slam[i].t, 1e-9);
-        EXPECT_NEAR(kitti.trajectory.poses[i].t, slam[i].t, 1e-9);
-        EXPECT_LT(emslam::test::maxPoseDifference(tum.poses[i].pose, slam[i].pose), 1e-9);
+        EXPECT_NEAR(tum.poses[i].t, slam[i].timestamp, 1e-9);
+        EXPECT_NEAR(kitti.trajectory.poses[i].t, slam[i].timestamp, 1e-9);
+        EXPECT_LT(emslam::test::maxPoseDifference(tum.poses[i].pose, slam[i].T_world_frame), 1e-9);
         EXPECT_LT(
-            emslam::test::maxPoseDifference(kitti.trajectory.poses[i].pose, slam[i].pose), 1e-9);
+            emslam::test::maxPoseDifference(kitti.trajectory.poses[i].pose, slam[i].T_world_frame),
+            1e-9);
     }
     EXPECT_TRUE(std::filesystem::exists(out + "/trajectory_egomotion_kitti.txt"));
     EXPECT_TRUE(std::filesystem::exists(out + "/trajectory_egomotion_times.txt"));
@@ -406,27 +409,29 @@ TEST(MapperApp, egomotionFailureStepsRepeatThePreviousStep)
     ASSERT_EQ(m.frameCount(), 16U);
     EXPECT_GE(m.egomotionFailures(), 1U);
     EXPECT_FALSE(m.frames()[8].egomotion_ok);
-    const auto& slam = m.slamTrajectory().poses;
-    const auto& ego = m.egomotionTrajectory().poses;
+    const auto& slam = m.slamPoses();
+    const auto& ego = m.egomotionPoses();
     ASSERT_EQ(slam.size(), 16U);
     ASSERT_EQ(ego.size(), 16U);
     for (std::size_t i = 2; i < slam.size(); i++)
     {
         if (!m.frames()[i].egomotion_ok)
         {
-            const mrpt::poses::CPose3D step = ego[i].pose - ego[i - 1].pose;
-            const mrpt::poses::CPose3D before = ego[i - 1].pose - ego[i - 2].pose;
+            const mrpt::poses::CPose3D step = ego[i].T_world_frame - ego[i - 1].T_world_frame;
+            const mrpt::poses::CPose3D before = ego[i - 1].T_world_frame - ego[i - 2].T_world_frame;
             EXPECT_GT(before.norm(), 0.01) << i;  // the robot moves: not the identity
             EXPECT_LT(emslam::test::maxPoseDifference(step, before), 1e-9) << i;
             if (!m.frames()[i].accepted)
             {
                 EXPECT_LT(
-                    emslam::test::maxPoseDifference(slam[i].pose - slam[i - 1].pose, step), 1e-9)
+                    emslam::test::maxPoseDifference(
+                        slam[i].T_world_frame - slam[i - 1].T_world_frame, step),
+                    1e-9)
                     << i;
             }
         }
     }
-    EXPECT_EQ(emslam::stereo::TumTrajectory::fromFile(out + "/trajectory_slam.tum").size(), 16U);
+    EXPECT_EQ(emslam::io::TumTrajectory::fromFile(out + "/trajectory_slam.tum").size(), 16U);
 }
 
 // A run whose result is nonsense still writes every output, but says so and
@@ -514,7 +519,7 @@ TEST(MapperApp, truncatedRawlogMapsEveryCompleteFrame)
     const std::string json = readText(out + "/summary.json");
     EXPECT_NE(json.find("the file ends in the middle of the record"), std::string::npos) << json;
     EXPECT_EQ(
-        emslam::stereo::TumTrajectory::fromFile(out + "/trajectory_egomotion.tum").size(), frames);
+        emslam::io::TumTrajectory::fromFile(out + "/trajectory_egomotion.tum").size(), frames);
 }
 
 // A flipped byte in a gz rawlog: zlib's error is named (not MRPT's "cannot
@@ -552,7 +557,7 @@ TEST(MapperApp, flippedByteInAGzRawlogIsACorruptInputError)
     EXPECT_NE(json.find("\"stopped_by_error\": \"record "), std::string::npos) << json;
     EXPECT_NE(json.find("the gz data is corrupt"), std::string::npos) << json;
     EXPECT_EQ(
-        emslam::stereo::TumTrajectory::fromFile(out + "/trajectory_egomotion.tum").size(), frames);
+        emslam::io::TumTrajectory::fromFile(out + "/trajectory_egomotion.tum").size(), frames);
 }
 
 TEST(MapperApp, badInputsFailWithAClearMessage)
@@ -680,7 +685,7 @@ TEST(MapperApp, unusableFramesAreSkippedAndTheOthersMapped)
     EXPECT_NE(json.find("\"skipped_observations\": 2,"), std::string::npos) << json;
     EXPECT_NE(json.find("\"skipped_reasons\": [\"record 20: "), std::string::npos) << json;
     EXPECT_NE(json.find("\"stopped_by_error\": null"), std::string::npos) << json;
-    EXPECT_EQ(emslam::stereo::TumTrajectory::fromFile(out + "/trajectory_slam.tum").size(), 28U);
+    EXPECT_EQ(emslam::io::TumTrajectory::fromFile(out + "/trajectory_slam.tum").size(), 28U);
     EXPECT_NE(
         readText(out + "/report.html").find("unusable observations skipped"), std::string::npos);
 }
@@ -755,7 +760,7 @@ TEST(MapperApp, sigintStopsAndWritesTheOutputs)
     EXPECT_EQ(run.exit_code, 130) << run.stderr_text;
     const std::string json = readText(out + "/summary.json");
     EXPECT_NE(json.find("\"interrupted\": true"), std::string::npos) << json;
-    const auto ego = emslam::stereo::TumTrajectory::fromFile(out + "/trajectory_egomotion.tum");
+    const auto ego = emslam::io::TumTrajectory::fromFile(out + "/trajectory_egomotion.tum");
     EXPECT_GT(ego.size(), 0U);
     EXPECT_LT(ego.size(), 300U);
     for (const char* f :

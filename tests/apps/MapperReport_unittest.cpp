@@ -78,9 +78,9 @@ bool containsToken(const std::string& text, const std::string& token)
 }
 
 /** A 10 m x 10 m square driven on the floor (x-z plane), `n` poses. */
-emslam::stereo::TumTrajectory square(std::size_t n, double scale, double height)
+emslam::io::TumTrajectory square(std::size_t n, double scale, double height)
 {
-    emslam::stereo::TumTrajectory t;
+    emslam::io::TumTrajectory t;
     for (std::size_t i = 0; i < n; ++i)
     {
         const double s = 40.0 * static_cast<double>(i) / static_cast<double>(n);  // [0, 40) m
@@ -103,7 +103,7 @@ MapperReportData syntheticData()
     d.slam = square(200, 1.01, -0.05);
     for (std::size_t i = 0; i < 200; ++i)
     {
-        emslam::apps::MapperFrameRecord f;
+        emslam::slam::FrameRecord f;
         f.index = i;
         f.ms_stereo = 20.0 + static_cast<double>(i % 7);
         f.ms_egomotion = 8.0 + static_cast<double>(i % 5);
@@ -132,9 +132,9 @@ MapperReportData syntheticData()
         d.rectifications.push_back(r);
     }
     d.summary = {{"frames", "200"}, {"ATE <rmse> & co", "0.12 m"}};
-    const emslam::apps::TrajectoryMetrics::Options opts;
-    d.egomotion_vs_gt = emslam::apps::TrajectoryMetrics::compute(d.ground_truth, d.egomotion, opts);
-    d.slam_vs_gt = emslam::apps::TrajectoryMetrics::compute(d.ground_truth, d.slam, opts);
+    const emslam::eval::TrajectoryMetrics::Options opts;
+    d.egomotion_vs_gt = emslam::eval::TrajectoryMetrics::compute(d.ground_truth, d.egomotion, opts);
+    d.slam_vs_gt = emslam::eval::TrajectoryMetrics::compute(d.ground_truth, d.slam, opts);
     return d;
 }
 
@@ -301,7 +301,7 @@ TEST(MapperReport, largeInputsAreDecimatedButKeepTheirPeaks)
 {
     MapperReportData d = syntheticData();
     d.egomotion = square(50000, 1.0, 0.0);
-    d.frames.assign(50000, emslam::apps::MapperFrameRecord{});
+    d.frames.assign(50000, emslam::slam::FrameRecord{});
     for (std::size_t i = 0; i < d.frames.size(); ++i)
     {
         d.frames[i].index = i;

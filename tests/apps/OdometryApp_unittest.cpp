@@ -3,9 +3,9 @@
 #include "TestHelpers.h"
 
 #include <emslam/apps/OdometryApp.h>
-#include <emslam/stereo/KittiSequence.h>
-#include <emslam/stereo/TrajectoryReader.h>
-#include <emslam/stereo/TumTrajectory.h>
+#include <emslam/io/KittiSequence.h>
+#include <emslam/io/TrajectoryReader.h>
+#include <emslam/io/TumTrajectory.h>
 
 #include <mrpt/img/CImage.h>
 #include <mrpt/io/CFileGZOutputStream.h>
@@ -34,7 +34,7 @@ void initApp(emslam::apps::OdometryApp& app, std::vector<std::string> args)
 /** The first `n` frames of the KITTI 06 excerpt as a rawlog (embedded images). */
 std::string writeKittiRawlog(const std::string& seq_dir, std::size_t n, const std::string& dir)
 {
-    const emslam::stereo::KittiSequence seq(seq_dir);
+    const emslam::io::KittiSequence seq(seq_dir);
     const std::string file = dir + "/kitti06.rawlog";
     mrpt::io::CFileGZOutputStream out(file);
     auto arch = mrpt::serialization::archiveFrom(out);
@@ -102,9 +102,9 @@ TEST(OdometryApp, kittiRawlogGivesTrajectory)
     EXPECT_EQ(app.failures, 0u);
     EXPECT_GT(app.mean_final_matches, 50);
 
-    const auto traj = emslam::stereo::TumTrajectory::fromFile(out);
+    const auto traj = emslam::io::TumTrajectory::fromFile(out);
     ASSERT_EQ(traj.size(), 6u);
-    const auto gt = emslam::stereo::KittiSequence::readPosesFile(poses);
+    const auto gt = emslam::io::KittiSequence::readPosesFile(poses);
     // About 6 m driven in 5 steps: the end point within 10 cm.
     const double err = (traj.poses.back().pose - gt[5]).norm();
     EXPECT_LT(err, 0.10) << "end-point error " << err << " m";
@@ -116,7 +116,7 @@ TEST(OdometryApp, failedStepKeepsPreviousPose)
 {
     EMSLAM_REQUIRE_TEST_DATA(seq_dir, "kitti-odometry/sequences/06");
     const std::string dir = emslam::test::makeTempDir("odometry_app_fail");
-    const emslam::stereo::KittiSequence seq(seq_dir);
+    const emslam::io::KittiSequence seq(seq_dir);
     const std::string rawlog = dir + "/flat.rawlog";
     {
         mrpt::io::CFileGZOutputStream out(rawlog);
@@ -150,7 +150,7 @@ TEST(OdometryApp, writesKittiTrajectories)
 {
     EMSLAM_REQUIRE_TEST_DATA(seq_dir, "kitti-odometry/sequences/06");
     const std::string dir = emslam::test::makeTempDir("odometry_app_kitti");
-    const emslam::stereo::KittiSequence seq(seq_dir);
+    const emslam::io::KittiSequence seq(seq_dir);
     const std::string rawlog = dir + "/k3.rawlog";
     {
         mrpt::io::CFileGZOutputStream out(rawlog);
@@ -167,9 +167,9 @@ TEST(OdometryApp, writesKittiTrajectories)
                "--trajectory-format", "both"});
     both.run();
     ASSERT_EQ(both.trajectory.size(), 3u);
-    const auto tum = emslam::stereo::TumTrajectory::fromFile(dir + "/t.tum");
-    const auto kitti = emslam::stereo::loadTrajectory(dir + "/t_kitti.txt");
-    EXPECT_EQ(kitti.format, emslam::stereo::TrajectoryFormat::Kitti);
+    const auto tum = emslam::io::TumTrajectory::fromFile(dir + "/t.tum");
+    const auto kitti = emslam::io::loadTrajectory(dir + "/t_kitti.txt");
+    EXPECT_EQ(kitti.format, emslam::io::TrajectoryFormat::Kitti);
     EXPECT_EQ(kitti.times_file, dir + "/t_times.txt");
     ASSERT_EQ(tum.size(), 3u);
     ASSERT_EQ(kitti.trajectory.size(), 3u);
@@ -191,7 +191,7 @@ TEST(OdometryApp, writesKittiTrajectories)
     only.run();
     EXPECT_TRUE(mrpt::system::fileExists(dir + "/k_times.txt"));
     EXPECT_FALSE(mrpt::system::fileExists(dir + "/k_kitti.tum"));
-    EXPECT_EQ(emslam::stereo::loadTrajectory(dir + "/k_kitti.txt").trajectory.size(), 3u);
+    EXPECT_EQ(emslam::io::loadTrajectory(dir + "/k_kitti.txt").trajectory.size(), 3u);
 
     emslam::apps::OdometryApp bad;
     emslam::test::expectThrowContaining(

@@ -1,12 +1,12 @@
 // SPDX-License-Identifier: BSD-3-Clause
-// RawlogInput's progress: the fraction of the uncompressed stream, so the
+// io::RawlogInput's progress: the fraction of the uncompressed stream, so the
 // frame total extrapolated after the first frame is the real one.
 #include "TestData.h"
 #include "TestHelpers.h"
 
 #include <emslam/apps/ProgressLine.h>
-#include <emslam/apps/RawlogInput.h>
-#include <emslam/apps/RawlogOutput.h>
+#include <emslam/io/RawlogInput.h>
+#include <emslam/io/RawlogOutput.h>
 
 #include <mrpt/io/CFileOutputStream.h>
 #include <mrpt/obs/CObservationStereoImages.h>
@@ -21,8 +21,9 @@
 #include <string>
 #include <vector>
 
+namespace io = emslam::io;
 using emslam::apps::ProgressLine;
-using emslam::apps::RawlogInput;
+using emslam::io::RawlogInput;
 
 namespace
 {
@@ -51,7 +52,7 @@ mrpt::obs::CObservationStereoImages frame(std::size_t i)
 /** Reads one record and returns the frame total a progress line extrapolates. */
 std::size_t totalAfterFirstFrame(const std::string& file)
 {
-    RawlogInput in(file);
+    io::RawlogInput in(file);
     std::vector<mrpt::obs::CObservation::Ptr> batch;
     EXPECT_TRUE(in.next(batch));
     EXPECT_EQ(batch.size(), 1U);
@@ -75,7 +76,7 @@ TEST(RawlogInput, gzRawlogTotalAfterTheFirstFrameIsTheFrameCount)
     const std::string dir = emslam::test::makeTempDir("rawlog_input_gz");
     const std::string file = dir + "/frames.rawlog";
     {
-        emslam::apps::RawlogOutput out(file, 6);
+        emslam::io::RawlogOutput out(file, 6);
         for (std::size_t i = 0; i < FRAMES; i++)
         {
             out.archive() << frame(i);
@@ -84,7 +85,7 @@ TEST(RawlogInput, gzRawlogTotalAfterTheFirstFrameIsTheFrameCount)
     }
     // Compressed well below the stream: dividing by the file size was wrong.
     const auto compressed = std::filesystem::file_size(file);
-    RawlogInput in(file);
+    io::RawlogInput in(file);
     EXPECT_GT(in.totalBytes(), 10 * compressed);
     const std::size_t total = totalAfterFirstFrame(file);
     EXPECT_NEAR(static_cast<double>(total), static_cast<double>(FRAMES), 0.01 * FRAMES);
@@ -102,7 +103,7 @@ TEST(RawlogInput, plainRawlogTotalAfterTheFirstFrameIsTheFrameCount)
             a << frame(i);
         }
     }
-    RawlogInput in(file);
+    io::RawlogInput in(file);
     EXPECT_EQ(in.totalBytes(), std::filesystem::file_size(file));
     const std::size_t total = totalAfterFirstFrame(file);
     EXPECT_NEAR(static_cast<double>(total), static_cast<double>(FRAMES), 0.01 * FRAMES);
@@ -112,14 +113,14 @@ TEST(RawlogInput, uncompressedSizeFromTheGzipTrailer)
 {
     constexpr std::uint64_t GIB = std::uint64_t{1} << 30;
     // Below 4 GiB the trailer is the size.
-    EXPECT_EQ(RawlogInput::estimateUncompressedSize(5000, 1200, 0), 5000U);
+    EXPECT_EQ(io::RawlogInput::estimateUncompressedSize(5000, 1200, 0), 5000U);
     // Incompressible data: the stream is barely smaller than the file.
-    EXPECT_EQ(RawlogInput::estimateUncompressedSize(99990, 100000, 0), 99990U);
+    EXPECT_EQ(io::RawlogInput::estimateUncompressedSize(99990, 100000, 0), 99990U);
     // 9 GiB compressed to 6 GiB: the trailer says 1 GiB (9 mod 4).
-    EXPECT_EQ(RawlogInput::estimateUncompressedSize(GIB, 6 * GIB, 0), 9 * GIB);
+    EXPECT_EQ(io::RawlogInput::estimateUncompressedSize(GIB, 6 * GIB, 0), 9 * GIB);
     // 5 GiB compressed to 1 GiB: first taken as 1 GiB, then 5 GiB once read past it.
-    EXPECT_EQ(RawlogInput::estimateUncompressedSize(GIB, GIB - 100, 0), GIB);
-    EXPECT_EQ(RawlogInput::estimateUncompressedSize(GIB, GIB - 100, GIB + 1), 5 * GIB);
+    EXPECT_EQ(io::RawlogInput::estimateUncompressedSize(GIB, GIB - 100, 0), GIB);
+    EXPECT_EQ(io::RawlogInput::estimateUncompressedSize(GIB, GIB - 100, GIB + 1), 5 * GIB);
 }
 
 namespace
@@ -128,7 +129,7 @@ namespace
 std::string gzRawlogBytes(const std::string& file)
 {
     {
-        emslam::apps::RawlogOutput out(file, 6);
+        emslam::io::RawlogOutput out(file, 6);
         for (std::size_t i = 0; i < FRAMES; i++)
         {
             out.archive() << frame(i);
@@ -139,7 +140,7 @@ std::string gzRawlogBytes(const std::string& file)
     return std::string(std::istreambuf_iterator<char>(f), std::istreambuf_iterator<char>());
 }
 
-std::size_t readAll(RawlogInput& in)
+std::size_t readAll(io::RawlogInput& in)
 {
     std::vector<mrpt::obs::CObservation::Ptr> batch;
     std::size_t n = 0;
@@ -164,7 +165,7 @@ TEST(RawlogInput, flippedByteInAGzRawlogIsReportedAsCorrupt)
         const std::string file = dir + "/flipped.rawlog";
         std::ofstream(file, std::ios::binary)
             .write(damaged.data(), static_cast<long>(damaged.size()));
-        RawlogInput in(file);
+        io::RawlogInput in(file);
         EXPECT_LT(readAll(in), FRAMES) << where;
         EXPECT_TRUE(in.endedEarly()) << where;
         EXPECT_TRUE(in.corrupt()) << where << ": " << in.endReason();
@@ -172,7 +173,7 @@ TEST(RawlogInput, flippedByteInAGzRawlogIsReportedAsCorrupt)
             << in.endReason();
     }
     // The intact file reads to its end with no complaint.
-    RawlogInput good(dir + "/good.rawlog");
+    io::RawlogInput good(dir + "/good.rawlog");
     EXPECT_EQ(readAll(good), FRAMES);
     EXPECT_FALSE(good.endedEarly());
     EXPECT_FALSE(good.corrupt());
@@ -185,7 +186,7 @@ TEST(RawlogInput, cutGzRawlogEndsEarlyWithoutBeingCorrupt)
     const std::string bytes = gzRawlogBytes(dir + "/good.rawlog");
     const std::string file = dir + "/cut.rawlog";
     std::ofstream(file, std::ios::binary).write(bytes.data(), static_cast<long>(bytes.size() / 2));
-    RawlogInput in(file);
+    io::RawlogInput in(file);
     const std::size_t n = readAll(in);
     EXPECT_GT(n, 0U);
     EXPECT_LT(n, FRAMES);

@@ -4,7 +4,7 @@
 
 #include <emslam/apps/AppMain.h>
 #include <emslam/apps/SimApp.h>
-#include <emslam/stereo/TumTrajectory.h>
+#include <emslam/io/TumTrajectory.h>
 
 #include <mrpt/io/CFileGZInputStream.h>
 #include <mrpt/obs/CObservationStereoImages.h>
@@ -100,7 +100,7 @@ TEST(SimApp, writesRawlogAndGroundTruthThatReadBack)
 
     const auto obs = readRawlog(out + "/h.rawlog");
     ASSERT_EQ(obs.size(), 6U);
-    const auto gt = emslam::stereo::TumTrajectory::fromFile(out + "/h.tum");
+    const auto gt = emslam::io::TumTrajectory::fromFile(out + "/h.tum");
     ASSERT_EQ(gt.size(), obs.size());
     for (std::size_t i = 0; i < obs.size(); ++i)
     {
@@ -236,7 +236,7 @@ TEST(SimApp, sigintKeepsACompleteRawlogOfTheFramesRendered)
     const std::size_t frames = readRawlog(out + "/hall.rawlog").size();
     EXPECT_GE(frames, 40U);
     EXPECT_LT(frames, 400U);
-    EXPECT_EQ(emslam::stereo::TumTrajectory::fromFile(out + "/hall.tum").size(), frames);
+    EXPECT_EQ(emslam::io::TumTrajectory::fromFile(out + "/hall.tum").size(), frames);
     EXPECT_FALSE(fs::exists(out + "/hall.rawlog.partial"));
     EXPECT_FALSE(fs::exists(out + "/hall.tum.partial"));
 }

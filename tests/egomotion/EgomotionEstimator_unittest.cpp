@@ -3,8 +3,8 @@
 #include "TestHelpers.h"
 
 #include <emslam/egomotion/EgomotionEstimator.h>
-#include <emslam/stereo/EurocSequence.h>
-#include <emslam/stereo/KittiSequence.h>
+#include <emslam/io/EurocSequence.h>
+#include <emslam/io/KittiSequence.h>
 #include <emslam/stereo/StereoFrontEnd.h>
 
 #include <mrpt/config/CConfigFile.h>
@@ -285,7 +285,7 @@ KittiRun runKitti06(
     ep.loadFromConfigFile(cfg, "Egomotion");
     ep.guided_matching = setup.guided;
 
-    const emslam::stereo::KittiSequence seq(seq_dir, poses);
+    const emslam::io::KittiSequence seq(seq_dir, poses);
     emslam::stereo::StereoFrontEnd front(sp);
     EgomotionEstimator em(ep);
     // As the apps wire them.
@@ -379,7 +379,7 @@ TEST(EgomotionEstimator, eurocAtRestReportsNoMotion)
     sp.loadFromConfigFile(cfg, "Stereo");
     EgomotionEstimator::TParameters ep;
     ep.loadFromConfigFile(cfg, "Egomotion");
-    const emslam::stereo::EurocSequence seq(mav0);
+    const emslam::io::EurocSequence seq(mav0);
     emslam::stereo::StereoFrontEnd front(sp);
     EgomotionEstimator em(ep);
     CPose3D T_first_cur;
@@ -412,8 +412,8 @@ TEST(EgomotionEstimator, unrelatedFramesFail)
     kp.num_disparities = 128;
     kp.max_range = 20;
     emslam::stereo::StereoFrontEnd kitti_front(kp), euroc_front;
-    const auto k = kitti_front.process(*emslam::stereo::KittiSequence(seq_dir).frame(0).obs);
-    const auto e = euroc_front.process(*emslam::stereo::EurocSequence(mav0).frame(0).obs);
+    const auto k = kitti_front.process(*emslam::io::KittiSequence(seq_dir).frame(0).obs);
+    const auto e = euroc_front.process(*emslam::io::EurocSequence(mav0).frame(0).obs);
     const auto r = EgomotionEstimator().estimate(e, k);
     std::printf(
         "unrelated frames: %zu matches -> %zu after LWO\n", r.initial_matches, r.final_matches);

@@ -3,7 +3,7 @@
 
 #include <emslam/egomotion/FeatureMatcher.h>
 #include <emslam/egomotion/GlmFeatureExtractor.h>
-#include <emslam/stereo/KittiSequence.h>
+#include <emslam/io/KittiSequence.h>
 #include <emslam/stereo/StereoFrontEnd.h>
 
 #include <gtest/gtest.h>
@@ -250,7 +250,7 @@ TEST(FeatureMatcher, kittiConsecutiveFramesMatchMostlyCorrectly)
 {
     EMSLAM_REQUIRE_TEST_DATA(seq_dir, "kitti-odometry/sequences/06");
     EMSLAM_REQUIRE_TEST_DATA(poses, "kitti-odometry/poses/06.txt");
-    const emslam::stereo::KittiSequence seq(seq_dir, poses);
+    const emslam::io::KittiSequence seq(seq_dir, poses);
     emslam::stereo::StereoMatcher::TParameters sp;
     sp.num_disparities = 128;
     sp.max_range = 80.0;

@@ -2,10 +2,9 @@
 #include "TestData.h"
 #include "TestHelpers.h"
 
-#include <emslam/apps/ConfigValidation.h>
 #include <emslam/hwdrivers/CStereoImageFolderCamera.h>
 #include <emslam/hwdrivers/SensorStatus.h>
-#include <emslam/stereo/KittiSequence.h>
+#include <emslam/io/KittiSequence.h>
 
 #include <mrpt/config/CConfigFileMemory.h>
 #include <mrpt/obs/CObservationStereoImages.h>
@@ -43,18 +42,6 @@ TEST(CStereoImageFolderCamera, loadsKeysAndRoundTrips)
     EXPECT_EQ(q.loop, p.loop);
     EXPECT_EQ(q.timestamps, p.timestamps);
     EXPECT_EQ(q.time_offset, p.time_offset);
-}
-
-// The saved defaults are the reference of the grabber's value checks: a
-// fractional time_offset (a UNIX time) must not read as an int key.
-TEST(CStereoImageFolderCamera, savedTimeOffsetIsANumberKey)
-{
-    mrpt::config::CConfigFileMemory reference;
-    CStereoImageFolderCamera::TParameters().saveToConfigFile(reference, "F");
-    const mrpt::config::CConfigFileMemory user("[F]\ntime_offset = 1317340800.5\n");
-    EXPECT_TRUE(emslam::apps::findMalformedConfigValues(user, reference).empty());
-    const mrpt::config::CConfigFileMemory typo("[F]\ntime_offset = 13e\n");
-    EXPECT_EQ(emslam::apps::findMalformedConfigValues(typo, reference).size(), 1U);
 }
 
 TEST(CStereoImageFolderCamera, invalidValuesThrow)
@@ -111,7 +98,7 @@ TEST(CStereoImageFolderCamera, replaysKittiFramesAsTheReaderLoadsThem)
     EXPECT_THROW(cam.doProcess(), emslam::hwdrivers::EndOfStream);
     const auto objs = cam.getObservations();
     ASSERT_EQ(objs.size(), 3U);
-    emslam::stereo::KittiSequence ref(seq_dir);
+    emslam::io::KittiSequence ref(seq_dir);
     std::size_t i = 48;
     for (const auto& [t, o] : objs)
     {

@@ -3,9 +3,9 @@
 #include "TestData.h"
 #include "TestHelpers.h"
 
-#include <emslam/stereo/CalibrationReaders.h>
-#include <emslam/stereo/KittiSequence.h>
+#include <emslam/io/KittiSequence.h>
 #include <emslam/stereo/SparseStereoMatcher.h>
+#include <emslam/stereo/StereoCalibration.h>
 #include <emslam/stereo/StereoFrontEnd.h>
 #include <emslam/stereo/StereoMatcher.h>
 
@@ -194,7 +194,7 @@ TEST(SparseStereoMatcher, agreesWithSgbmOnKitti)
     p.max_range = 80;
     p.min_range = 1;
     emslam::stereo::StereoFrontEnd dense_front(p);
-    const auto obs = emslam::stereo::KittiSequence(seq_dir).frame(10).obs;
+    const auto obs = emslam::io::KittiSequence(seq_dir).frame(10).obs;
     const auto dense = dense_front.process(*obs);
 
     // Every local maximum of |d/dx| above 40 in its 9x9 window: edges where a

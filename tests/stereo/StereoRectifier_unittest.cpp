@@ -1,7 +1,8 @@
 // SPDX-License-Identifier: BSD-3-Clause
 #include "TestData.h"
 
-#include <emslam/stereo/CalibrationReaders.h>
+#include <emslam/io/CalibrationFiles.h>
+#include <emslam/stereo/StereoCalibration.h>
 #include <emslam/stereo/StereoRectifier.h>
 
 #include <mrpt/core/bits_math.h>
@@ -220,7 +221,7 @@ TEST(StereoRectifier, differentPrincipalColumnsStayRectified)
 TEST(StereoRectifier, kittiCalibrationIsAlreadyRectified)
 {
     EMSLAM_REQUIRE_TEST_DATA(path, "kitti-odometry/sequences/06/calib.txt");
-    const StereoRectifier r(emslam::stereo::loadKittiCalibration(path, 1226, 370));
+    const StereoRectifier r(emslam::io::loadKittiCalibration(path, 1226, 370));
     EXPECT_TRUE(r.isIdentity());
     EXPECT_NEAR(baselineOf(r.rectifiedCamera()), 0.5372, 1e-4);
 }
@@ -346,7 +347,7 @@ TEST(StereoRectifier, eurocRectificationAlignsMatchedFeatureRows)
     ASSERT_FALSE(left.empty());
     ASSERT_FALSE(right.empty());
 
-    const StereoRectifier r(emslam::stereo::loadEurocCalibration(cam0_yaml, cam1_yaml));
+    const StereoRectifier r(emslam::io::loadEurocCalibration(cam0_yaml, cam1_yaml));
     ASSERT_FALSE(r.isIdentity());
     EXPECT_NEAR(baselineOf(r.rectifiedCamera()), 0.110, 0.002);
     EXPECT_GT(r.rectifiedCamera().rightCameraPose.x, 0.0);

@@ -1,7 +1,7 @@
 // SPDX-License-Identifier: BSD-3-Clause
 #include <emslam/apps/CommandLine.h>
 #include <emslam/apps/ConfigValidation.h>
-#include <emslam/apps/InputFileChecks.h>
+#include <emslam/io/InputFileChecks.h>
 
 #include <algorithm>
 #include <cstdio>
@@ -232,7 +232,7 @@ void loadConfig(
 {
     if (!config_file.empty())
     {
-        requireInputFile(config_file, "config file", MAX_INI_BYTES);
+        io::requireInputFile(config_file, "config file", io::MAX_INI_BYTES);
         std::ifstream f(config_file);
         cfg.setContent(std::string(std::istreambuf_iterator<char>(f), {}));
     }

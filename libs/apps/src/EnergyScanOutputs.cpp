@@ -1,7 +1,7 @@
 // SPDX-License-Identifier: BSD-3-Clause
-#include <emslam/apps/AtomicTextFile.h>
 #include <emslam/apps/EnergyScanOutputs.h>
-#include <emslam/apps/Json.h>
+#include <emslam/io/AtomicTextFile.h>
+#include <emslam/io/Json.h>
 
 #include <mrpt/core/bits_math.h>
 
@@ -33,15 +33,16 @@ std::string number(double v)
 }  // namespace
 
 MapperEnergyScan scanMapperEnergy(
-    const Mapper& m, const emslam::rectify::FramePoseLookup& T_world_frame)
+    const slam::EntropySlam& m, const emslam::rectify::FramePoseLookup& T_world_frame)
 {
     const auto& t = m.trajectory();
     MapperEnergyScan s;
     s.scan = emslam::rectify::scanEnergy(t, emslam::rectify::elementPosesAt(t, T_world_frame));
     const int phases = s.scan.summary.grid_phases;
-    const auto& ego = m.egomotionTrajectory().poses;
+    const auto& ego = m.egomotionPoses();
     s.entropy_egomotion = emslam::rectify::entropyAtElementPoses(
-        t, emslam::rectify::elementPosesAt(t, [&](std::size_t i) { return ego.at(i).pose; }),
+        t,
+        emslam::rectify::elementPosesAt(t, [&](std::size_t i) { return ego.at(i).T_world_frame; }),
         phases);
     std::vector<mrpt::poses::CPose3D> slam;
     for (std::size_t i = 0; i < t.size(); ++i)
@@ -53,16 +54,16 @@ MapperEnergyScan scanMapperEnergy(
 }
 
 emslam::rectify::FramePoseLookup groundTruthFramePoses(
-    const Mapper& m, const emslam::stereo::TumTrajectory& ground_truth, double max_dt)
+    const slam::EntropySlam& m, const emslam::io::TumTrajectory& ground_truth, double max_dt)
 {
-    const auto& frames = m.egomotionTrajectory().poses;  // one per frame, with its timestamp
+    const auto& frames = m.egomotionPoses();  // one per frame, with its timestamp
     const auto nearest = [&](std::size_t i)
     {
         if (i >= frames.size())
         {
             throw std::out_of_range("groundTruthFramePoses: no frame " + std::to_string(i));
         }
-        const double t = frames[i].t;
+        const double t = frames[i].timestamp;
         const auto it = std::min_element(
             ground_truth.poses.begin(), ground_truth.poses.end(),
             [t](const auto& a, const auto& b) { return std::abs(a.t - t) < std::abs(b.t - t); });
@@ -88,7 +89,7 @@ void writeEnergyScanCsv(const emslam::rectify::EnergyScan& scan, const std::stri
     {
         steps = std::max(steps, l.offsets.size() / 2);
     }
-    AtomicTextFile f(file);
+    io::AtomicTextFile f(file);
     auto& o = f.stream();
     o << "action,elements_moved,dimension,unit,step,energy_at_truth,argmin_offset,"
          "min_minus_truth,truth_is_min,curvature,slope";
@@ -142,24 +143,27 @@ std::string energyScanJson(const MapperEnergyScan& m)
     j << "{\"lines\": " << s.lines << ", \"lines_at_truth\": " << s.lines_at_truth
       << ", \"elements\": " << s.elements << ", \"evaluations\": " << s.evaluations
       << ", \"grid_phases\": " << s.grid_phases
-      << ", \"energy_at_truth\": " << jsonNumber(s.energy_at_truth)
-      << ", \"energy_at_egomotion\": " << jsonNumber(m.entropy_egomotion)
-      << ", \"energy_at_slam\": " << jsonNumber(m.entropy_slam)
-      << ", \"fraction_at_truth\": " << jsonNumber(s.fraction_at_truth)
-      << ", \"median_abs_argmin_translation_m\": " << jsonNumber(s.median_abs_argmin_translation_m)
+      << ", \"energy_at_truth\": " << io::jsonNumber(s.energy_at_truth)
+      << ", \"energy_at_egomotion\": " << io::jsonNumber(m.entropy_egomotion)
+      << ", \"energy_at_slam\": " << io::jsonNumber(m.entropy_slam)
+      << ", \"fraction_at_truth\": " << io::jsonNumber(s.fraction_at_truth)
+      << ", \"median_abs_argmin_translation_m\": "
+      << io::jsonNumber(s.median_abs_argmin_translation_m)
       << ", \"median_abs_argmin_rotation_deg\": "
-      << jsonNumber(mrpt::RAD2DEG(s.median_abs_argmin_rotation_rad))
-      << ", \"seconds\": " << jsonNumber(s.seconds) << ", \"dimensions\": {";
+      << io::jsonNumber(mrpt::RAD2DEG(s.median_abs_argmin_rotation_rad))
+      << ", \"seconds\": " << io::jsonNumber(s.seconds) << ", \"dimensions\": {";
     bool first = true;
     for (const auto& d : s.dimensions)
     {
         const bool rot = d.dimension >= 3;
         const double unit = toUnit(rot, 1.0);
-        j << (first ? "" : ", ") << jsonString(emslam::rectify::actionDimensionName(d.dimension))
-          << ": {\"unit\": " << jsonString(rot ? "deg" : "m") << ", \"lines\": " << d.lines
-          << ", \"fraction_at_truth\": " << jsonNumber(d.fraction_at_truth)
-          << ", \"median_abs_argmin\": " << jsonNumber(toUnit(rot, d.median_abs_argmin))
-          << ", \"median_curvature\": " << jsonNumber(d.median_curvature / (unit * unit)) << '}';
+        j << (first ? "" : ", ")
+          << io::jsonString(emslam::rectify::actionDimensionName(d.dimension))
+          << ": {\"unit\": " << io::jsonString(rot ? "deg" : "m") << ", \"lines\": " << d.lines
+          << ", \"fraction_at_truth\": " << io::jsonNumber(d.fraction_at_truth)
+          << ", \"median_abs_argmin\": " << io::jsonNumber(toUnit(rot, d.median_abs_argmin))
+          << ", \"median_curvature\": " << io::jsonNumber(d.median_curvature / (unit * unit))
+          << '}';
         first = false;
     }
     j << "}}";

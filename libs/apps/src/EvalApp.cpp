@@ -1,7 +1,7 @@
 // SPDX-License-Identifier: BSD-3-Clause
 #include <emslam/apps/CommandLine.h>
 #include <emslam/apps/EvalApp.h>
-#include <emslam/apps/TrajectoryInput.h>
+#include <emslam/io/TrajectoryInput.h>
 #include <emslam/stereo/ExceptionMessage.h>
 
 #include <mrpt/core/format.h>
@@ -63,7 +63,7 @@ void EvalApp::initialize(int argc, const char** argv)
         "", "kitti-time-offset",
         "UNIX time [s] added to KITTI sequence times (times.txt values below 1e9), as "
         "emslam-import kitti does",
-        false, emslam::stereo::KittiSequence::DEFAULT_TIME_OFFSET, "SECONDS", cmd);
+        false, emslam::io::KittiSequence::DEFAULT_TIME_OFFSET, "SECONDS", cmd);
     TCLAP::ValueArg<std::string> align(
         "", "align",
         withDefault("Alignment before the ATE: se3 (rigid), sim3 (with scale) or none", "se3"),
@@ -95,7 +95,7 @@ void EvalApp::initialize(int argc, const char** argv)
     {
         try
         {
-            o->format = emslam::stereo::parseTrajectoryFormat(arg->getValue());
+            o->format = emslam::io::parseTrajectoryFormat(arg->getValue());
         }
         catch (const std::invalid_argument& e)
         {
@@ -112,7 +112,7 @@ void EvalApp::initialize(int argc, const char** argv)
     m_json = json.getValue();
     try
     {
-        options.alignment = parseAlignment(align.getValue());
+        options.alignment = eval::parseAlignment(align.getValue());
     }
     catch (const std::invalid_argument&)
     {
@@ -133,15 +133,15 @@ void EvalApp::run()
     {
         return;
     }
-    const auto gt = loadTrajectoryInput(m_gt, "ground-truth", m_gt_options);
-    const auto est = loadTrajectoryInput(m_est, "estimate", m_est_options);
-    requireComparableTimes(gt, m_gt, est, m_est);
+    const auto gt = io::loadTrajectoryInput(m_gt, "ground-truth", m_gt_options);
+    const auto est = io::loadTrajectoryInput(m_est, "estimate", m_est_options);
+    io::requireComparableTimes(gt, m_gt, est, m_est);
     gt_format = gt.format;
     est_format = est.format;
     paired_by_index = !gt.timed;
     try
     {
-        metrics = TrajectoryMetrics::compute(gt.trajectory, est.trajectory, options);
+        metrics = eval::TrajectoryMetrics::compute(gt.trajectory, est.trajectory, options);
     }
     catch (const std::runtime_error& e)
     {
@@ -157,8 +157,8 @@ void EvalApp::run()
     }
     std::printf(
         "formats            ground truth %s, estimate %s%s\n",
-        emslam::stereo::trajectoryFormatName(gt.format).c_str(),
-        emslam::stereo::trajectoryFormatName(est.format).c_str(),
+        emslam::io::trajectoryFormatName(gt.format).c_str(),
+        emslam::io::trajectoryFormatName(est.format).c_str(),
         paired_by_index ? " (no times: paired line by line)" : "");
     std::printf(
         "matched poses      %zu (ground truth %zu, estimate %zu, max dt %g s)\n"
@@ -171,7 +171,7 @@ void EvalApp::run()
         "loop gap           %s m (first to last estimated pose)\n"
         "path length        %s m (ground truth; estimate %s m)\n",
         m.matched_poses, m.gt_poses, m.est_poses, options.max_dt,
-        alignmentName(m.alignment).c_str(), m.align.scale, fmt(m.ate_rmse_m).c_str(),
+        eval::alignmentName(m.alignment).c_str(), m.align.scale, fmt(m.ate_rmse_m).c_str(),
         fmt(m.rel.t_rel_percent, "%.3f").c_str(), fmt(m.rel.r_rel_deg_per_m, "%.5f").c_str(),
         m.rel.segments, lengths.c_str(), options.segment_step, fmt(m.end_error_m).c_str(),
         fmt(m.loop_gap_m).c_str(), fmt(m.path_length_m, "%.3f").c_str(),

@@ -1,8 +1,8 @@
 // SPDX-License-Identifier: BSD-3-Clause
-#include <emslam/apps/AtomicTextFile.h>
 #include <emslam/apps/ExperimentReport.h>
-#include <emslam/apps/Json.h>
 #include <emslam/apps/SvgPlot.h>
+#include <emslam/io/AtomicTextFile.h>
+#include <emslam/io/Json.h>
 
 #include <mrpt/core/bits_math.h>
 
@@ -208,12 +208,12 @@ std::string markdown(const std::vector<Row>& rows, const ExperimentReportInfo& i
 std::string json(const std::vector<Row>& rows, const ExperimentReportInfo& info)
 {
     std::ostringstream s;
-    s << "{\n  \"command\": " << jsonString(info.command)
-      << ",\n  \"suite\": " << jsonString(info.suite_file)
+    s << "{\n  \"command\": " << io::jsonString(info.command)
+      << ",\n  \"suite\": " << io::jsonString(info.suite_file)
       << ",\n  \"quick\": " << (info.quick ? "true" : "false")
       << ",\n  \"exact_depth\": " << (info.exact_depth ? "true" : "false")
       << ",\n  \"interrupted\": " << (info.interrupted ? "true" : "false")
-      << ",\n  \"seconds\": " << jsonNumber(info.seconds) << ",\n  \"runs\": [";
+      << ",\n  \"seconds\": " << io::jsonNumber(info.seconds) << ",\n  \"runs\": [";
     bool first = true;
     for (const bool want_median : {false, true})
     {
@@ -228,14 +228,15 @@ std::string json(const std::vector<Row>& rows, const ExperimentReportInfo& info)
             {
                 continue;
             }
-            s << (first ? "" : ",") << "\n    {\"experiment\": " << jsonString(r.first->experiment)
+            s << (first ? "" : ",")
+              << "\n    {\"experiment\": " << io::jsonString(r.first->experiment)
               << ", \"loop\": " << (r.first->loop ? "true" : "false")
-              << ", \"mapper\": " << jsonString(r.first->mapper)
-              << ", \"energy\": " << jsonString(r.first->energy)
-              << ", \"label\": " << jsonString(r.first->label);
+              << ", \"mapper\": " << io::jsonString(r.first->mapper)
+              << ", \"energy\": " << io::jsonString(r.first->energy)
+              << ", \"label\": " << io::jsonString(r.first->label);
             if (r.median)
             {
-                s << ", \"seeds\": " << jsonString(r.seed);
+                s << ", \"seeds\": " << io::jsonString(r.seed);
             }
             else
             {
@@ -244,7 +245,8 @@ std::string json(const std::vector<Row>& rows, const ExperimentReportInfo& info)
             }
             for (std::size_t c = 0; c < columns().size(); ++c)
             {
-                s << ", " << jsonString(columns()[c].key) << ": " << jsonNumber(r.values[c]);
+                s << ", " << io::jsonString(columns()[c].key) << ": "
+                  << io::jsonNumber(r.values[c]);
             }
             s << '}';
             first = false;
@@ -361,9 +363,9 @@ void writeExperimentReports(
     const ExperimentReportInfo& info)
 {
     const auto rows = tableRows(results);
-    writeTextAtomically(dir + "/experiments.md", markdown(rows, info));
-    writeTextAtomically(dir + "/experiments.json", json(rows, info));
-    writeTextAtomically(dir + "/experiments.html", html(rows, results, info));
+    io::writeTextAtomically(dir + "/experiments.md", markdown(rows, info));
+    io::writeTextAtomically(dir + "/experiments.json", json(rows, info));
+    io::writeTextAtomically(dir + "/experiments.html", html(rows, results, info));
 }
 
 }  // namespace emslam::apps

@@ -3,14 +3,14 @@
 #include <emslam/apps/ConfigValidation.h>
 #include <emslam/apps/EnergyScanOutputs.h>
 #include <emslam/apps/ExperimentRunner.h>
-#include <emslam/apps/Mapper.h>
 #include <emslam/apps/MapperOutputs.h>
 #include <emslam/apps/MapperReport.h>
-#include <emslam/apps/TrajectoryMetrics.h>
+#include <emslam/eval/TrajectoryMetrics.h>
 #include <emslam/maps/EntropyEnergy.h>
 #include <emslam/rectify/EnergyAtPoses.h>
 #include <emslam/sim/ExactDepthFrame.h>
 #include <emslam/sim/StereoSimulator.h>
+#include <emslam/slam/EntropySlam.h>
 #include <emslam/stereo/ExceptionMessage.h>
 #include <emslam/stereo/RangeScanConversion.h>
 
@@ -68,17 +68,18 @@ emslam::sim::StereoSimulator loadWorld(const std::string& file, int seed)
     }
 }
 
-Mapper::TParameters loadMapper(const std::string& file, const std::vector<std::string>& sets)
+slam::EntropySlam::TParameters loadMapper(
+    const std::string& file, const std::vector<std::string>& sets)
 {
     try
     {
         mrpt::config::CConfigFileMemory cfg;
         loadConfig(cfg, file, sets);
-        Mapper::TParameters reference;
+        slam::EntropySlam::TParameters reference;
         mrpt::config::CConfigFileMemory known;
         reference.saveToConfigFile(known);
         requireKnownConfigEntries(cfg, known);
-        Mapper::TParameters p;
+        slam::EntropySlam::TParameters p;
         p.loadFromConfigFile(cfg);
         return p;
     }
@@ -91,9 +92,9 @@ Mapper::TParameters loadMapper(const std::string& file, const std::vector<std::s
 
 void writeRunOutputs(
     const std::string& dir,
-    const Mapper& m,
+    const slam::EntropySlam& m,
     const MapperRunInfo& info,
-    const emslam::stereo::TumTrajectory& ground_truth)
+    const emslam::io::TumTrajectory& ground_truth)
 {
     std::error_code ec;
     std::filesystem::create_directories(dir, ec);
@@ -102,8 +103,8 @@ void writeRunOutputs(
         throw std::runtime_error("cannot create folder '" + dir + "'");
     }
     ground_truth.saveToFile(dir + "/groundtruth.tum");
-    m.egomotionTrajectory().saveToFile(dir + "/trajectory_egomotion.tum");
-    m.slamTrajectory().saveToFile(dir + "/trajectory_slam.tum");
+    tumTrajectoryOf(m.egomotionPoses()).saveToFile(dir + "/trajectory_egomotion.tum");
+    tumTrajectoryOf(m.slamPoses()).saveToFile(dir + "/trajectory_slam.tum");
     writeSummaryJson(m, info, dir + "/summary.json");
     writeMapperReport(dir + "/report.html", makeReportData(m, info, ground_truth));
 }
@@ -128,7 +129,7 @@ ExperimentResult runExperiment(
     }
     const std::string& mapper_file = spec.mappers[mapper_index];
     const emslam::sim::StereoSimulator sim = loadWorld(spec.world, seed);
-    const Mapper::TParameters p = loadMapper(mapper_file, spec.sets);
+    const slam::EntropySlam::TParameters p = loadMapper(mapper_file, spec.sets);
 
     ExperimentResult r;
     r.experiment = spec.name;
@@ -144,7 +145,7 @@ ExperimentResult runExperiment(
     r.paper_egomotion_gap_m = spec.paper_egomotion_gap_m;
     r.paper_slam_gap_m = spec.paper_slam_gap_m.at(mapper_index);
 
-    Mapper mapper(p);
+    slam::EntropySlam mapper(p);
     const std::size_t n =
         options.max_frames == 0 ? sim.frameCount() : std::min(options.max_frames, sim.frameCount());
     std::vector<mrpt::poses::CPose3D> truth;
@@ -173,23 +174,24 @@ ExperimentResult runExperiment(
     r.frames = mapper.frameCount();
     r.observations = mapper.acceptedCount();
     r.egomotion_failures = mapper.egomotionFailures();
-    r.egomotion = mapper.egomotionTrajectory();
-    r.slam = mapper.slamTrajectory();
+    r.egomotion = tumTrajectoryOf(mapper.egomotionPoses());
+    r.slam = tumTrajectoryOf(mapper.slamPoses());
 
-    const TrajectoryMetrics::Options metric_options;
+    const eval::TrajectoryMetrics::Options metric_options;
     MapperRunInfo info;
     info.rawlog = "simulated: " + spec.world + " (seed " + std::to_string(seed) +
                   (options.exact_depth ? ", exact depth" : "") + ")";
     info.config = mapper_file;
     info.interrupted = r.interrupted;
-    info.egomotion_vs_gt = TrajectoryMetrics::compute(r.ground_truth, r.egomotion, metric_options);
-    info.slam_vs_gt = TrajectoryMetrics::compute(r.ground_truth, r.slam, metric_options);
+    info.egomotion_vs_gt =
+        eval::TrajectoryMetrics::compute(r.ground_truth, r.egomotion, metric_options);
+    info.slam_vs_gt = eval::TrajectoryMetrics::compute(r.ground_truth, r.slam, metric_options);
     std::vector<mrpt::poses::CPose3D> gt_poses;
     for (const auto& tp : r.ground_truth.poses)
     {
         gt_poses.push_back(tp.pose);
     }
-    r.path_m = pathLength(gt_poses);
+    r.path_m = eval::pathLength(gt_poses);
     r.egomotion_gap_m = info.egomotion_vs_gt->end_error_m;
     r.slam_gap_m = info.slam_vs_gt->end_error_m;
     r.egomotion_ate_m = info.egomotion_vs_gt->ate_rmse_m;

@@ -2,9 +2,9 @@
 #include <emslam/apps/CommandLine.h>
 #include <emslam/apps/ExperimentReport.h>
 #include <emslam/apps/ExperimentsApp.h>
-#include <emslam/apps/OutputPathChecks.h>
 #include <emslam/apps/ProgressLine.h>
 #include <emslam/apps/StopSignal.h>
+#include <emslam/io/OutputPathChecks.h>
 
 #include <mrpt/core/bits_math.h>
 
@@ -84,8 +84,8 @@ void ExperimentsApp::initialize(int argc, const char** argv)
     }
     m_quick_frames = s.quick_frames;
     // Before hours of runs: an --out that cannot take the reports fails now.
-    requireOutputFolder(m_out, "output folder");
-    requireReplaceableFiles(m_out, {"experiments.md", "experiments.json", "experiments.html"});
+    io::requireOutputFolder(m_out, "output folder");
+    io::requireReplaceableFiles(m_out, {"experiments.md", "experiments.json", "experiments.html"});
 }
 
 void ExperimentsApp::run()
@@ -95,7 +95,7 @@ void ExperimentsApp::run()
         return;
     }
     const auto t_start = std::chrono::steady_clock::now();
-    createOutputFolder(m_out);
+    io::createOutputFolder(m_out);
     std::size_t total = 0;
     for (const auto& e : m_experiments)
     {

@@ -3,13 +3,13 @@
 #include <emslam/apps/ConfigValidation.h>
 #include <emslam/apps/GrabberApp.h>
 #include <emslam/apps/LiveViewer.h>
-#include <emslam/apps/RawlogOutput.h>
 #include <emslam/apps/StopSignal.h>
 #include <emslam/hwdrivers/CDigiclopsStereoCamera.h>
 #include <emslam/hwdrivers/CSimulatedStereoCamera.h>
 #include <emslam/hwdrivers/CStereoImageFolderCamera.h>
 #include <emslam/hwdrivers/DeviceList.h>
 #include <emslam/hwdrivers/SensorStatus.h>
+#include <emslam/io/RawlogOutput.h>
 #include <emslam/stereo/ExceptionMessage.h>
 #include <emslam/stereo/StereoMatcher.h>
 
@@ -296,7 +296,7 @@ void initializeSensors(std::vector<std::unique_ptr<Slot>>& slots)
 class Session
 {
 public:
-    Session(GrabberApp& app, std::vector<std::unique_ptr<Slot>>& slots, RawlogOutput& out)
+    Session(GrabberApp& app, std::vector<std::unique_ptr<Slot>>& slots, io::RawlogOutput& out)
         : m_app(app), m_slots(slots), m_out(out)
     {
     }
@@ -391,7 +391,7 @@ private:
 
     GrabberApp& m_app;
     std::vector<std::unique_ptr<Slot>>& m_slots;
-    RawlogOutput& m_out;
+    io::RawlogOutput& m_out;
     std::multimap<
         mrpt::Clock::time_point,
         std::pair<std::size_t, mrpt::serialization::CSerializable::Ptr>>
@@ -611,8 +611,8 @@ void GrabberApp::run()
     auto slots = createSensors(cfg, config_file);
     initializeSensors(slots);
 
-    RawlogOutput::checkOutputFolders(out_file, {});
-    RawlogOutput out(out_file, gz_level);
+    io::RawlogOutput::checkOutputFolders(out_file, {});
+    io::RawlogOutput out(out_file, gz_level);
     const std::string partial = out.partialFile();
     if (!quiet)
     {

@@ -2,12 +2,12 @@
 #include <emslam/apps/CommandLine.h>
 #include <emslam/apps/ImportApp.h>
 #include <emslam/apps/ProgressLine.h>
-#include <emslam/apps/RawlogOutput.h>
 #include <emslam/apps/StopSignal.h>
-#include <emslam/stereo/EurocSequence.h>
-#include <emslam/stereo/KittiSequence.h>
-#include <emslam/stereo/TumRgbdSequence.h>
-#include <emslam/stereo/TumTrajectory.h>
+#include <emslam/io/EurocSequence.h>
+#include <emslam/io/KittiSequence.h>
+#include <emslam/io/RawlogOutput.h>
+#include <emslam/io/TumRgbdSequence.h>
+#include <emslam/io/TumTrajectory.h>
 
 #include <mrpt/3rdparty/tclap/CmdLine.h>
 #include <mrpt/core/Clock.h>
@@ -460,13 +460,13 @@ void ImportApp::run()
     output_bytes = 0;
     retimed = false;
     // A bad output path must not cost a whole import.
-    RawlogOutput::checkOutputFolders(output_file, gt_out_file);
+    io::RawlogOutput::checkOutputFolders(output_file, gt_out_file);
 
     // Open and validate the dataset.
     FrameSource src;
     if (dataset == "kitti")
     {
-        auto r = std::make_shared<emslam::stereo::KittiSequence>();
+        auto r = std::make_shared<emslam::io::KittiSequence>();
         r->sensor_label = sensor_label.empty() ? "STEREO" : sensor_label;
         if (kitti_time_offset)
         {
@@ -481,7 +481,7 @@ void ImportApp::run()
     }
     else if (dataset == "euroc")
     {
-        auto r = std::make_shared<emslam::stereo::EurocSequence>();
+        auto r = std::make_shared<emslam::io::EurocSequence>();
         r->sensor_label = sensor_label.empty() ? "STEREO" : sensor_label;
         r->open(input_dir, euroc_gt_file);
         src = makeSource(
@@ -493,7 +493,7 @@ void ImportApp::run()
     }
     else if (dataset == "tum")
     {
-        auto r = std::make_shared<emslam::stereo::TumRgbdSequence>();
+        auto r = std::make_shared<emslam::io::TumRgbdSequence>();
         r->sensor_label = sensor_label.empty() ? "RGBD" : sensor_label;
         if (!tum_intrinsics.empty())
         {
@@ -544,13 +544,13 @@ void ImportApp::run()
         }
     }
 
-    emslam::stereo::TumTrajectory gt;
+    emslam::io::TumTrajectory gt;
     std::optional<mrpt::poses::CPose3D> T_world_ref;
     StopSignal::clear();
     const StopSignalGuard signals;
     try
     {
-        RawlogOutput out(output_file, gz_level, gt_out_file);
+        io::RawlogOutput out(output_file, gz_level, gt_out_file);
         {
             ProgressLine progress(PROGRAM, indices.size(), !quiet);
             for (std::size_t k = 0; k < indices.size() && !StopSignal::requested(); k++)
@@ -584,7 +584,7 @@ void ImportApp::run()
             }
             progress.finish();
         }
-        RawlogOutput::noteInterruption(PROGRAM, frames_written, indices.size(), output_file);
+        noteInterruption(PROGRAM, frames_written, indices.size(), output_file);
         poses_written = out.commit(gt);
     }
     catch (...)

@@ -104,7 +104,8 @@ SceneObjects createScene(mrpt::opengl::COpenGLScene& scene)
     return o;
 }
 
-void pushGrey(mrpt::opengl::CPointCloudColoured& cloud, const IntensityCloud& p, std::size_t from)
+void pushGrey(
+    mrpt::opengl::CPointCloudColoured& cloud, const slam::IntensityCloud& p, std::size_t from)
 {
     for (std::size_t i = from; i < p.size(); ++i)
     {
@@ -117,8 +118,8 @@ void pushGrey(mrpt::opengl::CPointCloudColoured& cloud, const IntensityCloud& p,
  * dropped (old areas stay visible, only sparser). */
 void appendPoints(
     mrpt::opengl::CPointCloudColoured& cloud,
-    IntensityCloud& drawn,
-    const IntensityCloud& fresh,
+    slam::IntensityCloud& drawn,
+    const slam::IntensityCloud& fresh,
     std::size_t max)
 {
     const std::size_t before = drawn.size();
@@ -129,7 +130,7 @@ void appendPoints(
         pushGrey(cloud, drawn, before);
         return;
     }
-    IntensityCloud thinned;
+    slam::IntensityCloud thinned;
     for (std::size_t i = 0; i < drawn.size(); i += 2)
     {
         thinned.points.push_back(drawn.points[i]);
@@ -210,7 +211,7 @@ void LiveViewer::push(LiveViewSnapshot snapshot)
     m_wake.notify_one();
 }
 
-void LiveViewer::addMapPoints(const IntensityCloud& points)
+void LiveViewer::addMapPoints(const slam::IntensityCloud& points)
 {
     if (!m_active.load() || points.empty())
     {
@@ -227,7 +228,7 @@ void LiveViewer::run()
 {
     mrpt::gui::CDisplayWindow3D::Ptr win;
     SceneObjects objects;
-    IntensityCloud drawn_points;
+    slam::IntensityCloud drawn_points;
     try
     {
         win =
@@ -267,7 +268,7 @@ void LiveViewer::run()
     while (true)
     {
         std::optional<LiveViewSnapshot> snap;
-        IntensityCloud points;
+        slam::IntensityCloud points;
         {
             std::unique_lock<std::mutex> lock(m_mutex);
             m_wake.wait_until(lock, next_draw, [&] { return m_stop; });

@@ -6,13 +6,13 @@
 
 namespace emslam::apps
 {
-IntensityCloud cutAboveHeight(const IntensityCloud& cloud, double max_height)
+slam::IntensityCloud cutAboveHeight(const slam::IntensityCloud& cloud, double max_height)
 {
     if (std::isinf(max_height) && max_height > 0)
     {
         return cloud;
     }
-    IntensityCloud out;
+    slam::IntensityCloud out;
     for (std::size_t i = 0; i < cloud.size(); ++i)
     {
         if (heightAboveFirstCamera(cloud.points[i]) <= max_height)

@@ -22,7 +22,7 @@ namespace emslam::apps
 namespace
 {
 mrpt::opengl::CSetOfLines::Ptr trajectoryLines(
-    const emslam::stereo::TumTrajectory& t, const TrajectoryStyle& style, const char* name)
+    const emslam::io::TumTrajectory& t, const TrajectoryStyle& style, const char* name)
 {
     auto lines = mrpt::opengl::CSetOfLines::Create();
     lines->setName(name);
@@ -39,7 +39,7 @@ mrpt::opengl::CSetOfLines::Ptr trajectoryLines(
 
 /** The 2nd and 98th percentiles of the heights: a few stray points must not
  * squeeze every other colour together. */
-std::pair<double, double> heightRange(const IntensityCloud& cloud)
+std::pair<double, double> heightRange(const slam::IntensityCloud& cloud)
 {
     if (cloud.empty())
     {
@@ -103,7 +103,7 @@ mrpt::opengl::COpenGLScene::Ptr buildMapScene(const MapDrawingContent& c)
     world->setName("map frame (first camera)");
     world->setPose(viewerFromCamera());
 
-    IntensityCloud kept;
+    slam::IntensityCloud kept;
     std::pair<double, double> range{0.0, 1.0};
     if (c.cloud)
     {

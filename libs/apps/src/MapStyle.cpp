@@ -1,6 +1,6 @@
 // SPDX-License-Identifier: BSD-3-Clause
 #include <emslam/apps/MapStyle.h>
-#include <emslam/apps/TrajectoryMetrics.h>
+#include <emslam/eval/TrajectoryMetrics.h>
 
 #include <mrpt/img/color_maps.h>
 #include <mrpt/math/CMatrixFixed.h>
@@ -32,21 +32,20 @@ mrpt::img::TColorf heightColor(double h, double lo, double hi)
     return {r, g, b};
 }
 
-emslam::stereo::TumTrajectory groundTruthInMapFrame(
-    const emslam::stereo::TumTrajectory& ground_truth,
-    const emslam::stereo::TumTrajectory& estimate)
+emslam::io::TumTrajectory groundTruthInMapFrame(
+    const emslam::io::TumTrajectory& ground_truth, const emslam::io::TumTrajectory& estimate)
 {
-    emslam::stereo::TumTrajectory out;
+    emslam::io::TumTrajectory out;
     if (ground_truth.empty() || estimate.empty())
     {
         return out;
     }
-    const AssociatedPoses pairs = associateByTimestamp(ground_truth, estimate, 0.05);
+    const eval::AssociatedPoses pairs = eval::associateByTimestamp(ground_truth, estimate, 0.05);
     mrpt::poses::CPose3D T_map_gt;
     if (pairs.size() >= 3)
     {
         // alignPositions(a, b) lays b on a: here the ground truth on the estimate.
-        T_map_gt = alignPositions(pairs.est, pairs.gt, Alignment::SE3).T_gt_est;
+        T_map_gt = eval::alignPositions(pairs.est, pairs.gt, eval::Alignment::SE3).T_gt_est;
     }
     else
     {

@@ -42,8 +42,9 @@ MapTopView renderTopView(const MapDrawingContent& c, const TopViewOptions& o)
             "top view: max_side must be >= 64 and margin in [0, max_side/2) (got %d, %d)",
             o.max_side, o.margin));
     }
-    const IntensityCloud kept = c.cloud ? cutAboveHeight(*c.cloud, c.max_height) : IntensityCloud{};
-    const emslam::stereo::TumTrajectory* trajectories[] = {c.egomotion, c.slam, c.ground_truth};
+    const slam::IntensityCloud kept =
+        c.cloud ? cutAboveHeight(*c.cloud, c.max_height) : slam::IntensityCloud{};
+    const emslam::io::TumTrajectory* trajectories[] = {c.egomotion, c.slam, c.ground_truth};
 
     // Extent: trajectories and the cloud's 1st..99th percentiles (stray far
     // points would shrink the plan to a dot).
@@ -121,7 +122,7 @@ MapTopView renderTopView(const MapDrawingContent& c, const TopViewOptions& o)
     cv::cvtColor(grey, view.image, cv::COLOR_GRAY2BGR);
 
     // Trajectories: ground truth first, so the estimates are drawn on top.
-    const std::pair<const emslam::stereo::TumTrajectory*, TrajectoryStyle> drawn[] = {
+    const std::pair<const emslam::io::TumTrajectory*, TrajectoryStyle> drawn[] = {
         {c.ground_truth, GROUND_TRUTH_STYLE}, {c.egomotion, EGOMOTION_STYLE}, {c.slam, SLAM_STYLE}};
     for (const auto& [t, style] : drawn)
     {

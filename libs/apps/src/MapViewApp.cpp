@@ -1,10 +1,10 @@
 // SPDX-License-Identifier: BSD-3-Clause
 #include <emslam/apps/CommandLine.h>
 #include <emslam/apps/EntropyVoxelObject.h>
-#include <emslam/apps/InputFileChecks.h>
 #include <emslam/apps/LiveViewer.h>
 #include <emslam/apps/MapStyle.h>
 #include <emslam/apps/MapViewApp.h>
+#include <emslam/io/InputFileChecks.h>
 #include <emslam/stereo/ExceptionMessage.h>
 
 #include <mrpt/3rdparty/tclap/CmdLine.h>
@@ -58,7 +58,7 @@ void MapViewApp::initialize(int argc, const char** argv)
 mrpt::opengl::COpenGLScene::Ptr MapViewApp::loadScene(
     const std::string& file, std::size_t max_cells)
 {
-    requireInputFile(file, "map file");
+    io::requireInputFile(file, "map file");
     if (endsWith(file, ".3Dscene"))
     {
         auto scene = mrpt::opengl::COpenGLScene::Create();

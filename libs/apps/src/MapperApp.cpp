@@ -1,20 +1,21 @@
 // SPDX-License-Identifier: BSD-3-Clause
-#include <emslam/apps/AtomicTextFile.h>
 #include <emslam/apps/CommandLine.h>
 #include <emslam/apps/ConfigValidation.h>
 #include <emslam/apps/EnergyScanOutputs.h>
-#include <emslam/apps/InputFileChecks.h>
 #include <emslam/apps/MapperApp.h>
 #include <emslam/apps/MapperLiveFeed.h>
 #include <emslam/apps/MapperReport.h>
-#include <emslam/apps/OutputPathChecks.h>
+#include <emslam/apps/PlyFile.h>
 #include <emslam/apps/ProgressLine.h>
-#include <emslam/apps/RawlogInput.h>
-#include <emslam/apps/RawlogReadAhead.h>
 #include <emslam/apps/StopSignal.h>
-#include <emslam/apps/TrajectoryInput.h>
+#include <emslam/io/AtomicTextFile.h>
+#include <emslam/io/InputFileChecks.h>
+#include <emslam/io/OutputPathChecks.h>
+#include <emslam/io/RawlogInput.h>
+#include <emslam/io/RawlogReadAhead.h>
+#include <emslam/io/TrajectoryInput.h>
+#include <emslam/io/TrajectoryWriter.h>
 #include <emslam/stereo/ExceptionMessage.h>
-#include <emslam/stereo/TrajectoryWriter.h>
 
 #include <mrpt/core/bits_math.h>
 #include <mrpt/system/filesystem.h>
@@ -65,11 +66,11 @@ const std::vector<std::string>& outputNames()
     return names;
 }
 
-void writeEffectiveIni(const Mapper::TParameters& p, const std::string& file)
+void writeEffectiveIni(const slam::EntropySlam::TParameters& p, const std::string& file)
 {
     mrpt::config::CConfigFileMemory cfg;
     p.saveToConfigFile(cfg);
-    AtomicTextFile f(file);
+    io::AtomicTextFile f(file);
     f.stream() << "# emslam-mapper: every parameter this run used (load it with emslam-mapper to "
                   "repeat the run)\n"
                << cfg.getContent();
@@ -77,7 +78,7 @@ void writeEffectiveIni(const Mapper::TParameters& p, const std::string& file)
 }
 
 /** The progress line's energy: none before the first rectification gives one. */
-std::string energyText(const Mapper& m)
+std::string energyText(const slam::EntropySlam& m)
 {
     if (!m.hasEnergy())
     {
@@ -89,15 +90,15 @@ std::string energyText(const Mapper& m)
 }
 
 /** keyframes.txt: the frames space sampling accepted (rectified), one per line. */
-void writeKeyframes(const Mapper& m, const std::string& file)
+void writeKeyframes(const slam::EntropySlam& m, const std::string& file)
 {
-    AtomicTextFile f(file);
+    io::AtomicTextFile f(file);
     f.stream() << "# keyframes (accepted frames, rectified): frame_index timestamp; frame_index "
                   "is the line of trajectory_slam.tum from 0\n";
     const auto& frames = m.frames();
     for (const auto i : m.keyframes())
     {
-        f.stream() << i << ' ' << emslam::stereo::formatTimestamp(frames[i].timestamp) << '\n';
+        f.stream() << i << ' ' << emslam::io::formatTimestamp(frames[i].timestamp) << '\n';
     }
     f.commit();
 }
@@ -180,7 +181,7 @@ void MapperApp::initialize(int argc, const char** argv)
     }
     try
     {
-        m_gt_options.format = emslam::stereo::parseTrajectoryFormat(gt_format.getValue());
+        m_gt_options.format = emslam::io::parseTrajectoryFormat(gt_format.getValue());
     }
     catch (const std::invalid_argument& e)
     {
@@ -189,7 +190,7 @@ void MapperApp::initialize(int argc, const char** argv)
     m_gt_options.times_file = gt_times.getValue();
     try
     {
-        m_trajectory_output = emslam::stereo::parseTrajectoryOutput(trajectory_format.getValue());
+        m_trajectory_output = emslam::io::parseTrajectoryOutput(trajectory_format.getValue());
     }
     catch (const std::invalid_argument& e)
     {
@@ -203,25 +204,25 @@ void MapperApp::initialize(int argc, const char** argv)
 
     // Everything a run needs is checked here, before any long work.
     checkConfig(params);
-    requireInputFile(m_rawlog, "rawlog");
-    requireOutputFolder(m_out, "output folder");
-    requireReplaceableFiles(m_out, outputNames());
+    io::requireInputFile(m_rawlog, "rawlog");
+    io::requireOutputFolder(m_out, "output folder");
+    io::requireReplaceableFiles(m_out, outputNames());
     m_ground_truth = {};
     if (!m_gt.empty())
     {
-        requireInputFile(m_gt, "ground-truth file");
+        io::requireInputFile(m_gt, "ground-truth file");
         // Read now: a bad ground truth stops the run before the long work.
-        m_ground_truth = loadTrajectoryInput(m_gt, "ground-truth", m_gt_options);
-        requireTimes(m_ground_truth, m_gt, "ground truth", "--gt-times");
+        m_ground_truth = io::loadTrajectoryInput(m_gt, "ground-truth", m_gt_options);
+        io::requireTimes(m_ground_truth, m_gt, "ground truth", "--gt-times");
     }
 }
 
 void MapperApp::checkConfig(const mrpt::config::CConfigFileBase& params)
 {
     mrpt::config::CConfigFileMemory known;
-    Mapper::TParameters().saveToConfigFile(known);
+    slam::EntropySlam::TParameters().saveToConfigFile(known);
     requireValidConfig(params, known);
-    Mapper::TParameters p;
+    slam::EntropySlam::TParameters p;
     p.loadFromConfigFile(params);
 }
 
@@ -233,12 +234,12 @@ void MapperApp::run()
     }
     const auto t_start = std::chrono::steady_clock::now();
     m_degenerate.clear();
-    Mapper::TParameters p;
+    slam::EntropySlam::TParameters p;
     p.loadFromConfigFile(params);
     p.mapper.egomotion_only = p.mapper.egomotion_only || m_egomotion_only;
-    const emslam::stereo::TumTrajectory& ground_truth = m_ground_truth.trajectory;
-    RawlogInput in(m_rawlog);
-    m_mapper = std::make_unique<Mapper>(p);
+    const emslam::io::TumTrajectory& ground_truth = m_ground_truth.trajectory;
+    io::RawlogInput in(m_rawlog);
+    m_mapper = std::make_unique<slam::EntropySlam>(p);
     m_info = {};
     m_info.rawlog = m_rawlog;
     m_info.config = m_config;
@@ -249,7 +250,7 @@ void MapperApp::run()
     const auto live = m_viewer ? std::make_unique<MapperLiveFeed>(PROGRAM) : nullptr;
     std::vector<mrpt::obs::CObservation::Ptr> batch;
     bool done = false;
-    RawlogReadAhead reader(in);  // the next record is read while this one is mapped
+    io::RawlogReadAhead reader(in);  // the next record is read while this one is mapped
     while (!done && reader.next(batch))
     {
         for (const auto& o : batch)
@@ -269,7 +270,7 @@ void MapperApp::run()
                     continue;
                 }
             }
-            catch (const Mapper::UnusableObservation& e)
+            catch (const slam::EntropySlam::UnusableObservation& e)
             {
                 skipObservation(record, e.what(), progress);
                 continue;
@@ -344,7 +345,7 @@ void MapperApp::run()
         m_mapper->finish();
         m_info.seconds =
             std::chrono::duration<double>(std::chrono::steady_clock::now() - t_start).count();
-        const Mapper& m = *m_mapper;
+        const slam::EntropySlam& m = *m_mapper;
         m_info.degenerate =
             degenerateRunWarning(m.frameCount() - 1, m.egomotionFailures(), m.mapCloud().size());
         writeOutputs(ground_truth);
@@ -404,17 +405,18 @@ void MapperApp::skipObservation(
     }
 }
 
-void MapperApp::writeOutputs(const emslam::stereo::TumTrajectory& ground_truth)
+void MapperApp::writeOutputs(const emslam::io::TumTrajectory& ground_truth)
 {
     // Made only now: a run that fails before leaves no empty folder behind.
-    createOutputFolder(m_out);
-    const Mapper& m = *m_mapper;
+    io::createOutputFolder(m_out);
+    const slam::EntropySlam& m = *m_mapper;
     if (!ground_truth.empty())
     {
-        TrajectoryMetrics::Options opts;
-        m_info.egomotion_vs_gt =
-            TrajectoryMetrics::compute(ground_truth, m.egomotionTrajectory(), opts);
-        m_info.slam_vs_gt = TrajectoryMetrics::compute(ground_truth, m.slamTrajectory(), opts);
+        eval::TrajectoryMetrics::Options opts;
+        m_info.egomotion_vs_gt = eval::TrajectoryMetrics::compute(
+            ground_truth, tumTrajectoryOf(m.egomotionPoses()), opts);
+        m_info.slam_vs_gt =
+            eval::TrajectoryMetrics::compute(ground_truth, tumTrajectoryOf(m.slamPoses()), opts);
     }
     // A scan that cannot be made (a frame without ground truth) fails the run,
     // but only after every other output is written.
@@ -424,7 +426,8 @@ void MapperApp::writeOutputs(const emslam::stereo::TumTrajectory& ground_truth)
         try
         {
             m_info.energy_scan = scanMapperEnergy(
-                m, groundTruthFramePoses(m, ground_truth, TrajectoryMetrics::Options().max_dt));
+                m,
+                groundTruthFramePoses(m, ground_truth, eval::TrajectoryMetrics::Options().max_dt));
             writeEnergyScanCsv(m_info.energy_scan->scan, joinPath(m_out, "energy_scan.csv"));
         }
         catch (const std::exception& e)
@@ -432,12 +435,13 @@ void MapperApp::writeOutputs(const emslam::stereo::TumTrajectory& ground_truth)
             scan_error = emslam::stereo::shortExceptionMessage(e);
         }
     }
+    const auto ego = tumTrajectoryOf(m.egomotionPoses());
+    const auto slam = tumTrajectoryOf(m.slamPoses());
     for (const auto& [name, t] :
-         {std::pair{"trajectory_egomotion", &m.egomotionTrajectory()},
-          std::pair{"trajectory_slam", &m.slamTrajectory()}})
+         {std::pair{"trajectory_egomotion", &ego}, std::pair{"trajectory_slam", &slam}})
     {
-        const bool kitti_only = m_trajectory_output == emslam::stereo::TrajectoryOutput::Kitti;
-        emslam::stereo::saveTrajectory(
+        const bool kitti_only = m_trajectory_output == emslam::io::TrajectoryOutput::Kitti;
+        emslam::io::saveTrajectory(
             *t, joinPath(m_out, std::string(name) + (kitti_only ? "_kitti.txt" : ".tum")),
             m_trajectory_output);
     }
@@ -468,8 +472,7 @@ void MapperApp::writeOutputs(const emslam::stereo::TumTrajectory& ground_truth)
         m.finalEnergy(), m_info.seconds);
     std::printf(
         "%s (first to last pose): egomotion %.3f m, SLAM %.3f m\n",
-        startToEndName(ground_truth).c_str(), loopGap(m.egomotionTrajectory()),
-        loopGap(m.slamTrajectory()));
+        startToEndName(ground_truth).c_str(), loopGap(m.egomotionPoses()), loopGap(m.slamPoses()));
     if (m_info.slam_vs_gt)
     {
         std::printf(

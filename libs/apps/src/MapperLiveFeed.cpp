@@ -23,18 +23,18 @@ mrpt::math::TPoint3Df positionOf(const mrpt::poses::CPose3D& p)
 
 MapperLiveFeed::MapperLiveFeed(const std::string& title) : m_viewer(optionsFor(title)) {}
 
-void MapperLiveFeed::update(const Mapper& m)
+void MapperLiveFeed::update(const slam::EntropySlam& m)
 {
-    if (!m_viewer.active() || m.egomotionTrajectory().empty())
+    if (!m_viewer.active() || m.egomotionPoses().empty())
     {
         return;
     }
-    const mrpt::poses::CPose3D& T_world_cam = m.egomotionTrajectory().poses.back().pose;
-    if (const IntensityCloud* cloud = m.lastAcceptedCloud())
+    const mrpt::poses::CPose3D& T_world_cam = m.egomotionPoses().back().T_world_frame;
+    if (const slam::IntensityCloud* cloud = m.lastAcceptedCloud())
     {
-        IntensityCloud world;
+        slam::IntensityCloud world;
         world.appendTransformed(
-            *cloud, m.egomotionTrajectory().poses.at(m.lastAcceptedCloudFrame()).pose);
+            *cloud, m.egomotionPoses().at(m.lastAcceptedCloudFrame()).T_world_frame);
         // The same ceiling cut as map.3Dscene, so the trajectories stay visible.
         m_viewer.addMapPoints(cutAboveHeight(world, m.parameters().mapper.export_max_height));
     }
@@ -43,10 +43,10 @@ void MapperLiveFeed::update(const Mapper& m)
         return;
     }
     LiveViewSnapshot s;
-    s.egomotion.reserve(m.egomotionTrajectory().size());
-    for (const auto& p : m.egomotionTrajectory().poses)
+    s.egomotion.reserve(m.egomotionPoses().size());
+    for (const auto& p : m.egomotionPoses())
     {
-        s.egomotion.push_back(positionOf(p.pose));
+        s.egomotion.push_back(positionOf(p.T_world_frame));
     }
     for (const auto& p : m.currentSlamPoses())
     {

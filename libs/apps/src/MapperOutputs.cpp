@@ -1,12 +1,12 @@
 // SPDX-License-Identifier: BSD-3-Clause
-#include <emslam/apps/AtomicTextFile.h>
 #include <emslam/apps/EnergyScanOutputs.h>
 #include <emslam/apps/EntropyVoxelObject.h>
-#include <emslam/apps/Json.h>
 #include <emslam/apps/MapScene.h>
 #include <emslam/apps/MapStyle.h>
 #include <emslam/apps/MapTopView.h>
 #include <emslam/apps/MapperOutputs.h>
+#include <emslam/io/AtomicTextFile.h>
+#include <emslam/io/Json.h>
 #include <emslam/maps/EntropyEnergy.h>
 
 #include <mrpt/io/CFileOutputStream.h>
@@ -47,7 +47,7 @@ std::string jsonStringArray(const std::vector<std::string>& items)
     std::string out = "[";
     for (std::size_t i = 0; i < items.size(); ++i)
     {
-        out += (i > 0 ? ", " : "") + jsonString(items[i]);
+        out += (i > 0 ? ", " : "") + io::jsonString(items[i]);
     }
     return out + "]";
 }
@@ -61,7 +61,7 @@ std::string fixed(double v, int decimals)
 
 }  // namespace
 
-double loopGap(const emslam::stereo::TumTrajectory& t)
+double loopGap(const emslam::io::TumTrajectory& t)
 {
     if (t.size() < 2)
     {
@@ -72,12 +72,28 @@ double loopGap(const emslam::stereo::TumTrajectory& t)
         .norm();
 }
 
-std::string startToEndName(const emslam::stereo::TumTrajectory& ground_truth)
+double loopGap(const std::vector<emslam::rectify::TimedPose>& poses)
 {
-    return isClosedLoop(ground_truth) ? "loop gap" : "start-to-end distance";
+    return loopGap(tumTrajectoryOf(poses));
 }
 
-StageMeans stageMeans(const std::vector<MapperFrameRecord>& frames)
+emslam::io::TumTrajectory tumTrajectoryOf(const std::vector<emslam::rectify::TimedPose>& poses)
+{
+    emslam::io::TumTrajectory t;
+    t.poses.reserve(poses.size());
+    for (const auto& p : poses)
+    {
+        t.add(p.timestamp, p.T_world_frame);
+    }
+    return t;
+}
+
+std::string startToEndName(const emslam::io::TumTrajectory& ground_truth)
+{
+    return eval::isClosedLoop(ground_truth) ? "loop gap" : "start-to-end distance";
+}
+
+StageMeans stageMeans(const std::vector<slam::FrameRecord>& frames)
 {
     StageMeans m;
     for (const auto& f : frames)
@@ -118,9 +134,9 @@ RectificationTotals rectificationTotals(const std::vector<emslam::rectify::Recti
     return t;
 }
 
-void writeStatsCsv(const Mapper& m, const std::string& file)
+void writeStatsCsv(const slam::EntropySlam& m, const std::string& file)
 {
-    AtomicTextFile f(file);
+    io::AtomicTextFile f(file);
     auto& o = f.stream();
     o << "type,index,timestamp,ms_stereo,ms_egomotion,ms_rectification,ms_total,points,"
          "matches_before_lwo,matches_after_lwo,accepted,egomotion_ok,energy,"
@@ -132,32 +148,33 @@ void writeStatsCsv(const Mapper& m, const std::string& file)
           << ',' << fixed(r.ms_egomotion, 3) << ',' << fixed(r.ms_rectification, 3) << ','
           << fixed(r.ms_total, 3) << ',' << r.points << ',' << r.initial_matches << ','
           << r.final_matches << ',' << (r.accepted ? 1 : 0) << ',' << (r.egomotion_ok ? 1 : 0)
-          << ',' << jsonNumber(r.energy) << ",,,,,,,,,,\n";
+          << ',' << io::jsonNumber(r.energy) << ",,,,,,,,,,\n";
     }
     std::size_t k = 0;
     for (const auto& s : m.rectifications())
     {
         o << "rectification," << k++ << ",,,,,,,,,,,," << s.elements << ',' << s.frames << ','
           << s.attempts << ',' << s.successes << ',' << s.accepted_worse << ',' << s.failures << ','
-          << jsonNumber(s.energy_before) << ',' << jsonNumber(s.energy_after) << ','
+          << io::jsonNumber(s.energy_before) << ',' << io::jsonNumber(s.energy_after) << ','
           << fixed(s.seconds, 6) << ',' << (s.converged ? 1 : 0) << '\n';
     }
     f.commit();
 }
 
-void writeSummaryJson(const Mapper& m, const MapperRunInfo& info, const std::string& file)
+void writeSummaryJson(
+    const slam::EntropySlam& m, const MapperRunInfo& info, const std::string& file)
 {
     const StageMeans ms = stageMeans(m.frames());
     const RectificationTotals rt = rectificationTotals(m.rectifications());
     const auto& p = m.parameters();
     std::ostringstream j;
     j << "{\n"
-      << "  \"rawlog\": " << jsonString(info.rawlog) << ",\n"
-      << "  \"config\": " << jsonString(info.config) << ",\n"
-      << "  \"energy\": " << jsonString(emslam::maps::toString(p.map.energy)) << ",\n"
+      << "  \"rawlog\": " << io::jsonString(info.rawlog) << ",\n"
+      << "  \"config\": " << io::jsonString(info.config) << ",\n"
+      << "  \"energy\": " << io::jsonString(emslam::maps::toString(p.map.energy)) << ",\n"
       << "  \"dof\": " << p.map.dof << ",\n"
       << "  \"mode\": "
-      << jsonString(
+      << io::jsonString(
              p.mapper.egomotion_only ? std::string("egomotion_only")
                                      : emslam::rectify::toString(p.rectifier.mode))
       << ",\n"
@@ -170,36 +187,36 @@ void writeSummaryJson(const Mapper& m, const MapperRunInfo& info, const std::str
       << "  \"skipped_observations\": " << info.skipped_observations << ",\n"
       << "  \"skipped_reasons\": " << jsonStringArray(info.skipped_reasons) << ",\n"
       << "  \"stopped_by_error\": "
-      << (info.stopped_by_error.empty() ? "null" : jsonString(info.stopped_by_error)) << ",\n"
+      << (info.stopped_by_error.empty() ? "null" : io::jsonString(info.stopped_by_error)) << ",\n"
       << "  \"interrupted\": " << (info.interrupted ? "true" : "false") << ",\n"
       << "  \"input_ended_early\": "
-      << (info.input_ended_early.empty() ? "null" : jsonString(info.input_ended_early)) << ",\n"
-      << "  \"degenerate\": " << (info.degenerate.empty() ? "null" : jsonString(info.degenerate))
-      << ",\n"
+      << (info.input_ended_early.empty() ? "null" : io::jsonString(info.input_ended_early)) << ",\n"
+      << "  \"degenerate\": "
+      << (info.degenerate.empty() ? "null" : io::jsonString(info.degenerate)) << ",\n"
       << "  \"image_width\": " << m.imageWidth() << ",\n"
       << "  \"image_height\": " << m.imageHeight() << ",\n"
-      << "  \"ms_per_frame\": {\"stereo\": " << jsonNumber(ms.stereo)
-      << ", \"egomotion\": " << jsonNumber(ms.egomotion)
-      << ", \"stereo_plus_egomotion\": " << jsonNumber(ms.stereo + ms.egomotion)
-      << ", \"rectification\": " << jsonNumber(ms.rectification)
-      << ", \"total\": " << jsonNumber(ms.total) << ", \"max_total\": " << jsonNumber(ms.max_total)
-      << "},\n"
+      << "  \"ms_per_frame\": {\"stereo\": " << io::jsonNumber(ms.stereo)
+      << ", \"egomotion\": " << io::jsonNumber(ms.egomotion)
+      << ", \"stereo_plus_egomotion\": " << io::jsonNumber(ms.stereo + ms.egomotion)
+      << ", \"rectification\": " << io::jsonNumber(ms.rectification)
+      << ", \"total\": " << io::jsonNumber(ms.total)
+      << ", \"max_total\": " << io::jsonNumber(ms.max_total) << "},\n"
       << "  \"rectification\": {\"calls\": " << m.rectifications().size()
       << ", \"attempts\": " << rt.attempts << ", \"successes\": " << rt.successes
       << ", \"failures\": " << rt.failures << ", \"accepted_worse\": " << rt.accepted_worse
-      << ", \"seconds\": " << jsonNumber(rt.seconds)
-      << ", \"median_ms_per_call\": " << jsonNumber(rt.median_ms)
-      << ", \"max_ms_per_call\": " << jsonNumber(rt.max_ms) << "},\n"
+      << ", \"seconds\": " << io::jsonNumber(rt.seconds)
+      << ", \"median_ms_per_call\": " << io::jsonNumber(rt.median_ms)
+      << ", \"max_ms_per_call\": " << io::jsonNumber(rt.max_ms) << "},\n"
       << "  \"trajectory_elements\": " << m.trajectoryElements() << ",\n"
       << "  \"compressions\": " << m.compressions() << ",\n"
-      << "  \"final_energy\": " << jsonNumber(m.finalEnergy()) << ",\n"
-      << "  \"final_entropy\": " << jsonNumber(m.finalEntropy()) << ",\n"
+      << "  \"final_energy\": " << io::jsonNumber(m.finalEnergy()) << ",\n"
+      << "  \"final_entropy\": " << io::jsonNumber(m.finalEntropy()) << ",\n"
       << "  \"map_points\": " << m.mapCloud().size() << ",\n"
-      << "  \"loop_gap_egomotion_m\": " << jsonNumber(loopGap(m.egomotionTrajectory())) << ",\n"
-      << "  \"loop_gap_slam_m\": " << jsonNumber(loopGap(m.slamTrajectory())) << ",\n"
-      << "  \"seconds\": " << jsonNumber(info.seconds) << ",\n"
+      << "  \"loop_gap_egomotion_m\": " << io::jsonNumber(loopGap(m.egomotionPoses())) << ",\n"
+      << "  \"loop_gap_slam_m\": " << io::jsonNumber(loopGap(m.slamPoses())) << ",\n"
+      << "  \"seconds\": " << io::jsonNumber(info.seconds) << ",\n"
       << "  \"wall_ms_per_frame\": "
-      << jsonNumber(
+      << io::jsonNumber(
              m.frameCount() > 0 ? 1e3 * info.seconds / static_cast<double>(m.frameCount()) : 0.0);
     if (info.egomotion_vs_gt)
     {
@@ -214,18 +231,21 @@ void writeSummaryJson(const Mapper& m, const MapperRunInfo& info, const std::str
         j << ",\n  \"energy_scan\": " << energyScanJson(*info.energy_scan);
     }
     j << "\n}\n";
-    AtomicTextFile f(file);
+    io::AtomicTextFile f(file);
     f.stream() << j.str();
     f.commit();
 }
 
 MapDrawingContent mapDrawingContent(
-    const Mapper& m, const emslam::stereo::TumTrajectory& ground_truth_in_map)
+    const slam::EntropySlam& m,
+    const emslam::io::TumTrajectory& egomotion,
+    const emslam::io::TumTrajectory& slam,
+    const emslam::io::TumTrajectory& ground_truth_in_map)
 {
     MapDrawingContent c;
     c.cloud = &m.mapCloud();
-    c.egomotion = &m.egomotionTrajectory();
-    c.slam = &m.slamTrajectory();
+    c.egomotion = &egomotion;
+    c.slam = &slam;
     c.ground_truth = ground_truth_in_map.empty() ? nullptr : &ground_truth_in_map;
     c.entropy_map = &m.entropyMap();
     c.max_height = m.parameters().mapper.export_max_height;
@@ -233,20 +253,28 @@ MapDrawingContent mapDrawingContent(
 }
 
 void writeScene(
-    const Mapper& m, const emslam::stereo::TumTrajectory& ground_truth, const std::string& file)
+    const slam::EntropySlam& m,
+    const emslam::io::TumTrajectory& ground_truth,
+    const std::string& file)
 {
-    const auto gt = groundTruthInMapFrame(ground_truth, m.egomotionTrajectory());
-    writeMapScene(mapDrawingContent(m, gt), file);
+    const auto ego = tumTrajectoryOf(m.egomotionPoses());
+    const auto slam = tumTrajectoryOf(m.slamPoses());
+    const auto gt = groundTruthInMapFrame(ground_truth, ego);
+    writeMapScene(mapDrawingContent(m, ego, slam, gt), file);
 }
 
 void writeTopViewPng(
-    const Mapper& m, const emslam::stereo::TumTrajectory& ground_truth, const std::string& file)
+    const slam::EntropySlam& m,
+    const emslam::io::TumTrajectory& ground_truth,
+    const std::string& file)
 {
-    const auto gt = groundTruthInMapFrame(ground_truth, m.egomotionTrajectory());
-    writeTopView(mapDrawingContent(m, gt), file);
+    const auto ego = tumTrajectoryOf(m.egomotionPoses());
+    const auto slam = tumTrajectoryOf(m.slamPoses());
+    const auto gt = groundTruthInMapFrame(ground_truth, ego);
+    writeTopView(mapDrawingContent(m, ego, slam, gt), file);
 }
 
-void writeEntropyMap(const Mapper& m, const std::string& file)
+void writeEntropyMap(const slam::EntropySlam& m, const std::string& file)
 {
     const std::string tmp = file + ".partial";
     {
@@ -264,18 +292,20 @@ void writeEntropyMap(const Mapper& m, const std::string& file)
     }
 }
 
-void writeEntropyMapView(const Mapper& m, const std::string& file)
+void writeEntropyMapView(const slam::EntropySlam& m, const std::string& file)
 {
     writeEntropyMapScene(m.entropyMap(), 50000, file);
 }
 
 MapperReportData makeReportData(
-    const Mapper& m, const MapperRunInfo& info, const emslam::stereo::TumTrajectory& ground_truth)
+    const slam::EntropySlam& m,
+    const MapperRunInfo& info,
+    const emslam::io::TumTrajectory& ground_truth)
 {
     MapperReportData d;
     d.title = info.rawlog;
-    d.egomotion = m.egomotionTrajectory();
-    d.slam = m.slamTrajectory();
+    d.egomotion = tumTrajectoryOf(m.egomotionPoses());
+    d.slam = tumTrajectoryOf(m.slamPoses());
     d.ground_truth = ground_truth;
     d.frames = m.frames();
     d.rectifications = m.rectifications();
@@ -302,13 +332,13 @@ MapperReportData makeReportData(
         fixed(rt.median_ms, 1) + " / " + fixed(rt.max_ms, 1));
     s.emplace_back("final energy", fixed(m.finalEnergy(), 4));
     const std::string gap = startToEndName(ground_truth);
-    s.emplace_back(gap + " egomotion [m]", fixed(loopGap(m.egomotionTrajectory()), 3));
-    s.emplace_back(gap + " SLAM [m]", fixed(loopGap(m.slamTrajectory()), 3));
+    s.emplace_back(gap + " egomotion [m]", fixed(loopGap(m.egomotionPoses()), 3));
+    s.emplace_back(gap + " SLAM [m]", fixed(loopGap(m.slamPoses()), 3));
     if (!ground_truth.empty())
     {
         s.emplace_back(
             "ground truth: path length / start-to-end distance [m]",
-            fixed(pathLength(ground_truth), 3) + " / " + fixed(loopGap(ground_truth), 3));
+            fixed(eval::pathLength(ground_truth), 3) + " / " + fixed(loopGap(ground_truth), 3));
     }
     if (info.egomotion_vs_gt && info.slam_vs_gt)
     {

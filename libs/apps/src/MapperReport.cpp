@@ -1,7 +1,7 @@
 // SPDX-License-Identifier: BSD-3-Clause
-#include <emslam/apps/AtomicTextFile.h>
 #include <emslam/apps/MapperReport.h>
 #include <emslam/apps/SvgPlot.h>
+#include <emslam/io/AtomicTextFile.h>
 
 #include <algorithm>
 #include <cctype>
@@ -120,7 +120,7 @@ std::string energyPlot(const std::vector<emslam::rectify::RectificationStats>& r
 }
 
 /** Paper Fig. 17: front-end time per frame and the rectification peaks. */
-std::string timePlot(const std::vector<MapperFrameRecord>& frames)
+std::string timePlot(const std::vector<slam::FrameRecord>& frames)
 {
     SvgPlot plot("plot-time", "Time per frame", 240);
     if (frames.empty())
@@ -193,7 +193,7 @@ const char* const NO_GT = "no ground truth: run the mapper with --gt";
 /** One curve per estimate that has metrics against the ground truth. */
 struct ErrorCurve
 {
-    const TrajectoryMetrics* metrics;
+    const eval::TrajectoryMetrics* metrics;
     std::string name, colour;
 };
 
@@ -301,11 +301,11 @@ std::string errorOverTimePlot(const MapperReportData& d)
 
 /** Per-frame counts against the frame index, one curve per selected field. */
 std::string perFramePlot(
-    const std::vector<MapperFrameRecord>& frames,
+    const std::vector<slam::FrameRecord>& frames,
     const std::string& id,
     const std::string& title,
     const std::string& y_label,
-    const std::vector<std::pair<std::size_t MapperFrameRecord::*, LegendItem>>& fields)
+    const std::vector<std::pair<std::size_t slam::FrameRecord::*, LegendItem>>& fields)
 {
     SvgPlot plot(id, title, 200);
     if (frames.empty())
@@ -336,19 +336,19 @@ std::string perFramePlot(
     return plot.str();
 }
 
-std::string matchesPlot(const std::vector<MapperFrameRecord>& frames)
+std::string matchesPlot(const std::vector<slam::FrameRecord>& frames)
 {
     return perFramePlot(
         frames, "plot-matches", "Matches per frame: before LWO and LWO inliers", "matches",
-        {{&MapperFrameRecord::initial_matches, {"matches before LWO", "#ff7f0e", ""}},
-         {&MapperFrameRecord::final_matches, {"LWO inliers (after LWO)", "#1f77b4", ""}}});
+        {{&slam::FrameRecord::initial_matches, {"matches before LWO", "#ff7f0e", ""}},
+         {&slam::FrameRecord::final_matches, {"LWO inliers (after LWO)", "#1f77b4", ""}}});
 }
 
-std::string pointsPlot(const std::vector<MapperFrameRecord>& frames)
+std::string pointsPlot(const std::vector<slam::FrameRecord>& frames)
 {
     return perFramePlot(
         frames, "plot-points", "3D points per frame", "points",
-        {{&MapperFrameRecord::points, {"3D points of the frame", "#9467bd", ""}}});
+        {{&slam::FrameRecord::points, {"3D points of the frame", "#9467bd", ""}}});
 }
 
 /** Energy before minus energy after, one bar per rectification: the
@@ -547,7 +547,7 @@ std::string reportHtml(const MapperReportData& d, const std::filesystem::path& f
 
 void writeMapperReport(const std::string& file, const MapperReportData& data)
 {
-    writeTextAtomically(file, reportHtml(data, std::filesystem::path(file)));
+    io::writeTextAtomically(file, reportHtml(data, std::filesystem::path(file)));
 }
 
 }  // namespace emslam::apps

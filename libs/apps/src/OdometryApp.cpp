@@ -2,10 +2,10 @@
 #include <emslam/apps/CommandLine.h>
 #include <emslam/apps/ConfigValidation.h>
 #include <emslam/apps/OdometryApp.h>
-#include <emslam/apps/RawlogInput.h>
 #include <emslam/egomotion/EgomotionEstimator.h>
+#include <emslam/io/RawlogInput.h>
+#include <emslam/io/TrajectoryWriter.h>
 #include <emslam/stereo/StereoFrontEnd.h>
-#include <emslam/stereo/TrajectoryWriter.h>
 
 #include <mrpt/img/CImage.h>
 #include <mrpt/serialization/CArchive.h>
@@ -87,7 +87,7 @@ void OdometryApp::initialize(int argc, const char** argv)
     m_output = output.getValue();
     try
     {
-        m_trajectory_output = emslam::stereo::parseTrajectoryOutput(trajectory_format.getValue());
+        m_trajectory_output = emslam::io::parseTrajectoryOutput(trajectory_format.getValue());
     }
     catch (const std::invalid_argument& e)
     {
@@ -131,7 +131,7 @@ void OdometryApp::run()
         sp.num_disparities, sp.min_range, sp.max_range, ep.window_size, ep.similarity_min,
         ep.lwo_sigma_min, ep.min_final_matches);
 
-    RawlogInput in(m_rawlog);
+    io::RawlogInput in(m_rawlog);
 
     using clock = std::chrono::steady_clock;
     trajectory = {};
@@ -213,7 +213,7 @@ void OdometryApp::run()
         throw std::runtime_error(
             "no stereo or RGB-D observation found in rawlog '" + m_rawlog + "'");
     }
-    const auto written = emslam::stereo::saveTrajectory(trajectory, m_output, m_trajectory_output);
+    const auto written = emslam::io::saveTrajectory(trajectory, m_output, m_trajectory_output);
 
     const double n = static_cast<double>(frames_processed);
     mean_ms_stereo = sum_stereo / n;

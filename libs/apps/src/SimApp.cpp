@@ -1,13 +1,13 @@
 // SPDX-License-Identifier: BSD-3-Clause
 #include <emslam/apps/CommandLine.h>
 #include <emslam/apps/ConfigValidation.h>
-#include <emslam/apps/InputFileChecks.h>
 #include <emslam/apps/ProgressLine.h>
-#include <emslam/apps/RawlogOutput.h>
 #include <emslam/apps/SimApp.h>
 #include <emslam/apps/StopSignal.h>
+#include <emslam/io/InputFileChecks.h>
+#include <emslam/io/RawlogOutput.h>
+#include <emslam/io/TumTrajectory.h>
 #include <emslam/sim/StereoSimulator.h>
-#include <emslam/stereo/TumTrajectory.h>
 
 #include <mrpt/3rdparty/tclap/CmdLine.h>
 #include <mrpt/core/exceptions.h>
@@ -104,7 +104,7 @@ void SimApp::initialize(int argc, const char** argv)
     {
         usageError("--gt-out and --output name the same file");
     }
-    requireInputFile(world_file, "world file", MAX_INI_BYTES);
+    io::requireInputFile(world_file, "world file", io::MAX_INI_BYTES);
     std::ifstream in(world_file);
     std::stringstream ss;
     ss << in.rdbuf();
@@ -165,7 +165,7 @@ void SimApp::run()
     }
     const std::size_t n = std::min(sim.frameCount(), max_frames.value_or(sim.frameCount()));
 
-    RawlogOutput::checkOutputFolders(output_file, gt_out_file);
+    io::RawlogOutput::checkOutputFolders(output_file, gt_out_file);
     if (!png_dir.empty())
     {
         fs::create_directories(png_dir);
@@ -178,12 +178,12 @@ void SimApp::run()
                   << sim.world().elements().size() << " elements, " << cam.width << "x"
                   << cam.height << ", seed " << sim.seed() << ") into '" << output_file << "'\n";
     }
-    emslam::stereo::TumTrajectory gt;
+    emslam::io::TumTrajectory gt;
     StopSignal::clear();
     const StopSignalGuard signals;
     try
     {
-        RawlogOutput out(output_file, gz_level, gt_out_file);
+        io::RawlogOutput out(output_file, gz_level, gt_out_file);
         ProgressLine progress(PROGRAM, n, !quiet);
         for (std::size_t i = 0; i < n && !StopSignal::requested(); ++i)
         {
@@ -202,7 +202,7 @@ void SimApp::run()
             progress.update(i + 1);
         }
         progress.finish();
-        RawlogOutput::noteInterruption(PROGRAM, frames_written, n, output_file);
+        noteInterruption(PROGRAM, frames_written, n, output_file);
         poses_written = out.commit(gt);
     }
     catch (...)

@@ -1,11 +1,11 @@
 // SPDX-License-Identifier: BSD-3-Clause
 #include <emslam/apps/CommandLine.h>
 #include <emslam/apps/ConfigValidation.h>
-#include <emslam/apps/InputFileChecks.h>
-#include <emslam/apps/RawlogInput.h>
 #include <emslam/apps/StereoApp.h>
-#include <emslam/stereo/CalibrationReaders.h>
+#include <emslam/io/InputFileChecks.h>
+#include <emslam/io/RawlogInput.h>
 #include <emslam/stereo/RangeScanConversion.h>
+#include <emslam/stereo/StereoCalibration.h>
 #include <emslam/stereo/StereoFrontEnd.h>
 
 #include <mrpt/img/CImage.h>
@@ -31,7 +31,7 @@ constexpr const char* PROGRAM = "emslam-stereo";
 
 void requireFile(const std::string& f, const std::string& what)
 {
-    requireInputFile(f, what);
+    io::requireInputFile(f, what);
 }
 
 cv::Mat readImage(const std::string& f, const std::string& what)
@@ -308,7 +308,7 @@ void StereoApp::run()
         }
         else
         {
-            RawlogInput in(m_rawlog);
+            io::RawlogInput in(m_rawlog);
             std::vector<mrpt::obs::CObservation::Ptr> batch;
             std::size_t ignored = 0;
             while ((m_max_frames == 0 || frames_processed < m_max_frames) && in.next(batch))

@@ -3,6 +3,8 @@
 
 #include <atomic>
 #include <csignal>
+#include <cstdio>
+#include <stdexcept>
 
 namespace emslam::apps
 {
@@ -66,6 +68,22 @@ StopSignalGuard::~StopSignalGuard()
     sigaction(SIGINT, &m_saved->old_int, nullptr);
     sigaction(SIGTERM, &m_saved->old_term, nullptr);
     delete m_saved;
+}
+
+void noteInterruption(
+    const std::string& program, std::size_t written, std::size_t planned, const std::string& file)
+{
+    if (!StopSignal::requested())
+    {
+        return;
+    }
+    if (written == 0)
+    {
+        throw std::runtime_error("interrupted before the first frame: nothing written");
+    }
+    std::fprintf(
+        stderr, "%s: interrupted after %zu of %zu frames; '%s' holds them\n", program.c_str(),
+        written, planned, file.c_str());
 }
 
 }  // namespace emslam::apps

@@ -332,7 +332,7 @@ double equalAspect(Range& x, Range& y, double h_min, double h_max)
 
 namespace
 {
-Points project(const emslam::stereo::TumTrajectory& traj, const Projection& proj)
+Points project(const emslam::io::TumTrajectory& traj, const Projection& proj)
 {
     Points p;
     for (const auto& tp : traj.poses)

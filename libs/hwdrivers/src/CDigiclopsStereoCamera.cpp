@@ -1,8 +1,8 @@
 // SPDX-License-Identifier: BSD-3-Clause
 #include <emslam/hwdrivers/CDigiclopsStereoCamera.h>
-#include <emslam/stereo/CalibrationReaders.h>
 #include <emslam/stereo/ExceptionMessage.h>
 #include <emslam/stereo/RangeScanConversion.h>
+#include <emslam/stereo/StereoCalibration.h>
 
 #include <mrpt/config/CConfigFileBase.h>
 #include <mrpt/core/format.h>

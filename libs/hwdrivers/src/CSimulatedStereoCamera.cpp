@@ -1,14 +1,10 @@
 // SPDX-License-Identifier: BSD-3-Clause
-#include "ConfigCount.h"
-
 #include <emslam/hwdrivers/CSimulatedStereoCamera.h>
 #include <emslam/hwdrivers/SensorStatus.h>
 #include <emslam/stereo/ExceptionMessage.h>
 
 #include <mrpt/config/CConfigFileBase.h>
-#include <mrpt/core/Clock.h>
 
-#include <algorithm>
 #include <filesystem>
 #include <stdexcept>
 
@@ -20,9 +16,7 @@ void CSimulatedStereoCamera::TParameters::loadFromConfigFile(
     const mrpt::config::CConfigFileBase& c, const std::string& s)
 {
     world_file = c.read_string(s, "world_file", world_file);
-    first_frame = readCount(c, s, "first_frame", first_frame);
-    max_frames = readCount(c, s, "max_frames", max_frames);
-    loop = c.read_bool(s, "loop", loop);
+    loadRangeKeys(c, s);
     timestamps = c.read_string(s, "timestamps", timestamps);
     validate();
 }
@@ -31,9 +25,7 @@ void CSimulatedStereoCamera::TParameters::saveToConfigFile(
     mrpt::config::CConfigFileBase& c, const std::string& s) const
 {
     c.write(s, "world_file", world_file);
-    c.write(s, "first_frame", static_cast<std::uint64_t>(first_frame));
-    c.write(s, "max_frames", static_cast<std::uint64_t>(max_frames));
-    c.write(s, "loop", loop);
+    saveRangeKeys(c, s);
     c.write(s, "timestamps", timestamps);
 }
 
@@ -75,53 +67,16 @@ void CSimulatedStereoCamera::loadConfig_sensorSpecific(
             "CSimulatedStereoCamera, section " + section + ": world_file '" + p.world_file +
             "': " + emslam::stereo::shortExceptionMessage(e));
     }
-    if (p.first_frame >= sim->frameCount())
-    {
-        throw std::invalid_argument(
-            "CSimulatedStereoCamera, section " + section + ": first_frame " +
-            std::to_string(p.first_frame) + " is past the trajectory's " +
-            std::to_string(sim->frameCount()) + " frames");
-    }
-    m_end = sim->frameCount();
-    if (p.max_frames > 0)
-    {
-        m_end = std::min(m_end, p.first_frame + p.max_frames);
-    }
-    if (m_process_rate <= 0)
-    {
-        m_process_rate = sim->params().fps;
-    }
+    startReplay(
+        p, sim->frameCount(), p.timestamps == "now", sim->params().fps,
+        "CSimulatedStereoCamera, section " + section + ": ");
     m_params = p;
     m_sim = std::move(sim);
-    m_next = m_params.first_frame;
-    m_delivered = 0;
 }
 
-void CSimulatedStereoCamera::doProcess()
+mrpt::obs::CObservation::Ptr CSimulatedStereoCamera::replayFrame(std::size_t i)
 {
-    if (!m_sim)
-    {
-        throw std::logic_error("CSimulatedStereoCamera: doProcess() before loadConfig()");
-    }
-    if (m_next >= m_end)
-    {
-        if (!m_params.loop)
-        {
-            throw EndOfStream(
-                "CSimulatedStereoCamera '" + m_sensorLabel + "': end of the trajectory after " +
-                std::to_string(m_delivered) + " frames");
-        }
-        m_next = m_params.first_frame;
-    }
-    m_state = ssWorking;
-    auto frame = m_sim->renderFrame(m_next++);
-    frame.obs->sensorLabel = m_sensorLabel;
-    if (m_params.timestamps == "now")
-    {
-        frame.obs->timestamp = mrpt::Clock::now();
-    }
-    ++m_delivered;
-    appendObservation(frame.obs);
+    return m_sim->renderFrame(i).obs;
 }
 
 }  // namespace emslam::hwdrivers

@@ -1,8 +1,8 @@
 // SPDX-License-Identifier: BSD-3-Clause
 #include "StereoKeyCheck.h"
 
-#include <emslam/stereo/CalibrationReaders.h>
 #include <emslam/stereo/SparseStereoMatcher.h>
+#include <emslam/stereo/StereoCalibration.h>
 
 #include <mrpt/core/exceptions.h>
 #include <mrpt/core/format.h>

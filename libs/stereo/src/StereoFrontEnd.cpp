@@ -1,8 +1,8 @@
 // SPDX-License-Identifier: BSD-3-Clause
 #include "GrayImage.h"
 
-#include <emslam/stereo/CalibrationReaders.h>
 #include <emslam/stereo/RangeScanConversion.h>
+#include <emslam/stereo/StereoCalibration.h>
 #include <emslam/stereo/StereoFrontEnd.h>
 
 #include <mrpt/core/exceptions.h>

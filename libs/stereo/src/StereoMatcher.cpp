@@ -2,7 +2,7 @@
 #include "GrayImage.h"
 #include "StereoKeyCheck.h"
 
-#include <emslam/stereo/CalibrationReaders.h>
+#include <emslam/stereo/StereoCalibration.h>
 #include <emslam/stereo/StereoMatcher.h>
 
 #include <mrpt/config/CConfigFileBase.h>

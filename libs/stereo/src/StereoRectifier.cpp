@@ -1,5 +1,5 @@
 // SPDX-License-Identifier: BSD-3-Clause
-#include <emslam/stereo/CalibrationReaders.h>
+#include <emslam/stereo/StereoCalibration.h>
 #include <emslam/stereo/StereoRectifier.h>
 
 #include <mrpt/poses/CPose3D.h>

@@ -1,9 +1,9 @@
 // SPDX-License-Identifier: BSD-3-Clause
 #pragma once
 
-#include <emslam/apps/FrameMemoryPolicy.h>
 #include <emslam/apps/StopSignal.h>
 #include <emslam/apps/registerAllClasses.h>
+#include <emslam/slam/FrameMemoryPolicy.h>
 #include <emslam/stereo/ExceptionMessage.h>
 
 #include <iostream>
@@ -36,7 +36,7 @@ int appMain(const char* name, int argc, char** argv)
 {
     try
     {
-        keepFrameBuffersInProcess();
+        emslam::slam::keepFrameBuffersInProcess();
         registerAllClasses();
         App app;
         app.initialize(argc, argv);

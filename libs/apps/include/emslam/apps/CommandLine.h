@@ -86,7 +86,7 @@ void applyConfigOverrides(
 /** Fills `cfg` from the INI file `config_file` (when not empty), then applies
  * the `--set` overrides `sets` (see applyConfigOverrides()). Throws
  * std::runtime_error if the file is not a regular file of at most
- * MAX_INI_BYTES (see requireInputFile()).
+ * io::MAX_INI_BYTES (see io::requireInputFile()).
  * \ingroup emslam_apps_grp */
 void loadConfig(
     mrpt::config::CConfigFileMemory& cfg,

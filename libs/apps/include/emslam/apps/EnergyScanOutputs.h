@@ -1,10 +1,10 @@
 // SPDX-License-Identifier: BSD-3-Clause
 #pragma once
 
-#include <emslam/apps/Mapper.h>
+#include <emslam/io/TumTrajectory.h>
 #include <emslam/rectify/EnergyAtPoses.h>
 #include <emslam/rectify/EnergyScan.h>
-#include <emslam/stereo/TumTrajectory.h>
+#include <emslam/slam/EntropySlam.h>
 
 #include <string>
 
@@ -26,7 +26,7 @@ struct MapperEnergyScan
  * with the default EnergyScanOptions on the trajectory's own grid phases.
  * \ingroup emslam_apps_grp \sa emslam::rectify::scanEnergy() */
 MapperEnergyScan scanMapperEnergy(
-    const Mapper& m, const emslam::rectify::FramePoseLookup& T_world_frame);
+    const slam::EntropySlam& m, const emslam::rectify::FramePoseLookup& T_world_frame);
 
 /** The ground-truth pose of each frame of `m` (as in Mapper::frames()) in the
  * map frame: the ground-truth pose nearest the frame's timestamp, relative
@@ -35,7 +35,7 @@ MapperEnergyScan scanMapperEnergy(
  * within `max_dt` [s]; `m` and `ground_truth` must outlive it.
  * \ingroup emslam_apps_grp */
 emslam::rectify::FramePoseLookup groundTruthFramePoses(
-    const Mapper& m, const emslam::stereo::TumTrajectory& ground_truth, double max_dt);
+    const slam::EntropySlam& m, const emslam::io::TumTrajectory& ground_truth, double max_dt);
 
 /** energy_scan.csv: one row per scanned line (action, dimension):
  * `action` (k: elements k..N-1 move), `elements_moved`, `dimension` (x, y, z,

@@ -1,8 +1,8 @@
 // SPDX-License-Identifier: BSD-3-Clause
 #pragma once
 
-#include <emslam/apps/TrajectoryMetrics.h>
-#include <emslam/stereo/TrajectoryReader.h>
+#include <emslam/eval/TrajectoryMetrics.h>
+#include <emslam/io/TrajectoryReader.h>
 
 #include <string>
 
@@ -13,7 +13,7 @@ namespace emslam::apps
  * rotational drift, end-point error, loop gap, path length, matched poses.
  * Prints them and optionally writes them as JSON. Each file is TUM, KITTI
  * poses (with a times file, found beside it or given) or a EuRoC ground-truth
- * CSV, told from its content (emslam::stereo::loadTrajectory()) or forced.
+ * CSV, told from its content (emslam::io::loadTrajectory()) or forced.
  *
  * \code
  * emslam-eval GT EST [--gt-format auto|tum|kitti|euroc]
@@ -38,20 +38,20 @@ public:
     bool helpRequested() const { return m_help_requested; }
 
     /** Options of the evaluation; tests may edit them between initialize() and run(). */
-    TrajectoryMetrics::Options options;
+    eval::TrajectoryMetrics::Options options;
 
     // ---- Result of run() ----
-    TrajectoryMetrics metrics;
+    eval::TrajectoryMetrics metrics;
     /** The formats read. */
-    emslam::stereo::TrajectoryFormat gt_format{emslam::stereo::TrajectoryFormat::Tum};
-    emslam::stereo::TrajectoryFormat est_format{emslam::stereo::TrajectoryFormat::Tum};
+    emslam::io::TrajectoryFormat gt_format{emslam::io::TrajectoryFormat::Tum};
+    emslam::io::TrajectoryFormat est_format{emslam::io::TrajectoryFormat::Tum};
     /** True if both were KITTI without times, paired line by line. */
     bool paired_by_index{false};
 
 private:
     bool m_help_requested{false};
     std::string m_gt, m_est, m_json;
-    emslam::stereo::TrajectoryReadOptions m_gt_options, m_est_options;
+    emslam::io::TrajectoryReadOptions m_gt_options, m_est_options;
 };
 
 }  // namespace emslam::apps

@@ -2,8 +2,8 @@
 #pragma once
 
 #include <emslam/apps/ExperimentSuite.h>
+#include <emslam/io/TumTrajectory.h>
 #include <emslam/rectify/EnergyScan.h>
-#include <emslam/stereo/TumTrajectory.h>
 
 #include <cstddef>
 #include <functional>
@@ -53,7 +53,7 @@ struct ExperimentResult
     double paper_path_m, paper_observations, paper_egomotion_gap_m, paper_slam_gap_m;
 
     /** For the pictures: every frame's ground truth and egomotion, SLAM's accepted frames. */
-    emslam::stereo::TumTrajectory ground_truth, egomotion, slam;
+    emslam::io::TumTrajectory ground_truth, egomotion, slam;
 
     double egomotionGapPercent() const { return 100.0 * egomotion_gap_m / path_m; }
     double slamGapPercent() const { return 100.0 * slam_gap_m / path_m; }

@@ -27,7 +27,7 @@ namespace emslam::apps
  *
  * - kitti / euroc: one `CObservationStereoImages` per frame (images embedded,
  *   calibration set, label "STEREO"); tum: one `CObservation3DRangeScan`
- *   (colour + depth image, label "RGBD"). See emslam::stereo::KittiSequence,
+ *   (colour + depth image, label "RGBD"). See emslam::io::KittiSequence,
  *   EurocSequence and TumRgbdSequence for the details of each format.
  * - Frames `first, first+step, ...` up to `last` (inclusive, 0-based indices
  *   into the dataset's frame list) are imported; the same selection applies
@@ -82,7 +82,7 @@ public:
     /** TUM RGB-D intrinsics "fx,fy,cx,cy" (empty: the TUM defaults). */
     std::string tum_intrinsics;
     /** KITTI: UNIX time [s] of times.txt's zero; unset: the
-     * emslam::stereo::KittiSequence default (2011-09-30 00:00:00 UTC). */
+     * emslam::io::KittiSequence default (2011-09-30 00:00:00 UTC). */
     std::optional<double> kitti_time_offset;
     /** Sensor label; empty: "STEREO" (kitti, euroc) or "RGBD" (tum). */
     std::string sensor_label;

@@ -1,8 +1,8 @@
 // SPDX-License-Identifier: BSD-3-Clause
 #pragma once
 
-#include <emslam/apps/IntensityCloud.h>
 #include <emslam/apps/LiveViewSnapshot.h>
+#include <emslam/slam/IntensityCloud.h>
 
 #include <atomic>
 #include <condition_variable>
@@ -66,7 +66,7 @@ public:
     /** Replaces the snapshot to draw next (never blocks for drawing). */
     void push(LiveViewSnapshot snapshot);
     /** Adds map points (map frame); they are kept, not replaced. */
-    void addMapPoints(const IntensityCloud& points);
+    void addMapPoints(const slam::IntensityCloud& points);
 
     /** Snapshots drawn so far (for tests and statistics). */
     std::size_t drawnSnapshots() const { return m_drawn.load(); }
@@ -82,7 +82,7 @@ private:
     mutable std::mutex m_mutex;
     std::condition_variable m_wake;
     std::optional<LiveViewSnapshot> m_pending;  //!< guarded by m_mutex
-    IntensityCloud m_new_points;                //!< guarded by m_mutex
+    slam::IntensityCloud m_new_points;          //!< guarded by m_mutex
     bool m_stop{false};                         //!< guarded by m_mutex
     std::atomic<bool> m_active{true};
     std::atomic<bool> m_has_pending{false};

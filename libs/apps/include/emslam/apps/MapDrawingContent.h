@@ -1,9 +1,9 @@
 // SPDX-License-Identifier: BSD-3-Clause
 #pragma once
 
-#include <emslam/apps/IntensityCloud.h>
+#include <emslam/io/TumTrajectory.h>
 #include <emslam/maps/CEntropyVoxelMap.h>
-#include <emslam/stereo/TumTrajectory.h>
+#include <emslam/slam/IntensityCloud.h>
 
 #include <cstddef>
 #include <limits>
@@ -16,11 +16,11 @@ namespace emslam::apps
  * \ingroup emslam_apps_grp \sa buildMapScene(), renderTopView() */
 struct MapDrawingContent
 {
-    const IntensityCloud* cloud{nullptr};                        //!< the map cloud
-    const emslam::stereo::TumTrajectory* egomotion{nullptr};     //!< red
-    const emslam::stereo::TumTrajectory* slam{nullptr};          //!< green
-    const emslam::stereo::TumTrajectory* ground_truth{nullptr};  //!< blue, map frame
-    const emslam::CEntropyVoxelMap* entropy_map{nullptr};        //!< its 3D cells
+    const slam::IntensityCloud* cloud{nullptr};              //!< the map cloud
+    const emslam::io::TumTrajectory* egomotion{nullptr};     //!< red
+    const emslam::io::TumTrajectory* slam{nullptr};          //!< green
+    const emslam::io::TumTrajectory* ground_truth{nullptr};  //!< blue, map frame
+    const emslam::CEntropyVoxelMap* entropy_map{nullptr};    //!< its 3D cells
     /** Cloud points higher than this above the first camera (along −y) are
      * left out, e.g. to see the floor plan under a ceiling [m]; +inf: none. */
     double max_height{std::numeric_limits<double>::infinity()};
@@ -30,6 +30,6 @@ struct MapDrawingContent
 
 /** The points of `cloud` at most `max_height` above the first camera (up is
  * −y); +inf keeps every point. \ingroup emslam_apps_grp */
-IntensityCloud cutAboveHeight(const IntensityCloud& cloud, double max_height);
+slam::IntensityCloud cutAboveHeight(const slam::IntensityCloud& cloud, double max_height);
 
 }  // namespace emslam::apps

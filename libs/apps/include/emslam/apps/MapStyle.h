@@ -1,7 +1,7 @@
 // SPDX-License-Identifier: BSD-3-Clause
 #pragma once
 
-#include <emslam/stereo/TumTrajectory.h>
+#include <emslam/io/TumTrajectory.h>
 
 #include <mrpt/img/TColor.h>
 #include <mrpt/math/TPoint3D.h>
@@ -45,8 +45,7 @@ mrpt::img::TColorf heightColor(double h, double lo, double hi);
  * With fewer than 3 pairs the ground truth is anchored at its pose nearest
  * the estimate's first timestamp instead. Empty if either is empty.
  * \ingroup emslam_apps_grp */
-emslam::stereo::TumTrajectory groundTruthInMapFrame(
-    const emslam::stereo::TumTrajectory& ground_truth,
-    const emslam::stereo::TumTrajectory& estimate);
+emslam::io::TumTrajectory groundTruthInMapFrame(
+    const emslam::io::TumTrajectory& ground_truth, const emslam::io::TumTrajectory& estimate);
 
 }  // namespace emslam::apps

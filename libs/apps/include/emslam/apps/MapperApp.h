@@ -2,11 +2,11 @@
 #pragma once
 
 #include <emslam/apps/DegenerateRun.h>
-#include <emslam/apps/Mapper.h>
 #include <emslam/apps/MapperOutputs.h>
 #include <emslam/apps/ProgressLine.h>
-#include <emslam/stereo/TrajectoryReader.h>
-#include <emslam/stereo/TrajectoryWriter.h>
+#include <emslam/io/TrajectoryReader.h>
+#include <emslam/io/TrajectoryWriter.h>
+#include <emslam/slam/EntropySlam.h>
 
 #include <mrpt/config/CConfigFileMemory.h>
 
@@ -81,7 +81,7 @@ public:
     mrpt::config::CConfigFileMemory params;
 
     /** The mapper of the last run() (results stay readable). */
-    const Mapper& mapper() const { return *m_mapper; }
+    const slam::EntropySlam& mapper() const { return *m_mapper; }
     /** What the last run() added to the mapper's results. */
     const MapperRunInfo& runInfo() const { return m_info; }
 
@@ -93,7 +93,7 @@ public:
     int exitCode() const { return m_degenerate.empty() ? 0 : EXIT_DEGENERATE; }
 
 private:
-    void writeOutputs(const emslam::stereo::TumTrajectory& ground_truth);
+    void writeOutputs(const emslam::io::TumTrajectory& ground_truth);
     /** Counts an observation the mapper could not use and warns about the
      * first few. */
     void skipObservation(std::size_t record, const std::string& reason, ProgressLine& progress);
@@ -105,11 +105,11 @@ private:
     bool m_egomotion_only{false};
     bool m_energy_scan{false};
     std::string m_config, m_rawlog, m_out, m_gt;
-    emslam::stereo::TrajectoryReadOptions m_gt_options;
-    emslam::stereo::LoadedTrajectory m_ground_truth;
-    emslam::stereo::TrajectoryOutput m_trajectory_output{emslam::stereo::TrajectoryOutput::Tum};
+    emslam::io::TrajectoryReadOptions m_gt_options;
+    emslam::io::LoadedTrajectory m_ground_truth;
+    emslam::io::TrajectoryOutput m_trajectory_output{emslam::io::TrajectoryOutput::Tum};
     std::size_t m_max_frames{0};
-    std::unique_ptr<Mapper> m_mapper;
+    std::unique_ptr<slam::EntropySlam> m_mapper;
     MapperRunInfo m_info;
 };
 

@@ -2,7 +2,7 @@
 #pragma once
 
 #include <emslam/apps/LiveViewer.h>
-#include <emslam/apps/Mapper.h>
+#include <emslam/slam/EntropySlam.h>
 
 #include <string>
 
@@ -23,7 +23,7 @@ public:
     explicit MapperLiveFeed(const std::string& title);
 
     /** Call after each Mapper::process() that returned true. */
-    void update(const Mapper& m);
+    void update(const slam::EntropySlam& m);
 
     const LiveViewer& viewer() const { return m_viewer; }
 

@@ -3,8 +3,9 @@
 
 #include <emslam/apps/EnergyScanOutputs.h>
 #include <emslam/apps/MapDrawingContent.h>
-#include <emslam/apps/Mapper.h>
-#include <emslam/apps/TrajectoryMetrics.h>
+#include <emslam/apps/MapperReport.h>
+#include <emslam/eval/TrajectoryMetrics.h>
+#include <emslam/slam/EntropySlam.h>
 
 #include <optional>
 #include <string>
@@ -29,25 +30,30 @@ struct MapperRunInfo
     std::string degenerate;
     double seconds{0.0};  //!< wall time of the run
     /** Against the ground truth (--gt), when given. */
-    std::optional<TrajectoryMetrics> egomotion_vs_gt, slam_vs_gt;
+    std::optional<eval::TrajectoryMetrics> egomotion_vs_gt, slam_vs_gt;
     /** The energy scan around the ground truth (--energy-scan), when made. */
     std::optional<MapperEnergyScan> energy_scan;
 };
 
 /** Distance between the first and last poses of a trajectory [m] (0 if < 2). */
-double loopGap(const emslam::stereo::TumTrajectory& t);
+double loopGap(const emslam::io::TumTrajectory& t);
+double loopGap(const std::vector<emslam::rectify::TimedPose>& poses);
+
+/** EntropySlam's poses as a TUM trajectory (timestamp, T_world_frame), the
+ * form the trajectory files, the metrics and the drawings take. */
+emslam::io::TumTrajectory tumTrajectoryOf(const std::vector<emslam::rectify::TimedPose>& poses);
 
 /** What loopGap() of an estimate is called: "loop gap" when the ground truth
  * closes a loop (isClosedLoop()), "start-to-end distance" otherwise and
  * without ground truth (an open path's start-to-end distance is no error). */
-std::string startToEndName(const emslam::stereo::TumTrajectory& ground_truth);
+std::string startToEndName(const emslam::io::TumTrajectory& ground_truth);
 
 /** Mean time per frame of each stage [ms] (and the slowest frame's total). */
 struct StageMeans
 {
     double stereo{0}, egomotion{0}, rectification{0}, total{0}, max_total{0};
 };
-StageMeans stageMeans(const std::vector<MapperFrameRecord>& frames);
+StageMeans stageMeans(const std::vector<slam::FrameRecord>& frames);
 
 /** Sums over every rectification, and the median / max time per call [ms]. */
 struct RectificationTotals
@@ -61,42 +67,53 @@ RectificationTotals rectificationTotals(const std::vector<emslam::rectify::Recti
  * matches before / after LWO, accepted, egomotion ok, energy) and one
  * `rectification` row per rectification (attempts, successes, failures,
  * energies, time). Empty cells where a column does not apply. */
-void writeStatsCsv(const Mapper& m, const std::string& file);
+void writeStatsCsv(const slam::EntropySlam& m, const std::string& file);
 
 /** summary.json: frames, accepted, failures, ms per frame per stage,
  * rectification totals, final energy, loop gaps, run info, and the energy
  * scan's aggregate if one was made (energyScanJson()). */
-void writeSummaryJson(const Mapper& m, const MapperRunInfo& info, const std::string& file);
+void writeSummaryJson(
+    const slam::EntropySlam& m, const MapperRunInfo& info, const std::string& file);
 
 /** What the map drawings of a finished mapper show: the map cloud, the
- * egomotion and SLAM trajectories, `ground_truth` (already in the map frame,
- * see groundTruthInMapFrame(); may be empty), the entropy map, and the
- * `[Mapper] export_max_height` cut. `ground_truth` must outlive the result. */
+ * `egomotion` and `slam` trajectories (tumTrajectoryOf() of its poses),
+ * `ground_truth` (already in the map frame, see groundTruthInMapFrame(); may
+ * be empty), the entropy map, and the `[Mapper] export_max_height` cut. The
+ * trajectories must outlive the result. */
 MapDrawingContent mapDrawingContent(
-    const Mapper& m, const emslam::stereo::TumTrajectory& ground_truth_in_map);
+    const slam::EntropySlam& m,
+    const emslam::io::TumTrajectory& egomotion,
+    const emslam::io::TumTrajectory& slam,
+    const emslam::io::TumTrajectory& ground_truth_in_map);
 
 /** map.3Dscene for the stock SceneViewer3D (see buildMapScene()): the cloud
  * coloured by height, the egomotion (red), SLAM (green) and ground-truth
  * (blue, if not empty) trajectories, the entropy voxels and a legend, turned
  * so that the world's up (−y of the first camera) is the viewer's +Z. */
 void writeScene(
-    const Mapper& m, const emslam::stereo::TumTrajectory& ground_truth, const std::string& file);
+    const slam::EntropySlam& m,
+    const emslam::io::TumTrajectory& ground_truth,
+    const std::string& file);
 
 /** map_top.png: the floor plan of the map with the trajectories (see
  * renderTopView()). */
 void writeTopViewPng(
-    const Mapper& m, const emslam::stereo::TumTrajectory& ground_truth, const std::string& file);
+    const slam::EntropySlam& m,
+    const emslam::io::TumTrajectory& ground_truth,
+    const std::string& file);
 
 /** entropy_map.bin: the serialized CEntropyVoxelMap (an MRPT CArchive of one
  * object; read back with `archiveFrom(stream).ReadObject()`). */
-void writeEntropyMap(const Mapper& m, const std::string& file);
+void writeEntropyMap(const slam::EntropySlam& m, const std::string& file);
 
 /** entropy_map.3Dscene: the entropy map's 3D cells for SceneViewer3D (see
  * writeEntropyMapScene()), at most 50000. */
-void writeEntropyMapView(const Mapper& m, const std::string& file);
+void writeEntropyMapView(const slam::EntropySlam& m, const std::string& file);
 
 /** The report data of a finished mapper (ground truth optional). */
 MapperReportData makeReportData(
-    const Mapper& m, const MapperRunInfo& info, const emslam::stereo::TumTrajectory& ground_truth);
+    const slam::EntropySlam& m,
+    const MapperRunInfo& info,
+    const emslam::io::TumTrajectory& ground_truth);
 
 }  // namespace emslam::apps

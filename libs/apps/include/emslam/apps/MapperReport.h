@@ -1,9 +1,10 @@
 // SPDX-License-Identifier: BSD-3-Clause
 #pragma once
 
-#include <emslam/apps/TrajectoryMetrics.h>
+#include <emslam/eval/TrajectoryMetrics.h>
+#include <emslam/io/TumTrajectory.h>
 #include <emslam/rectify/RectificationStats.h>
-#include <emslam/stereo/TumTrajectory.h>
+#include <emslam/slam/FrameRecord.h>
 
 #include <cstddef>
 #include <optional>
@@ -13,40 +14,22 @@
 
 namespace emslam::apps
 {
-/** What the mapper did on one input frame, as plotted in the report and
- * written to stats.csv. \ingroup emslam_apps_grp */
-struct MapperFrameRecord
-{
-    std::size_t index{0};            //!< frame number in the rawlog's stereo / RGB-D stream
-    double timestamp{0.0};           //!< [s]
-    double ms_stereo{0.0};           //!< stereo front-end (disparity, 3D) [ms]
-    double ms_egomotion{0.0};        //!< egomotion, all four stages [ms]
-    double ms_rectification{0.0};    //!< time the frame waited for rectification [ms]
-    double ms_total{0.0};            //!< the whole frame [ms]
-    std::size_t points{0};           //!< 3D points of the frame
-    std::size_t initial_matches{0};  //!< matches before LWO
-    std::size_t final_matches{0};    //!< matches after LWO
-    bool egomotion_ok{true};         //!< false: the step failed (first frame: true)
-    bool accepted{false};            //!< joined the trajectory (space sampling)
-    double energy{0.0};  //!< map energy after the frame (0 before the first rectification)
-};
-
 /** Everything report.html shows. \ingroup emslam_apps_grp \sa writeMapperReport() */
 struct MapperReportData
 {
     std::string title;  //!< e.g. the rawlog's file name
     /** Camera trajectories in the world (first camera) frame. */
-    emslam::stereo::TumTrajectory egomotion, slam;
+    emslam::io::TumTrajectory egomotion, slam;
     /** Optional ground truth, already expressed in the same world frame
      * (empty: not drawn). */
-    emslam::stereo::TumTrajectory ground_truth;
-    std::vector<MapperFrameRecord> frames;
+    emslam::io::TumTrajectory ground_truth;
+    std::vector<slam::FrameRecord> frames;
     std::vector<emslam::rectify::RectificationStats> rectifications;
     /** Rows of the summary table: (name, value as text). */
     std::vector<std::pair<std::string, std::string>> summary;
     /** Egomotion and SLAM against the ground truth (error over distance and
      * over time); empty: those plots say there is no ground truth. */
-    std::optional<TrajectoryMetrics> egomotion_vs_gt, slam_vs_gt;
+    std::optional<eval::TrajectoryMetrics> egomotion_vs_gt, slam_vs_gt;
     /** The map picture, relative to the report's folder; embedded when that
      * file exists there when the report is written. */
     std::string map_image{"map_top.png"};

@@ -2,8 +2,8 @@
 #pragma once
 
 #include <emslam/apps/DegenerateRun.h>
-#include <emslam/stereo/TrajectoryWriter.h>
-#include <emslam/stereo/TumTrajectory.h>
+#include <emslam/io/TrajectoryWriter.h>
+#include <emslam/io/TumTrajectory.h>
 
 #include <mrpt/config/CConfigFileMemory.h>
 
@@ -17,7 +17,7 @@ namespace emslam::apps
  * the stereo front-end and EgomotionEstimator::process(); the steps are
  * composed into the pose of the left camera in the first frame's left
  * camera, written as a TUM trajectory, KITTI poses + times, or both
- * (`--trajectory-format`, emslam::stereo::saveTrajectory()). A failed step
+ * (`--trajectory-format`, emslam::io::saveTrajectory()). A failed step
  * keeps the previous pose and is counted.
  *
  * \code
@@ -56,7 +56,7 @@ public:
     /** Steps (frame pairs) whose egomotion failed (excludes the first frame). */
     std::size_t failures{0};
     /** T_first_left of every processed frame, as written to the output. */
-    emslam::stereo::TumTrajectory trajectory;
+    emslam::io::TumTrajectory trajectory;
     /** Mean time per frame [ms]: stereo front-end, egomotion stages, total. */
     double mean_ms_stereo{0}, mean_ms_features{0}, mean_ms_descriptors{0}, mean_ms_matching{0},
         mean_ms_lwo{0}, mean_ms_pose{0}, mean_ms_egomotion{0};
@@ -74,7 +74,7 @@ private:
     bool m_help_requested{false};
     bool m_quiet{false};
     std::string m_rawlog, m_output;
-    emslam::stereo::TrajectoryOutput m_trajectory_output{emslam::stereo::TrajectoryOutput::Tum};
+    emslam::io::TrajectoryOutput m_trajectory_output{emslam::io::TrajectoryOutput::Tum};
     std::size_t m_max_frames{0};
 };
 

@@ -9,7 +9,7 @@ namespace emslam::apps
 /** Progress of a frame loop on stderr: one line updated in place on a
  * terminal, otherwise one line per ~10 % (and one at the end), each as
  * `PROGRAM: frame DONE/TOTAL (PCT%)`.
- * \ingroup emslam_apps_grp \sa RawlogOutput */
+ * \ingroup emslam_apps_grp \sa io::RawlogOutput */
 class ProgressLine
 {
 public:

@@ -1,6 +1,9 @@
 // SPDX-License-Identifier: BSD-3-Clause
 #pragma once
 
+#include <cstddef>
+#include <string>
+
 namespace emslam::apps
 {
 /** A process-wide "please stop" flag that SIGINT / SIGTERM raise while a
@@ -37,5 +40,14 @@ private:
     struct Saved;
     Saved* m_saved;
 };
+
+/** After a loop that stops early on StopSignal (SIGINT / SIGTERM): if a
+ * signal arrived, prints "PROGRAM: interrupted after N of M frames; FILE
+ * holds them" on stderr, so RawlogOutput::commit() keeps a complete, readable rawlog of
+ * the `written` frames (appMain() then exits 128 + the signal); throws
+ * std::runtime_error if no frame was written (nothing worth keeping).
+ * Does nothing without a signal. */
+void noteInterruption(
+    const std::string& program, std::size_t written, std::size_t planned, const std::string& file);
 
 }  // namespace emslam::apps

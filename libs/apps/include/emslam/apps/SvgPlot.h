@@ -1,7 +1,7 @@
 // SPDX-License-Identifier: BSD-3-Clause
 #pragma once
 
-#include <emslam/stereo/TumTrajectory.h>
+#include <emslam/io/TumTrajectory.h>
 
 #include <mrpt/poses/CPose3D.h>
 
@@ -138,7 +138,7 @@ double equalAspect(Range& x, Range& y, double h_min, double h_max);
 /** A trajectory to draw, with its legend name and style. */
 struct TrajectoryTrack
 {
-    const emslam::stereo::TumTrajectory* traj;
+    const emslam::io::TumTrajectory* traj;
     std::string name, colour, dash;
 };
 

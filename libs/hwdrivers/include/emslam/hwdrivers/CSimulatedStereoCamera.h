@@ -1,10 +1,10 @@
 // SPDX-License-Identifier: BSD-3-Clause
 #pragma once
 
+#include <emslam/hwdrivers/CReplayStereoCamera.h>
 #include <emslam/sim/StereoSimulator.h>
 
 #include <mrpt/config/CLoadableOptions.h>
-#include <mrpt/hwdrivers/CGenericSensor.h>
 
 #include <cstddef>
 #include <memory>
@@ -36,13 +36,13 @@ namespace emslam::hwdrivers
  * Missing or invalid keys throw from loadConfig() naming the key; a missing
  * or invalid world file throws naming the file.
  * \ingroup emslam_hwdrivers_grp \sa CStereoImageFolderCamera, CDigiclopsStereoCamera */
-class CSimulatedStereoCamera : public mrpt::hwdrivers::CGenericSensor
+class CSimulatedStereoCamera : public CReplayStereoCamera
 {
     DEFINE_GENERIC_SENSOR(CSimulatedStereoCamera)
 
 public:
     /** The sensor-specific INI keys (see the class comment). */
-    struct TParameters : public mrpt::config::CLoadableOptions
+    struct TParameters : public mrpt::config::CLoadableOptions, public TReplayRange
     {
         void loadFromConfigFile(
             const mrpt::config::CConfigFileBase& c, const std::string& s) override;
@@ -54,12 +54,6 @@ public:
         /** World INI file (config/sim/ format); relative paths are taken from
          * the working folder. Mandatory. */
         std::string world_file;
-        /** First trajectory frame rendered. (Default: 0) */
-        std::size_t first_frame{0};
-        /** Frames per pass; 0: up to the end of the trajectory. (Default: 0) */
-        std::size_t max_frames{0};
-        /** Start again at first_frame after the last frame. (Default: false) */
-        bool loop{false};
         /** "now" (wall clock when rendered) or "simulation" (the world's own
          * times, [Simulation] start_time + i / fps). (Default: now) */
         std::string timestamps{"now"};
@@ -67,26 +61,20 @@ public:
 
     CSimulatedStereoCamera() = default;
 
-    /** Renders and queues the next frame; throws EndOfStream after the last
-     * one unless `loop`. */
-    void doProcess() override;
-
     const TParameters& parameters() const { return m_params; }
     /** The simulator (valid after loadConfig()). */
     const emslam::sim::StereoSimulator& simulator() const { return *m_sim; }
-    /** Frames rendered so far. */
-    std::size_t framesDelivered() const { return m_delivered; }
 
 protected:
     void loadConfig_sensorSpecific(
         const mrpt::config::CConfigFileBase& cfg, const std::string& section) override;
+    /** Renders trajectory frame `i`. */
+    mrpt::obs::CObservation::Ptr replayFrame(std::size_t i) override;
+    std::string sourceName() const override { return "the trajectory"; }
 
 private:
     TParameters m_params;
     std::shared_ptr<emslam::sim::StereoSimulator> m_sim;
-    std::size_t m_next{0};
-    std::size_t m_end{0};
-    std::size_t m_delivered{0};
 };
 
 }  // namespace emslam::hwdrivers

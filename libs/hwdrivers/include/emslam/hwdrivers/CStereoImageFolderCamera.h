@@ -1,19 +1,20 @@
 // SPDX-License-Identifier: BSD-3-Clause
 #pragma once
 
+#include <emslam/hwdrivers/CReplayStereoCamera.h>
+#include <emslam/io/DatasetSequence.h>
+
 #include <mrpt/config/CLoadableOptions.h>
-#include <mrpt/hwdrivers/CGenericSensor.h>
-#include <mrpt/obs/CObservationStereoImages.h>
 
 #include <cstddef>
-#include <functional>
+#include <memory>
 #include <string>
 
 namespace emslam::hwdrivers
 {
 /** Replays a KITTI-odometry or EuRoC-layout folder as a live stereo camera:
  * each call of doProcess() loads the next stereo pair (through
- * emslam::stereo::KittiSequence / EurocSequence, exactly as emslam-import
+ * emslam::io::KittiSequence / EurocSequence, exactly as emslam-import
  * does) and emits it as a `CObservationStereoImages` with both images and the
  * calibration. MRPT 2.5.8's own `CCameraSensor` image-folder mode drops the
  * right image; this sensor does not. With `timestamps = dataset` (the
@@ -35,13 +36,13 @@ namespace emslam::hwdrivers
  * again (true) or end (false) timestamps   = dataset       // dataset: the folder's times | now:
  * wall clock when loaded time_offset  = 1317340800    // kitti only: UNIX time [s] of times.txt's
  * zero (as emslam-import) \endcode \ingroup emslam_hwdrivers_grp \sa CSimulatedStereoCamera */
-class CStereoImageFolderCamera : public mrpt::hwdrivers::CGenericSensor
+class CStereoImageFolderCamera : public CReplayStereoCamera
 {
     DEFINE_GENERIC_SENSOR(CStereoImageFolderCamera)
 
 public:
     /** The sensor-specific INI keys (see the class comment). */
-    struct TParameters : public mrpt::config::CLoadableOptions
+    struct TParameters : public mrpt::config::CLoadableOptions, public TReplayRange
     {
         void loadFromConfigFile(
             const mrpt::config::CConfigFileBase& c, const std::string& s) override;
@@ -55,42 +56,29 @@ public:
         /** The sequence folder (KITTI `sequences/NN`, EuRoC `mav0` or its
          * parent); relative paths are taken from the working folder. Mandatory. */
         std::string folder;
-        /** First frame replayed. (Default: 0) */
-        std::size_t first_frame{0};
-        /** Frames per pass; 0: to the end of the folder. (Default: 0) */
-        std::size_t max_frames{0};
-        /** Start again at first_frame after the last frame. (Default: false) */
-        bool loop{false};
         /** "dataset" (the folder's own times) or "now". (Default: dataset) */
         std::string timestamps{"dataset"};
         /** kitti: UNIX time [s] of times.txt's zero. (Default: 1317340800,
-         * emslam::stereo::KittiSequence::DEFAULT_TIME_OFFSET) */
+         * emslam::io::KittiSequence::DEFAULT_TIME_OFFSET) */
         double time_offset{1317340800.0};
     };
 
     CStereoImageFolderCamera() = default;
 
-    /** Loads and queues the next pair; throws EndOfStream after the last one
-     * unless `loop`. */
-    void doProcess() override;
-
     const TParameters& parameters() const { return m_params; }
     /** Frames in the folder. */
-    std::size_t folderSize() const { return m_size; }
-    /** Frames delivered so far. */
-    std::size_t framesDelivered() const { return m_delivered; }
+    std::size_t folderSize() const { return m_sequence ? m_sequence->size() : 0; }
 
 protected:
     void loadConfig_sensorSpecific(
         const mrpt::config::CConfigFileBase& cfg, const std::string& section) override;
+    /** Loads the pair of folder frame `i`. */
+    mrpt::obs::CObservation::Ptr replayFrame(std::size_t i) override;
+    std::string sourceName() const override { return "'" + m_params.folder + "'"; }
 
 private:
     TParameters m_params;
-    std::function<mrpt::obs::CObservationStereoImages::Ptr(std::size_t)> m_load;
-    std::size_t m_size{0};
-    std::size_t m_next{0};
-    std::size_t m_end{0};
-    std::size_t m_delivered{0};
+    std::shared_ptr<const emslam::io::DatasetSequence> m_sequence;
 };
 
 }  // namespace emslam::hwdrivers

@@ -1,0 +1,337 @@
+// SPDX-License-Identifier: BSD-3-Clause
+#include "ImageFile.h"
+#include "StereoPairFiles.h"
+
+#include <emslam/io/CalibrationFiles.h>
+#include <emslam/io/DataFile.h>
+#include <emslam/io/EurocSequence.h>
+#include <emslam/io/TextParsing.h>
+
+#include <mrpt/core/Clock.h>
+#include <mrpt/core/exceptions.h>
+#include <mrpt/math/CQuaternion.h>
+
+#include <algorithm>
+#include <cmath>
+#include <filesystem>
+#include <fstream>
+#include <map>
+#include <string_view>
+#include <utility>
+
+namespace fs = std::filesystem;
+
+namespace emslam::io
+{
+namespace
+{
+/** Opens the EuRoC CSV file `file` (throws "Cannot open EuRoC <what> '<file>'"
+ * if it cannot) and calls `on_row(fields, line, line_no)` for every line that is
+ * not blank or a `#` comment: `fields` are its comma-separated fields,
+ * trimmed; `line_no` counts from 1. */
+template <typename RowFn>
+void forEachCsvRow(const std::string& file, const char* what, RowFn&& on_row)
+{
+    auto f = openTextFile(file, std::string("EuRoC ") + what);
+    forEachDataLine(
+        f,
+        [&](const std::string& line, std::size_t line_no)
+        { on_row(splitCommaFields(line), line, line_no); },
+        file);
+}
+
+constexpr const char* MAX_NS_TEXT = "9223372036854775807";
+
+struct CsvImage
+{
+    std::int64_t t_ns;
+    std::string file;
+};
+
+std::vector<CsvImage> readDataCsv(const std::string& cam_dir)
+{
+    const std::string file = cam_dir + "/data.csv";
+    std::vector<CsvImage> out;
+    forEachCsvRow(
+        file, "image list",
+        [&](const std::vector<std::string>& fields, const std::string& line, std::size_t line_no)
+        {
+            std::int64_t t = 0;
+            if (fields.size() != 2 || fields[1].empty())
+            {
+                THROW_EXCEPTION_FMT(
+                    "%s:%zu: expected 'timestamp_ns,filename', got '%s'", file.c_str(), line_no,
+                    line.c_str());
+            }
+            if (!parseNanoseconds(fields[0], t))
+            {
+                THROW_EXCEPTION_FMT(
+                    "%s:%zu: timestamp '%s' is not an integer number of nanoseconds in [0, %s]",
+                    file.c_str(), line_no, fields[0].c_str(), MAX_NS_TEXT);
+            }
+            out.push_back({t, cam_dir + "/data/" + fields[1]});
+        });
+    if (out.empty())
+    {
+        THROW_EXCEPTION_FMT("EuRoC image list '%s' lists no image", file.c_str());
+    }
+    return out;
+}
+
+mrpt::Clock::time_point fromNs(std::int64_t t_ns)
+{
+    // Exact: the UNIX epoch plus whole 100 ns ticks (a double would lose
+    // sub-microsecond digits of a 2014 timestamp). Rounded without computing
+    // t_ns + 50, which overflows near INT64_MAX; t_ns >= 0 (parseNanoseconds).
+    ASSERT_GE_(t_ns, 0);
+    const std::int64_t ticks = t_ns / 100 + (t_ns % 100 >= 50 ? 1 : 0);
+    return mrpt::Clock::fromDouble(0.0) + mrpt::Clock::duration(ticks);
+}
+
+/** |a - b| of two non-negative stamps (their difference cannot overflow). */
+std::int64_t absDifferenceNs(std::int64_t a, std::int64_t b)
+{
+    return a > b ? a - b : b - a;
+}
+}  // namespace
+
+std::vector<EurocSequence::GtRow> EurocSequence::readGroundTruthCsv(const std::string& file)
+{
+    std::vector<GtRow> rows;
+    forEachCsvRow(
+        file, "ground-truth file",
+        [&](const std::vector<std::string>& fields, const std::string& line, std::size_t line_no)
+        {
+            if (fields.size() == 17)
+            {
+                THROW_EXCEPTION_FMT(
+                    "%s:%zu: 17 columns: this looks like EuRoC's state_groundtruth_estimate0 "
+                    "(body/IMU pose, quaternion w first). Expected the left camera's pose: "
+                    "'timestamp_ns,x,y,z,qx,qy,qz,qw'",
+                    file.c_str(), line_no);
+            }
+            if (fields.size() != 8)
+            {
+                THROW_EXCEPTION_FMT(
+                    "%s:%zu: expected 8 fields 'timestamp_ns,x,y,z,qx,qy,qz,qw', got %zu",
+                    file.c_str(), line_no, fields.size());
+            }
+            GtRow row;
+            double v[7];
+            if (!parseNanoseconds(fields[0], row.t_ns))
+            {
+                THROW_EXCEPTION_FMT(
+                    "%s:%zu: timestamp '%s' is not an integer number of nanoseconds in [0, %s]",
+                    file.c_str(), line_no, fields[0].c_str(), MAX_NS_TEXT);
+            }
+            bool ok = true;
+            for (int k = 0; k < 7 && ok; k++)
+            {
+                ok = parseDouble(fields[k + 1], v[k]) && std::isfinite(v[k]);
+            }
+            if (!ok)
+            {
+                THROW_EXCEPTION_FMT(
+                    "%s:%zu: not a number in '%s'", file.c_str(), line_no, line.c_str());
+            }
+            const double norm = std::sqrt(v[3] * v[3] + v[4] * v[4] + v[5] * v[5] + v[6] * v[6]);
+            if (norm < 1e-9)
+            {
+                THROW_EXCEPTION_FMT("%s:%zu: zero quaternion", file.c_str(), line_no);
+            }
+            const mrpt::math::CQuaternionDouble q(
+                v[6] / norm, v[3] / norm, v[4] / norm, v[5] / norm);
+            row.pose = mrpt::poses::CPose3D(q, v[0], v[1], v[2]);
+            rows.push_back(row);
+        });
+    if (rows.empty())
+    {
+        THROW_EXCEPTION_FMT("EuRoC ground-truth file '%s' holds no pose", file.c_str());
+    }
+    std::stable_sort(
+        rows.begin(), rows.end(), [](const GtRow& a, const GtRow& b) { return a.t_ns < b.t_ns; });
+    return rows;
+}
+
+void EurocSequence::open(const std::string& mav0_dir, const std::string& gt_csv)
+{
+    m_dir.clear();
+    m_stamps.clear();
+    m_left_files.clear();
+    m_right_files.clear();
+    m_gt.clear();
+    m_has_gt = false;
+    m_unpaired = 0;
+
+    std::error_code ec;
+    if (!fs::is_directory(mav0_dir, ec))
+    {
+        THROW_EXCEPTION_FMT("EuRoC folder '%s' does not exist", mav0_dir.c_str());
+    }
+    std::string dir = mav0_dir;
+    if (!fs::is_directory(dir + "/cam0", ec) && fs::is_directory(dir + "/mav0/cam0", ec))
+    {
+        dir += "/mav0";
+    }
+    for (const char* cam : {"cam0", "cam1"})
+    {
+        if (!fs::is_directory(dir + "/" + cam, ec))
+        {
+            THROW_EXCEPTION_FMT("EuRoC folder '%s' has no '%s' folder", dir.c_str(), cam);
+        }
+    }
+
+    const auto left = readDataCsv(dir + "/cam0");
+    const auto right = readDataCsv(dir + "/cam1");
+    std::map<std::int64_t, std::string> right_by_t;
+    for (const auto& r : right)
+    {
+        right_by_t[r.t_ns] = r.file;
+    }
+    std::vector<std::int64_t> stamps;
+    std::vector<std::string> lf, rf;
+    for (const auto& l : left)
+    {
+        const auto it = right_by_t.find(l.t_ns);
+        if (it == right_by_t.end())
+        {
+            ++m_unpaired;
+            continue;
+        }
+        stamps.push_back(l.t_ns);
+        lf.push_back(l.file);
+        rf.push_back(it->second);
+    }
+    if (stamps.empty())
+    {
+        THROW_EXCEPTION_FMT(
+            "EuRoC folder '%s': no timestamp of cam0/data.csv appears in cam1/data.csv",
+            dir.c_str());
+    }
+    for (std::size_t i = 0; i < stamps.size(); i++)
+    {
+        for (const auto* file : {&lf[i], &rf[i]})
+        {
+            if (!fs::is_regular_file(*file, ec))
+            {
+                THROW_EXCEPTION_FMT("EuRoC image '%s' is missing", file->c_str());
+            }
+        }
+    }
+
+    m_calib = loadEurocCalibration(dir + "/cam0/sensor.yaml", dir + "/cam1/sensor.yaml");
+    const cv::Mat l0 = loadImageFile(lf[0]);
+    const cv::Mat r0 = loadImageFile(rf[0]);
+    if (l0.size() != r0.size())
+    {
+        THROW_EXCEPTION_FMT(
+            "Left/right image size mismatch: '%s' is %dx%d but '%s' is %dx%d", lf[0].c_str(),
+            l0.cols, l0.rows, rf[0].c_str(), r0.cols, r0.rows);
+    }
+    m_width = static_cast<unsigned int>(l0.cols);
+    m_height = static_cast<unsigned int>(l0.rows);
+    if (m_calib.leftCamera.ncols != m_width || m_calib.leftCamera.nrows != m_height ||
+        m_calib.rightCamera.ncols != m_width || m_calib.rightCamera.nrows != m_height)
+    {
+        THROW_EXCEPTION_FMT(
+            "Image size %ux%u of '%s' differs from the calibration's resolution %ux%u (left) / "
+            "%ux%u (right) in '%s/cam*/sensor.yaml'",
+            m_width, m_height, lf[0].c_str(), m_calib.leftCamera.ncols, m_calib.leftCamera.nrows,
+            m_calib.rightCamera.ncols, m_calib.rightCamera.nrows, dir.c_str());
+    }
+
+    std::vector<std::optional<mrpt::poses::CPose3D>> gt(stamps.size());
+    if (!gt_csv.empty())
+    {
+        // Bounded so that the conversion to nanoseconds below cannot overflow.
+        if (!(gt_max_dt >= 0.0 && gt_max_dt <= 1e9))
+        {
+            THROW_EXCEPTION_FMT("gt_max_dt = %g s: must be in [0, 1e9]", gt_max_dt);
+        }
+        const auto rows = readGroundTruthCsv(gt_csv);
+        const auto max_dt_ns = static_cast<std::int64_t>(std::llround(gt_max_dt * 1e9));
+        for (std::size_t i = 0; i < stamps.size(); i++)
+        {
+            const auto it = std::lower_bound(
+                rows.begin(), rows.end(), stamps[i],
+                [](const GtRow& r, std::int64_t t) { return r.t_ns < t; });
+            const GtRow* best = nullptr;
+            std::int64_t best_dt = 0;
+            for (auto c : {it, it == rows.begin() ? rows.end() : std::prev(it)})
+            {
+                if (c == rows.end())
+                {
+                    continue;
+                }
+                const std::int64_t dt = absDifferenceNs(c->t_ns, stamps[i]);
+                if (best == nullptr || dt < best_dt)
+                {
+                    best = &*c;
+                    best_dt = dt;
+                }
+            }
+            if (best != nullptr && best_dt <= max_dt_ns)
+            {
+                gt[i] = best->pose;
+            }
+        }
+        m_has_gt = true;
+    }
+
+    m_stamps = std::move(stamps);
+    m_left_files = std::move(lf);
+    m_right_files = std::move(rf);
+    m_gt = std::move(gt);
+    m_dir = dir;
+}
+
+std::int64_t EurocSequence::timestampNs(std::size_t i) const
+{
+    ASSERT_LT_(i, m_stamps.size());
+    return m_stamps[i];
+}
+
+std::optional<mrpt::poses::CPose3D> EurocSequence::groundTruth(std::size_t i) const
+{
+    ASSERT_LT_(i, m_gt.size());
+    return m_gt[i];
+}
+
+std::size_t EurocSequence::framesWithoutGroundTruth() const
+{
+    return static_cast<std::size_t>(
+        std::count_if(m_gt.begin(), m_gt.end(), [](const auto& g) { return !g.has_value(); }));
+}
+
+std::string EurocSequence::leftImageFile(std::size_t i) const
+{
+    ASSERT_LT_(i, m_left_files.size());
+    return m_left_files[i];
+}
+
+std::string EurocSequence::rightImageFile(std::size_t i) const
+{
+    ASSERT_LT_(i, m_right_files.size());
+    return m_right_files[i];
+}
+
+EurocSequence::Frame EurocSequence::frame(std::size_t i) const
+{
+    ASSERTMSG_(isOpen(), "EurocSequence: open() a sequence first");
+    ASSERT_LT_(i, m_stamps.size());
+    Frame f;
+    f.t = timestamp(i);
+    f.obs = loadStereoPairObservation(
+        m_left_files[i], m_right_files[i], m_calib, "calibration", sensor_label,
+        fromNs(m_stamps[i]));
+    f.ground_truth = m_gt[i];
+    return f;
+}
+
+SequenceFrame EurocSequence::readFrame(std::size_t i) const
+{
+    Frame f = frame(i);
+    return {std::move(f.obs), std::move(f.ground_truth), f.t};
+}
+
+}  // namespace emslam::io

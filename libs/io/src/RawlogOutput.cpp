@@ -1,0 +1,82 @@
+// SPDX-License-Identifier: BSD-3-Clause
+#include <emslam/io/OutputPathChecks.h>
+#include <emslam/io/RawlogOutput.h>
+
+#include <mrpt/core/exceptions.h>
+
+#include <filesystem>
+#include <system_error>
+
+namespace fs = std::filesystem;
+
+namespace emslam::io
+{
+namespace
+{
+void removeQuietly(const std::string& file)
+{
+    if (!file.empty())
+    {
+        std::error_code ec;
+        fs::remove(file, ec);
+    }
+}
+}  // namespace
+
+void RawlogOutput::checkOutputFolders(const std::string& file, const std::string& gt_file)
+{
+    requireOutputFile(file, "output rawlog");
+    if (!gt_file.empty())
+    {
+        requireOutputFile(gt_file, "ground-truth output file");
+    }
+}
+
+RawlogOutput::RawlogOutput(const std::string& file, int gz_level, const std::string& gt_file)
+    : m_file(requireOutputFile(file, "output rawlog")),
+      m_partial(m_file + ".partial"),
+      m_gt_file(
+          gt_file.empty() ? std::string() : requireOutputFile(gt_file, "ground-truth output file")),
+      m_gt_partial(m_gt_file.empty() ? std::string() : m_gt_file + ".partial")
+{
+    std::string err;
+    if (!m_stream.open(m_partial, gz_level, err))
+    {
+        THROW_EXCEPTION_FMT("Cannot create '%s': %s", m_partial.c_str(), err.c_str());
+    }
+    m_archive =
+        std::make_unique<mrpt::serialization::CArchiveStreamBase<mrpt::io::CFileGZOutputStream>>(
+            m_stream);
+}
+
+RawlogOutput::~RawlogOutput()
+{
+    if (!m_committed)
+    {
+        m_archive.reset();
+        m_stream.close();
+        removeQuietly(m_partial);
+        removeQuietly(m_gt_partial);
+    }
+}
+
+std::size_t RawlogOutput::commit(const emslam::io::TumTrajectory& ground_truth)
+{
+    m_archive.reset();
+    m_stream.close();
+    if (!m_gt_partial.empty())
+    {
+        ground_truth.saveToFile(m_gt_partial);
+    }
+    fs::rename(m_partial, m_file);
+    std::size_t poses = 0;
+    if (!m_gt_partial.empty())
+    {
+        fs::rename(m_gt_partial, m_gt_file);
+        poses = ground_truth.size();
+    }
+    m_committed = true;
+    return poses;
+}
+
+}  // namespace emslam::io

@@ -1,0 +1,80 @@
+// SPDX-License-Identifier: BSD-3-Clause
+#include <emslam/io/TrajectoryInput.h>
+#include <emslam/stereo/ExceptionMessage.h>
+
+#include <filesystem>
+#include <stdexcept>
+
+namespace emslam::io
+{
+emslam::io::LoadedTrajectory loadTrajectoryInput(
+    const std::string& file,
+    const std::string& what,
+    const emslam::io::TrajectoryReadOptions& options)
+{
+    namespace fs = std::filesystem;
+    std::error_code ec;
+    if (!fs::exists(file, ec))
+    {
+        throw std::runtime_error(what + " file '" + file + "' does not exist");
+    }
+    if (fs::is_directory(file, ec))
+    {
+        throw std::runtime_error(what + " file '" + file + "' is a directory");
+    }
+    emslam::io::LoadedTrajectory t;
+    try
+    {
+        t = emslam::io::loadTrajectory(file, options);
+    }
+    catch (const std::exception& e)
+    {
+        // The reader's message names the file and line; say which input it was.
+        throw std::runtime_error(
+            "cannot read " + what + ": " + emslam::stereo::shortExceptionMessage(e));
+    }
+    if (t.trajectory.empty())
+    {
+        throw std::runtime_error(what + " file '" + file + "' has no poses");
+    }
+    return t;
+}
+
+void requireTimes(
+    const emslam::io::LoadedTrajectory& t,
+    const std::string& file,
+    const std::string& what,
+    const std::string& times_option)
+{
+    if (!t.timed)
+    {
+        throw std::runtime_error(
+            what + ": " + t.missingTimesMessage(file) + "; give one with " + times_option +
+            " FILE");
+    }
+}
+
+void requireComparableTimes(
+    const emslam::io::LoadedTrajectory& gt,
+    const std::string& gt_file,
+    const emslam::io::LoadedTrajectory& est,
+    const std::string& est_file)
+{
+    if (gt.timed == est.timed)
+    {
+        return;
+    }
+    const std::string pairing =
+        " (or give both as KITTI poses without times, to pair them line by line)";
+    if (!gt.timed)
+    {
+        throw std::runtime_error(
+            "ground truth: " + gt.missingTimesMessage(gt_file) + "; give one with --gt-times FILE" +
+            pairing);
+    }
+    throw std::runtime_error(
+        "estimate: " + est.missingTimesMessage(est_file) + "; give one with --est-times FILE" +
+        pairing);
+}
+
+}  // namespace emslam::io

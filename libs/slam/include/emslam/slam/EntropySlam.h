@@ -1,0 +1,260 @@
+// SPDX-License-Identifier: BSD-3-Clause
+#pragma once
+
+#include <emslam/egomotion/EgomotionEstimator.h>
+#include <emslam/maps/CEntropyVoxelMap.h>
+#include <emslam/rectify/ActionCovariance.h>
+#include <emslam/rectify/RectificationRunner.h>
+#include <emslam/rectify/RectifierOptions.h>
+#include <emslam/rectify/SpaceSampler.h>
+#include <emslam/slam/ElementClouds.h>
+#include <emslam/slam/FrameRecord.h>
+#include <emslam/slam/IntensityCloud.h>
+#include <emslam/stereo/StereoFrontEnd.h>
+
+#include <mrpt/config/CConfigFileBase.h>
+#include <mrpt/config/CLoadableOptions.h>
+#include <mrpt/obs/CObservation.h>
+#include <mrpt/poses/CPose3D.h>
+
+#include <cstddef>
+#include <future>
+#include <limits>
+#include <memory>
+#include <opencv2/core.hpp>
+#include <optional>
+#include <stdexcept>
+#include <string>
+#include <vector>
+
+namespace emslam::slam
+{
+/** The whole SLAM pipeline of the paper, one frame at a time (the data flow
+ * of the design): stereo front-end → egomotion (§2.1) → space sampling
+ * (§2.2.4) → trajectory with global rectification, serial or AnyTime, and
+ * compression (§2.2.3-2.2.4). MapperApp feeds it from a rawlog and writes its
+ * results.
+ *
+ * Frames whose egomotion fails keep the previous pose (the action is taken
+ * as the identity) and are counted; the next step is measured from them.
+ *
+ * Every frame gets a SLAM pose: the frames space sampling accepts (the
+ * keyframes) are rectified; any other frame is placed by its egomotion relative
+ * to the keyframe it was measured from: T_world_frame = T_world_keyframe
+ * (rectified) ⊕ T_keyframe_frame (the egomotion steps since that keyframe). A
+ * frame whose egomotion failed therefore sits where the frame before it sits.
+ * \ingroup emslam_slam_grp \sa MapperApp */
+class EntropySlam
+{
+public:
+    /** `[Mapper]`: what EntropySlam keeps besides the paper's parameters. */
+    struct TOptions : public mrpt::config::CLoadableOptions
+    {
+        void loadFromConfigFile(
+            const mrpt::config::CConfigFileBase& c, const std::string& s) override;
+        void saveToConfigFile(
+            mrpt::config::CConfigFileBase& c, const std::string& s) const override;
+        /** Throws std::invalid_argument naming the key of a bad value. */
+        void validate() const;
+
+        /** Egomotion and space sampling only; the entropy map is still built
+         * (energy of the egomotion map) but never rectified. (Default: false) */
+        bool egomotion_only{false};
+        /** Cell size of the map.ply / map.3Dscene cloud [m]: each accepted
+         * frame keeps one point per cell, so does each trajectory element
+         * once compression has fused frames into it, and so does the final
+         * map (≤ 0: every point, and memory grows with the sequence).
+         * (Default: 0.1) */
+        double map_cell_size{0.1};
+        /** Ceiling cut of map.3Dscene and map_top.png [m]: cloud points
+         * higher than this above the first camera (along its −y, the
+         * world's up) are left out, so the floor plan shows from above.
+         * E.g. a camera 1.2 m above the floor under a 3 m ceiling: 1.5.
+         * `inf` (or absent): no cut. map.ply always keeps every point.
+         * (Default: inf) */
+        double export_max_height{std::numeric_limits<double>::infinity()};
+    };
+
+    /** Every parameter the mapper uses, one INI section each. */
+    struct TParameters
+    {
+        emslam::stereo::StereoMatcher::TParameters stereo;             //!< [Stereo]
+        emslam::egomotion::EgomotionEstimator::TParameters egomotion;  //!< [Egomotion]
+        emslam::CEntropyVoxelMap::TCreationOptions map;                //!< [EntropyVoxelMap]
+        emslam::CEntropyVoxelMap::TInsertionOptions insertion;         //!< [EntropyVoxelMap]
+        emslam::rectify::SpaceSampler::TParameters sampling;           //!< [SpaceSampling]
+        emslam::rectify::TRectifierOptions rectifier;                  //!< [Rectifier]
+        TOptions mapper;                                               //!< [Mapper]
+
+        /** Loads every section (missing keys keep their defaults) and
+         * validates; throws std::invalid_argument naming the section and key
+         * of a bad value. */
+        void loadFromConfigFile(const mrpt::config::CConfigFileBase& c);
+        /** Saves every section, every key. */
+        void saveToConfigFile(mrpt::config::CConfigFileBase& c) const;
+    };
+
+    explicit EntropySlam(const TParameters& p);
+    ~EntropySlam();
+    EntropySlam(const EntropySlam&) = delete;
+    EntropySlam& operator=(const EntropySlam&) = delete;
+
+    /** What process() throws for an observation the stereo front-end
+     * cannot use (no right image, images of different sizes, missing or
+     * invalid calibration, ...): the mapper is left as it was, so the caller
+     * may skip the observation and go on. */
+    class UnusableObservation : public std::runtime_error
+    {
+    public:
+        using std::runtime_error::runtime_error;
+    };
+
+    /** Processes one observation. Returns false (and does nothing) if it is
+     * neither stereo nor RGB-D. Throws UnusableObservation (and changes
+     * nothing) on one the front-end cannot use; any other exception leaves
+     * the mapper fit only for finish(). */
+    bool process(const mrpt::obs::CObservation& obs);
+
+    /** Ends the run: syncs the rectifier, runs the final rectification and
+     * builds the outputs. Idempotent; process() throws afterwards. Throws
+     * std::logic_error if the map cloud's elements do not match the
+     * trajectory's (ElementClouds::requireSameElementsAs()). */
+    void finish();
+
+    const TParameters& parameters() const { return m_p; }
+
+    /** Frames processed (stereo or RGB-D observations). */
+    std::size_t frameCount() const { return m_records.size(); }
+    /** Frames accepted into the trajectory. */
+    std::size_t acceptedCount() const { return m_sampler.accepted(); }
+    /** Steps whose egomotion failed. */
+    std::size_t egomotionFailures() const { return m_failures; }
+    /** Successful steps matched near the constant-velocity prediction, and
+     * steps whose guided attempt fell back to the full search
+     * ([Egomotion] guided_matching; both 0 without it). */
+    std::size_t guidedSteps() const { return m_guided_steps; }
+    std::size_t guidedFallbacks() const { return m_guided_fallbacks; }
+    /** One record per processed frame. */
+    const std::vector<FrameRecord>& frames() const { return m_records; }
+    /** Energy of the map after the last rectification (or of the unrectified
+     * map in egomotion-only mode); 0 before any (see hasEnergy()). */
+    double currentEnergy() const { return m_energy; }
+    /** True once currentEnergy() holds an energy (after the first
+     * rectification, or finish()). */
+    bool hasEnergy() const { return m_has_energy; }
+
+    /** Size of the frames as processed (after any stereo scaling) [px]; 0 before the first. */
+    int imageWidth() const { return m_image_width; }
+    int imageHeight() const { return m_image_height; }
+
+    /** Egomotion pose of every processed frame (T_world_cam, world = first camera). */
+    const std::vector<emslam::rectify::TimedPose>& egomotionPoses() const { return m_egomotion; }
+
+    /** @name Live state, for viewers (valid until the next process())
+     * @{ */
+    /** Reference (left) image of the last processed frame (shares its
+     * pixels; empty before the first frame). */
+    const cv::Mat& lastImage() const { return m_last_image; }
+    /** Map cloud (own camera frame) of the keyframe the last process()
+     * added to the map, else nullptr: the frame just processed, or with a
+     * sparse front-end ([Stereo] sparse_at_features) the keyframe before it,
+     * whose dense cloud was computed meanwhile on another thread. */
+    const IntensityCloud* lastAcceptedCloud() const;
+    /** Frame index (as in frames()) of lastAcceptedCloud(). */
+    std::size_t lastAcceptedCloudFrame() const { return m_last_cloud_frame; }
+    /** World poses of the accepted frames as rectified so far (a copy;
+     * thread-safe; AnyTime: buffered frames not yet included). */
+    std::vector<emslam::rectify::TimedPose> currentSlamPoses() const;
+    /** @} */
+
+    /** @name Results, valid after finish()
+     * @{ */
+    /** Every processed frame, in order: keyframes at their rectified poses,
+     * the other frames placed from their keyframe by the egomotion (see the
+     * class comment). */
+    const std::vector<emslam::rectify::TimedPose>& slamPoses() const { return m_slam; }
+    /** The keyframes (accepted frames) only, at their rectified poses. */
+    const std::vector<emslam::rectify::TimedPose>& keyframePoses() const { return m_keyframe_slam; }
+    /** Frame indices (as in frames()) of the keyframes, increasing. */
+    const std::vector<std::size_t>& keyframes() const { return m_keyframes; }
+    /** Every rectification run. */
+    const std::vector<emslam::rectify::RectificationStats>& rectifications() const
+    {
+        return m_rectifications;
+    }
+    /** The entropy map of the final trajectory. */
+    const emslam::CEntropyVoxelMap& entropyMap() const;
+    /** The final (compressed) trajectory: actions, elements and their frames. */
+    const emslam::rectify::Trajectory& trajectory() const;
+    /** The map cloud (with grey levels) at the final poses, world frame: the
+     * accepted frames' points, one per `map_cell_size` cell. Kept per
+     * trajectory element during the run (see ElementClouds): the points of
+     * frames fused by compression were averaged in their element's frame. */
+    const IntensityCloud& mapCloud() const { return m_map_cloud; }
+    /** Final energy (recomputed from scratch): the entropy plus the odometry
+     * prior's cost, if `[Rectifier] prior_weight` > 0. */
+    double finalEnergy() const { return m_energy; }
+    /** The entropy part of finalEnergy() (the paper's energy; what
+     * entropyMap().energy() gives). */
+    double finalEntropy() const { return m_entropy; }
+    /** Elements N and trajectory compressions at the end. */
+    std::size_t trajectoryElements() const;
+    std::size_t compressions() const;
+    /** @} */
+
+private:
+    /** A keyframe whose map cloud is being computed on another thread. */
+    struct PendingKeyframe
+    {
+        std::size_t index{0};
+        double timestamp{0};
+        mrpt::poses::CPose3D action;  //!< since the previous keyframe
+        emslam::rectify::ActionCovariance covariance;
+        std::future<emslam::stereo::StereoFrame> cloud;
+    };
+    /** Waits for the pending keyframe's cloud (if any) and adds it; its
+     * times go to `record` (if given). */
+    void completePendingKeyframe(FrameRecord* record);
+    void addAccepted(const emslam::stereo::StereoFrame& f, const PendingKeyframe& k);
+
+    TParameters m_p;
+    emslam::stereo::StereoFrontEnd m_front;
+    emslam::egomotion::EgomotionEstimator m_egomotion_estimator;
+    emslam::rectify::SpaceSampler m_sampler;
+    std::unique_ptr<emslam::rectify::RectificationRunner> m_runner;
+    mrpt::poses::CPose3D m_T_world_cur;
+    std::vector<emslam::rectify::TimedPose> m_egomotion, m_slam, m_keyframe_slam;
+    /** Where a frame is measured from: its keyframe and the egomotion since. */
+    struct KeyframeLink
+    {
+        std::size_t keyframe{0};
+        mrpt::poses::CPose3D T_keyframe_frame;
+    };
+    std::vector<KeyframeLink> m_links;  //!< one per processed frame
+    mrpt::poses::CPose3D m_T_keyframe_cur;
+    /** The egomotion's covariance of m_T_keyframe_cur (zero at a keyframe). */
+    emslam::rectify::ActionCovariance m_cov_keyframe_cur;
+    /** The last step the egomotion estimated: a failed step repeats it. */
+    mrpt::poses::CPose3D m_velocity;
+    std::size_t m_last_keyframe{0};
+    std::vector<std::size_t> m_keyframes;
+    std::vector<FrameRecord> m_records;
+    std::size_t m_failures{0};
+    std::size_t m_guided_steps{0}, m_guided_fallbacks{0};
+    double m_energy{0.0};
+    bool m_has_energy{false};
+    double m_entropy{0.0};
+    /** The map cloud per trajectory element, fused as the trajectory compresses. */
+    ElementClouds m_clouds;
+    IntensityCloud m_last_cloud;  //!< the last accepted frame's cloud, camera frame
+    std::size_t m_last_cloud_frame{0};
+    bool m_cloud_added{false};  //!< by the last process()
+    std::optional<PendingKeyframe> m_pending;
+    IntensityCloud m_map_cloud;
+    std::vector<emslam::rectify::RectificationStats> m_rectifications;
+    int m_image_width{0}, m_image_height{0};
+    cv::Mat m_last_image;
+    bool m_finished{false};
+};
+
+}  // namespace emslam::slam

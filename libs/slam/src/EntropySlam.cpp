@@ -1,0 +1,406 @@
+// SPDX-License-Identifier: BSD-3-Clause
+#include <emslam/rectify/ActionCovariance.h>
+#include <emslam/slam/EntropySlam.h>
+#include <emslam/stereo/ExceptionMessage.h>
+
+#include <mrpt/config/CConfigFileBase.h>
+#include <mrpt/core/bits_math.h>
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <functional>
+#include <future>
+#include <limits>
+#include <map>
+#include <stdexcept>
+
+namespace emslam::slam
+{
+namespace
+{
+constexpr const char* MAPPER_SECTION = "Mapper";
+constexpr const char* STEREO_SECTION = "Stereo";
+constexpr const char* EGOMOTION_SECTION = "Egomotion";
+constexpr const char* MAP_SECTION = "EntropyVoxelMap";
+constexpr const char* SAMPLING_SECTION = "SpaceSampling";
+constexpr const char* RECTIFIER_SECTION = "Rectifier";
+/** A failed egomotion step is predicted by the previous one, and may be off
+ * by that whole motion or at least by these. */
+constexpr double FAILED_STEP_MIN_SIGMA_XYZ = 0.1;      // [m]
+constexpr double FAILED_STEP_MIN_SIGMA_ROT_DEG = 3.0;  // [deg]
+
+using Clock = std::chrono::steady_clock;
+
+double msSince(Clock::time_point t0)
+{
+    return std::chrono::duration<double, std::milli>(Clock::now() - t0).count();
+}
+
+/** Runs `load`; an error that does not name its section yet gets it in front. */
+void loadSection(const std::string& section, const std::function<void()>& load)
+{
+    try
+    {
+        load();
+    }
+    catch (const std::exception& e)
+    {
+        const std::string msg = emslam::stereo::shortExceptionMessage(e);
+        if (msg.find("[" + section + "]") != std::string::npos)
+        {
+            throw std::invalid_argument(msg);
+        }
+        throw std::invalid_argument("[" + section + "] " + msg);
+    }
+}
+
+/** The frame's points the entropy map takes: `[EntropyVoxelMap]` min_range,
+ * max_range and decimation apply, as for observations inserted through MRPT. */
+emslam::maps::WeightedPointCloud toWeightedCloud(
+    const emslam::stereo::StereoFrame& f, const emslam::CEntropyVoxelMap::TInsertionOptions& o)
+{
+    const double max_r2 =
+        o.max_range > 0 ? o.max_range * o.max_range : std::numeric_limits<double>::infinity();
+    const double min_r2 = o.min_range * o.min_range;
+    const auto step = static_cast<std::size_t>(o.decimation);
+    emslam::maps::WeightedPointCloud c;
+    c.points.reserve(f.size() / step + 1);
+    for (std::size_t i = 0; i < f.size(); i += step)
+    {
+        const auto& p = f.points[i];
+        const double r2 = static_cast<double>(p.x) * p.x + static_cast<double>(p.y) * p.y +
+                          static_cast<double>(p.z) * p.z;
+        if (std::isfinite(r2) && r2 <= max_r2 && r2 >= min_r2)
+        {
+            c.points.push_back(p);
+        }
+    }
+    c.weights.assign(c.points.size(), 1.0f);
+    return c;
+}
+}  // namespace
+
+void EntropySlam::TOptions::loadFromConfigFile(
+    const mrpt::config::CConfigFileBase& c, const std::string& s)
+{
+    MRPT_LOAD_CONFIG_VAR(egomotion_only, bool, c, s);
+    MRPT_LOAD_CONFIG_VAR(map_cell_size, double, c, s);
+    MRPT_LOAD_CONFIG_VAR(export_max_height, double, c, s);
+    validate();
+}
+
+void EntropySlam::TOptions::saveToConfigFile(
+    mrpt::config::CConfigFileBase& c, const std::string& s) const
+{
+    MRPT_SAVE_CONFIG_VAR_COMMENT(egomotion_only, "egomotion only: the map is never rectified");
+    MRPT_SAVE_CONFIG_VAR_COMMENT(map_cell_size, "[m] map.ply cell per frame (<= 0: every point)");
+    MRPT_SAVE_CONFIG_VAR_COMMENT(
+        export_max_height, "[m] above the first camera: map.3Dscene / map_top.png cut (inf: none)");
+}
+
+void EntropySlam::TOptions::validate() const
+{
+    // Cell indices are coordinate / cell size in an int: not below 1 mm.
+    if (!std::isfinite(map_cell_size) ||
+        (map_cell_size > 0 && (map_cell_size < 0.001 || map_cell_size > 1000)))
+    {
+        throw std::invalid_argument(
+            "[Mapper] map_cell_size = " + std::to_string(map_cell_size) +
+            ": must be <= 0 (every point) or in [0.001, 1000] m");
+    }
+    if (std::isnan(export_max_height) ||
+        export_max_height == -std::numeric_limits<double>::infinity())
+    {
+        throw std::invalid_argument(
+            "[Mapper] export_max_height: must be a number of metres or inf (no cut)");
+    }
+}
+
+void EntropySlam::TParameters::loadFromConfigFile(const mrpt::config::CConfigFileBase& c)
+{
+    loadSection(STEREO_SECTION, [&] { stereo.loadFromConfigFile(c, STEREO_SECTION); });
+    loadSection(EGOMOTION_SECTION, [&] { egomotion.loadFromConfigFile(c, EGOMOTION_SECTION); });
+    loadSection(MAP_SECTION, [&] { map.loadFromConfigFile(c, MAP_SECTION); });
+    loadSection(MAP_SECTION, [&] { insertion.loadFromConfigFile(c, MAP_SECTION); });
+    loadSection(SAMPLING_SECTION, [&] { sampling.loadFromConfigFile(c, SAMPLING_SECTION); });
+    loadSection(RECTIFIER_SECTION, [&] { rectifier.loadFromConfigFile(c, RECTIFIER_SECTION); });
+    loadSection(MAPPER_SECTION, [&] { mapper.loadFromConfigFile(c, MAPPER_SECTION); });
+}
+
+void EntropySlam::TParameters::saveToConfigFile(mrpt::config::CConfigFileBase& c) const
+{
+    stereo.saveToConfigFile(c, STEREO_SECTION);
+    egomotion.saveToConfigFile(c, EGOMOTION_SECTION);
+    map.saveToConfigFile(c, MAP_SECTION);
+    insertion.saveToConfigFile(c, MAP_SECTION);
+    sampling.saveToConfigFile(c, SAMPLING_SECTION);
+    rectifier.saveToConfigFile(c, RECTIFIER_SECTION);
+    mapper.saveToConfigFile(c, MAPPER_SECTION);
+}
+
+EntropySlam::EntropySlam(const TParameters& p)
+    : m_p(p),
+      m_front(p.stereo),
+      m_egomotion_estimator(p.egomotion),
+      m_sampler(p.sampling),
+      m_clouds(static_cast<std::size_t>(std::max(p.rectifier.n_max, 0)), p.mapper.map_cell_size)
+{
+    m_cov_keyframe_cur.setZero();
+    if (m_p.mapper.egomotion_only)
+    {
+        m_p.rectifier.mode = emslam::rectify::RectificationMode::Serial;
+        m_p.rectifier.rectify_every = 0;
+    }
+    m_runner = emslam::rectify::createRectificationRunner(m_p.rectifier, m_p.map, m_p.insertion);
+    // [Stereo] sparse_at_features: stereo only at the egomotion's features.
+    m_front.setPixelSelector([this](const cv::Mat& image)
+                             { return m_egomotion_estimator.locateFeatures(image); });
+}
+
+EntropySlam::~EntropySlam() = default;
+
+bool EntropySlam::process(const mrpt::obs::CObservation& obs)
+{
+    if (m_finished)
+    {
+        throw std::logic_error("EntropySlam::process after finish()");
+    }
+    const auto t0 = Clock::now();
+    emslam::stereo::StereoFrame f;
+    try
+    {
+        if (!m_front.process(obs, f))
+        {
+            return false;
+        }
+    }
+    catch (const std::bad_alloc&)
+    {
+        throw;  // not the observation's fault
+    }
+    catch (const std::exception& e)
+    {
+        // The front-end changes no mapper state: the caller may skip the frame.
+        throw UnusableObservation(emslam::stereo::shortExceptionMessage(e));
+    }
+    FrameRecord r;
+    r.index = m_records.size();
+    r.timestamp = mrpt::Clock::toDouble(f.timestamp);
+    r.ms_stereo = msSince(t0);
+    r.points = f.size();
+    m_image_width = f.intensity.cols;
+    m_image_height = f.intensity.rows;
+    m_last_image = f.intensity;
+
+    const auto ego = m_egomotion_estimator.process(f);
+    r.ms_egomotion = ego.ms_total;
+    mrpt::poses::CPose3D action;  // identity: the first frame
+    emslam::rectify::ActionCovariance action_cov = m_p.rectifier.odometryPrior().stepCovariance();
+    if (r.index > 0)
+    {
+        r.initial_matches = ego.initial_matches;
+        r.final_matches = ego.final_matches;
+        r.egomotion_ok = ego.ok;
+        m_guided_steps += ego.ok && ego.guided;
+        m_guided_fallbacks += ego.guided_fallback;
+        if (ego.ok)
+        {
+            action = ego.T_prev_cur;
+            if (ego.has_covariance)
+            {
+                action_cov = ego.covariance;
+            }
+            m_velocity = action;
+        }
+        else
+        {
+            // Constant velocity, with a covariance wide enough for the
+            // rectifier to move the step wherever the map says.
+            ++m_failures;
+            action = m_velocity;
+            action_cov = emslam::rectify::predictionCovariance(
+                action, FAILED_STEP_MIN_SIGMA_XYZ, mrpt::DEG2RAD(FAILED_STEP_MIN_SIGMA_ROT_DEG));
+        }
+    }
+    m_T_world_cur = m_T_world_cur + action;
+    m_egomotion.push_back({r.timestamp, r.index, m_T_world_cur});
+    // Sparse front-end: the previous keyframe's dense cloud was computed on
+    // the other core while this frame's stereo and egomotion ran; it joins
+    // the map now, before this frame may become a keyframe.
+    m_cloud_added = false;
+    completePendingKeyframe(&r);
+
+    const emslam::rectify::ActionCovariance cov_since_keyframe = emslam::rectify::composeCovariance(
+        m_T_keyframe_cur, m_cov_keyframe_cur, action, action_cov);
+    r.accepted = m_sampler.feed(action);
+    if (r.accepted)
+    {
+        m_last_keyframe = r.index;
+        m_T_keyframe_cur = mrpt::poses::CPose3D();
+        m_cov_keyframe_cur.setZero();
+    }
+    else
+    {
+        m_T_keyframe_cur = m_T_keyframe_cur + action;
+        m_cov_keyframe_cur = cov_since_keyframe;
+    }
+    m_links.push_back({m_last_keyframe, m_T_keyframe_cur});
+    if (r.accepted)
+    {
+        PendingKeyframe k;
+        k.index = r.index;
+        k.timestamp = r.timestamp;
+        k.covariance = cov_since_keyframe;
+        // The first accepted frame is the world origin; later ones are placed
+        // by the motion since the previous accepted frame.
+        k.action =
+            m_sampler.accepted() == 1 ? mrpt::poses::CPose3D() : m_sampler.actionSinceAccepted();
+        if (auto task = m_front.mapFrameTask(f))
+        {
+            k.cloud = std::async(std::launch::async, std::move(task));
+            m_pending = std::move(k);
+        }
+        else
+        {
+            const auto t_rect = Clock::now();
+            addAccepted(f, k);
+            r.ms_rectification = msSince(t_rect);
+        }
+    }
+    r.energy = m_energy;
+    r.ms_total = msSince(t0);
+    m_records.push_back(r);
+    return true;
+}
+
+void EntropySlam::completePendingKeyframe(FrameRecord* record)
+{
+    if (!m_pending)
+    {
+        return;
+    }
+    // Taken out first: if the task threw, get() rethrows once and no
+    // consumed future is left behind for finish().
+    PendingKeyframe k = std::move(*m_pending);
+    m_pending.reset();
+    const auto t_wait = Clock::now();
+    const emslam::stereo::StereoFrame cloud = k.cloud.get();
+    const double ms_wait = msSince(t_wait);
+    const auto t_rect = Clock::now();
+    addAccepted(cloud, k);
+    if (record != nullptr)
+    {
+        record->ms_stereo += ms_wait;  // the dense cloud was late
+        record->ms_rectification += msSince(t_rect);
+    }
+}
+
+void EntropySlam::addAccepted(const emslam::stereo::StereoFrame& f, const PendingKeyframe& k)
+{
+    const mrpt::poses::CPose3D& action = k.action;
+    const std::size_t index = k.index;
+    const double t = k.timestamp;
+    const emslam::rectify::ActionCovariance& covariance = k.covariance;
+    m_runner->addFrame(action, toWeightedCloud(f, m_p.insertion), t, index, covariance);
+    m_last_cloud = downsampleFrame(f, m_p.mapper.map_cell_size);
+    m_last_cloud_frame = index;
+    m_cloud_added = true;
+    m_clouds.append(index, m_last_cloud);
+    if (m_clouds.hasPendingFusions())
+    {
+        // Only after a compression (every ~N_max / 2 accepted frames; AnyTime:
+        // until its next synchronisation), so the copy of the poses is rare.
+        m_clouds.fuse(m_runner->framePoses());
+    }
+    const auto progress = m_runner->progress();
+    if (progress.rectifications > 0)
+    {
+        m_energy = progress.energy;
+        m_has_energy = true;
+    }
+}
+
+void EntropySlam::finish()
+{
+    if (m_finished)
+    {
+        return;
+    }
+    m_finished = true;
+    completePendingKeyframe(nullptr);
+    m_runner->finish();
+    m_rectifications = m_runner->statistics();
+    if (m_runner->trajectory().empty())
+    {
+        return;
+    }
+    m_energy = m_runner->trajectory().energy();
+    m_has_energy = true;
+    m_entropy = m_runner->trajectory().entropy();
+    m_keyframes.clear();
+    const auto poses = m_runner->framePoses();
+    m_keyframe_slam = poses;
+    std::map<std::size_t, mrpt::poses::CPose3D> T_world_keyframe;
+    for (const auto& fp : poses)
+    {
+        m_keyframes.push_back(fp.frame_index);
+        T_world_keyframe[fp.frame_index] = fp.T_world_frame;
+    }
+    m_clouds.requireSameElementsAs(m_runner->trajectory());
+    m_map_cloud = m_clouds.worldCloud(poses);
+    m_clouds = ElementClouds(0, m_p.mapper.map_cell_size);
+    m_slam.clear();
+    for (std::size_t i = 0; i < m_records.size(); i++)
+    {
+        const auto& link = m_links[i];
+        const auto it = T_world_keyframe.find(link.keyframe);
+        if (it == T_world_keyframe.end())
+        {
+            throw std::logic_error(
+                "EntropySlam::finish: keyframe " + std::to_string(link.keyframe) + " has no pose");
+        }
+        m_slam.push_back(
+            {m_records[i].timestamp, m_records[i].index, it->second + link.T_keyframe_frame});
+    }
+}
+
+const IntensityCloud* EntropySlam::lastAcceptedCloud() const
+{
+    return m_cloud_added ? &m_last_cloud : nullptr;
+}
+
+std::vector<emslam::rectify::TimedPose> EntropySlam::currentSlamPoses() const
+{
+    return m_runner->framePoses();
+}
+
+const emslam::CEntropyVoxelMap& EntropySlam::entropyMap() const
+{
+    if (!m_finished)
+    {
+        throw std::logic_error("EntropySlam::entropyMap before finish()");
+    }
+    return m_runner->trajectory().map();
+}
+
+const emslam::rectify::Trajectory& EntropySlam::trajectory() const
+{
+    if (!m_finished)
+    {
+        throw std::logic_error("EntropySlam::trajectory before finish()");
+    }
+    return m_runner->trajectory();
+}
+
+std::size_t EntropySlam::trajectoryElements() const
+{
+    return m_finished ? m_runner->trajectory().size() : 0;
+}
+
+std::size_t EntropySlam::compressions() const
+{
+    return m_finished ? m_runner->trajectory().compressionCount() : 0;
+}
+
+}  // namespace emslam::slam

@@ -1,0 +1,20 @@
+// SPDX-License-Identifier: BSD-3-Clause
+#include <emslam/egomotion/registerAllClasses.h>
+#include <emslam/maps/registerAllClasses.h>
+#include <emslam/rectify/registerAllClasses.h>
+#include <emslam/slam/registerAllClasses.h>
+#include <emslam/stereo/registerAllClasses.h>
+
+#include <mrpt/maps/registerAllClasses.h>
+
+namespace emslam::slam
+{
+void registerAllClasses()
+{
+    emslam::stereo::registerAllClasses();
+    emslam::egomotion::registerAllClasses();
+    emslam::maps::registerAllClasses();
+    emslam::rectify::registerAllClasses();
+    mrpt::maps::registerAllClasses_mrpt_maps();
+}
+}  // namespace emslam::slam
