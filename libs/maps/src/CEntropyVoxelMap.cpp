@@ -1,5 +1,6 @@
 // SPDX-License-Identifier: BSD-3-Clause
-// CEntropyVoxelMap: construction, options, INI map definition, insertion.
+// CEntropyVoxelMap: construction, options, INI map definition, insertion, and
+// the observation API forwarded to the engine.
 #include <emslam/maps/CEntropyVoxelMap.h>
 
 #include <mrpt/config/CConfigFileBase.h>
@@ -234,8 +235,7 @@ void CEntropyVoxelMap::setCreationOptions(const TCreationOptions& o)
 {
     o.validate();
     m_creation = o;
-    m_tracked = emslam::maps::energyTerms(o.energy);
-    recomputeFromScratch();
+    m_engine.setGrid(o.cell_size, emslam::maps::energyTerms(o.energy));
 }
 
 mrpt::poses::CPose3D CEntropyVoxelMap::opticalFromMrptSensor()
@@ -252,28 +252,64 @@ mrpt::poses::CPose3D CEntropyVoxelMap::opticalFromMrptSensor()
 
 void CEntropyVoxelMap::internal_clear()
 {
-    m_obs.clear();
-    commitMove();
-    resetTracked();
+    m_engine.clear();
+}
+
+// ------------------------------------------------- observations and moves --
+// The engine checks its arguments too; the checks here keep the map's own
+// error messages.
+
+void CEntropyVoxelMap::requireIndex(std::size_t i, const char* caller) const
+{
+    if (i >= m_engine.observationCount())
+    {
+        THROW_EXCEPTION_FMT(
+            "CEntropyVoxelMap::%s(): observation index %zu out of range (%zu observations)", caller,
+            i, m_engine.observationCount());
+    }
 }
 
 const mrpt::poses::CPose3D& CEntropyVoxelMap::observationPose(std::size_t i) const
 {
-    ASSERTMSG_(i < m_obs.size(), "CEntropyVoxelMap::observationPose(): index out of range");
-    return m_obs[i].pose;
+    ASSERTMSG_(
+        i < m_engine.observationCount(), "CEntropyVoxelMap::observationPose(): index out of range");
+    return m_engine.observationPose(i);
 }
 
 const WeightedPointCloud& CEntropyVoxelMap::observationCloud(std::size_t i) const
 {
-    ASSERTMSG_(i < m_obs.size(), "CEntropyVoxelMap::observationCloud(): index out of range");
-    return m_obs[i].cloud;
+    ASSERTMSG_(
+        i < m_engine.observationCount(),
+        "CEntropyVoxelMap::observationCloud(): index out of range");
+    return m_engine.observationCloud(i);
+}
+
+double CEntropyVoxelMap::moveObservation(std::size_t i, const mrpt::poses::CPose3D& T_world_obs)
+{
+    requireIndex(i, "moveObservations");
+    return m_engine.moveObservation(i, T_world_obs);
+}
+
+double CEntropyVoxelMap::moveObservations(const std::vector<ObservationMove>& moves)
+{
+    for (const auto& mv : moves)
+    {
+        requireIndex(mv.index, "moveObservations");
+    }
+    return m_engine.moveObservations(moves);
+}
+
+double CEntropyVoxelMap::revertLastMove()
+{
+    ASSERTMSG_(m_engine.canRevert(), "CEntropyVoxelMap::revertLastMove(): nothing to revert");
+    return m_engine.revertLastMove();
 }
 
 std::string CEntropyVoxelMap::asString() const
 {
     std::ostringstream ss;
-    ss << "CEntropyVoxelMap: " << m_obs.size() << " observations, W=" << m_total_weight
-       << ", l_d=" << m_creation.cell_size
+    ss << "CEntropyVoxelMap: " << m_engine.observationCount()
+       << " observations, W=" << m_engine.totalWeight() << ", l_d=" << m_creation.cell_size
        << " m, energy=" << emslam::maps::toString(m_creation.energy) << " (Exp. "
        << emslam::maps::energyExpression(m_creation.energy) << ") = " << energy();
     return ss.str();
@@ -289,27 +325,7 @@ std::size_t CEntropyVoxelMap::insertWeightedCloud(
     ASSERTMSG_(
         cloud.weights.size() == cloud.points.size(),
         "CEntropyVoxelMap::insertWeightedCloud(): one weight per point is required");
-    commitMove();
-    Observation o;
-    o.cloud = already_simplified ? cloud : emslam::maps::simplifyCloud(cloud, m_creation.cell_size);
-    if (already_simplified)
-    {
-        emslam::maps::sortByCell(o.cloud, m_creation.cell_size);  // simplifyCloud() sorts already
-    }
-    o.pose = T_world_obs;
-    computeCells(o.cloud, o.pose, o.cells, &o.box);
-    addToTracked(o, +1.0);
-    setWeightStats(o);
-    m_total_weight += o.weight_sum;
-    m_integral_weights = m_integral_weights && o.integral_weights;
-    m_obs.push_back(std::move(o));
-    return m_obs.size() - 1;
-}
-
-void CEntropyVoxelMap::setWeightStats(Observation& o)
-{
-    o.weight_sum = o.cloud.totalWeight();
-    o.integral_weights = o.cloud.hasIntegralWeights();
+    return m_engine.addObservation(cloud, T_world_obs, already_simplified);
 }
 
 bool CEntropyVoxelMap::observationToCloud(
@@ -415,11 +431,4 @@ bool CEntropyVoxelMap::internal_insertObservation(
     }
     insertWeightedCloud(cloud, robotPose ? *robotPose : mrpt::poses::CPose3D());
     return true;
-}
-
-bool CEntropyVoxelMap::internal_canComputeObservationLikelihood(
-    const mrpt::obs::CObservation& obs) const
-{
-    return dynamic_cast<const mrpt::obs::CObservation3DRangeScan*>(&obs) != nullptr ||
-           dynamic_cast<const mrpt::obs::CObservationPointCloud*>(&obs) != nullptr;
 }

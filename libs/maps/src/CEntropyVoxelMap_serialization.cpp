@@ -5,6 +5,9 @@
 #include <mrpt/math/CMatrixFixed.h>
 #include <mrpt/serialization/CArchive.h>
 
+#include <utility>
+#include <vector>
+
 using emslam::CEntropyVoxelMap;
 
 IMPLEMENTS_SERIALIZABLE(CEntropyVoxelMap, mrpt::maps::CMetricMap, emslam)
@@ -14,7 +17,7 @@ IMPLEMENTS_SERIALIZABLE(CEntropyVoxelMap, mrpt::maps::CMetricMap, emslam)
 // (max_cubes i32, min_cube_size f64); u32 observation count; per observation:
 // the 12 upper entries of the 4x4 pose matrix (f64, row major, so the cells
 // are recomputed bit-exactly), u32 point count, then x y z w (f32) per point.
-// Histograms are rebuilt on load (recomputeFromScratch()).
+// Histograms are rebuilt on load (IncrementalEntropyGrid::assignObservations()).
 uint8_t CEntropyVoxelMap::serializeGetVersion() const
 {
     return 0;
@@ -28,10 +31,12 @@ void CEntropyVoxelMap::serializeTo(mrpt::serialization::CArchive& out) const
     out << insertionOptions.max_range << insertionOptions.min_range
         << static_cast<int32_t>(insertionOptions.decimation);
     out << static_cast<int32_t>(drawOptions.max_cubes) << drawOptions.min_cube_size;
-    out.WriteAs<uint32_t>(m_obs.size());
-    for (const auto& o : m_obs)
+    out.WriteAs<uint32_t>(m_engine.observationCount());
+    for (std::size_t i = 0; i < m_engine.observationCount(); i++)
     {
-        const auto T = o.pose.getHomogeneousMatrixVal<mrpt::math::CMatrixDouble44>();
+        const auto& cloud = m_engine.observationCloud(i);
+        const auto T =
+            m_engine.observationPose(i).getHomogeneousMatrixVal<mrpt::math::CMatrixDouble44>();
         for (int r = 0; r < 3; r++)
         {
             for (int c = 0; c < 4; c++)
@@ -39,11 +44,11 @@ void CEntropyVoxelMap::serializeTo(mrpt::serialization::CArchive& out) const
                 out << T(r, c);
             }
         }
-        out.WriteAs<uint32_t>(o.cloud.size());
-        for (std::size_t j = 0; j < o.cloud.size(); j++)
+        out.WriteAs<uint32_t>(cloud.size());
+        for (std::size_t j = 0; j < cloud.size(); j++)
         {
-            const auto& p = o.cloud.points[j];
-            out << p.x << p.y << p.z << o.cloud.weights[j];
+            const auto& p = cloud.points[j];
+            out << p.x << p.y << p.z << cloud.weights[j];
         }
     }
 }
@@ -67,9 +72,9 @@ void CEntropyVoxelMap::serializeFrom(mrpt::serialization::CArchive& in, uint8_t 
             insertionOptions.validate();
             drawOptions.validate();
 
-            m_obs.clear();
-            m_obs.resize(in.ReadAs<uint32_t>());
-            for (auto& o : m_obs)
+            std::vector<emslam::maps::IncrementalEntropyGrid::PosedCloud> obs(
+                in.ReadAs<uint32_t>());
+            for (auto& o : obs)
             {
                 mrpt::math::CMatrixDouble44 T = mrpt::math::CMatrixDouble44::Identity();
                 for (int r = 0; r < 3; r++)
@@ -88,9 +93,10 @@ void CEntropyVoxelMap::serializeFrom(mrpt::serialization::CArchive& in, uint8_t 
                     auto& p = o.cloud.points[j];
                     in >> p.x >> p.y >> p.z >> o.cloud.weights[j];
                 }
-                setWeightStats(o);
             }
-            setCreationOptions(creation);  // rebuilds the histograms
+            m_creation = creation;
+            m_engine.assignObservations(
+                creation.cell_size, emslam::maps::energyTerms(creation.energy), std::move(obs));
         }
         break;
         default:

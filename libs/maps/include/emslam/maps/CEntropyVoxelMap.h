@@ -2,6 +2,7 @@
 #pragma once
 
 #include <emslam/maps/EntropyEnergy.h>
+#include <emslam/maps/IncrementalEntropyGrid.h>
 #include <emslam/maps/WeightedHistogram.h>
 #include <emslam/maps/WeightedPointCloud.h>
 
@@ -9,7 +10,6 @@
 #include <mrpt/maps/CMetricMap.h>
 #include <mrpt/poses/CPose3D.h>
 
-#include <array>
 #include <cstddef>
 #include <vector>
 
@@ -42,7 +42,9 @@ namespace emslam
  * the moved observations (the cells whose key changes) and update every
  * tracked entropy incrementally; revertLastMove() undoes the last call. The
  * tracked terms are the ones of the configured energy; entropies() computes
- * the others from scratch.
+ * the others from scratch. The map is an MRPT adapter (options, insertion of
+ * MRPT observations, serialization, drawing, likelihood) around the engine
+ * that does this work, emslam::maps::IncrementalEntropyGrid.
  *
  * **INI** (a CMultiMetricMap block; `<P>` = `<section>_entropyVoxelMap_00`):
  * \code
@@ -66,7 +68,8 @@ namespace emslam
  * min_cube_size = 0.15               ; cube edge of the sparsest cell, as a fraction of l_d
  * \endcode
  *
- * \ingroup emslam_maps_grp \sa emslam::maps::WeightedHistogram, emslam::maps::EnergyType
+ * \ingroup emslam_maps_grp \sa emslam::maps::IncrementalEntropyGrid,
+ * emslam::maps::WeightedHistogram, emslam::maps::EnergyType
  */
 class CEntropyVoxelMap : public mrpt::maps::CMetricMap
 {
@@ -129,21 +132,10 @@ public:
     };
 
     /** One requested move: observation index and its new pose in the map. */
-    struct ObservationMove
-    {
-        std::size_t index{0};
-        mrpt::poses::CPose3D pose;
-    };
+    using ObservationMove = emslam::maps::IncrementalEntropyGrid::ObservationMove;
 
     /** Memory statistics, for reports and benchmarks. */
-    struct MemoryStats
-    {
-        std::size_t occupied_cells_3d{0};  //!< occupied cells of the 3D histogram (if tracked)
-        std::size_t histogram_bytes{0};    //!< all tracked histograms
-        std::size_t observation_bytes{0};  //!< simplified clouds, poses, cell indices
-        /** histogram_bytes / occupied cells summed over tracked histograms. */
-        double bytes_per_occupied_cell{0};
-    };
+    using MemoryStats = emslam::maps::IncrementalEntropyGrid::MemoryStats;
 
     /** Creates an empty map with default options. */
     CEntropyVoxelMap();
@@ -174,7 +166,7 @@ public:
         const mrpt::poses::CPose3D& T_world_obs,
         bool already_simplified = false);
     /** Number of observations. */
-    std::size_t observationCount() const { return m_obs.size(); }
+    std::size_t observationCount() const { return m_engine.observationCount(); }
     /** Current pose of observation `i` in the map. */
     const mrpt::poses::CPose3D& observationPose(std::size_t i) const;
     /** Simplified cloud of observation `i`, in its own frame. */
@@ -186,39 +178,50 @@ public:
      * energy. An index may appear more than once (the last pose wins). */
     double moveObservations(const std::vector<ObservationMove>& moves);
     /** True if the last moveObservation(s) can still be undone. */
-    bool canRevert() const { return m_undo_count > 0; }
+    bool canRevert() const { return m_engine.canRevert(); }
     /** Undoes the last moveObservation(s) call (poses, cells and entropies
      * return to their previous values exactly up to rounding); returns the
      * energy. Throws if there is nothing to revert. */
     double revertLastMove();
     /** Forgets the undo record (called by insertions and clear()). */
-    void commitMove();
+    void commitMove() { m_engine.commitMove(); }
     /** @} */
 
     /** @name Entropies and energy */
     /** @{ */
     /** Energy of the configured expression (O(1): running sums). */
-    double energy() const;
+    double energy() const { return m_engine.energy(); }
     /** Terms tracked incrementally (those of the configured energy). */
-    emslam::maps::TermMask trackedTerms() const { return m_tracked; }
+    emslam::maps::TermMask trackedTerms() const { return m_engine.trackedTerms(); }
     /** One entropy [nats]: O(1) if tracked, otherwise built from scratch. */
-    double entropy(emslam::maps::EntropyTerm t) const;
+    double entropy(emslam::maps::EntropyTerm t) const { return m_engine.entropy(t); }
     /** All seven entropies (untracked ones from scratch). */
-    emslam::maps::EntropyTerms entropies() const;
+    emslam::maps::EntropyTerms entropies() const { return m_engine.entropies(); }
     /** All seven entropies recomputed from scratch from the observations and
      * their poses (for checks; O(total points)). */
-    emslam::maps::EntropyTerms computeEntropiesFromScratch() const;
+    emslam::maps::EntropyTerms computeEntropiesFromScratch() const
+    {
+        return m_engine.computeEntropiesFromScratch();
+    }
     /** Clears and rebuilds the tracked histograms from all observations and
      * their current poses; returns the energy (the "full evaluation"). */
-    double recomputeFromScratch();
+    double recomputeFromScratch() { return m_engine.recomputeFromScratch(); }
     /** Tracked histogram of a term (nullptr if not tracked). */
-    const emslam::maps::WeightedHistogram* trackedHistogram(emslam::maps::EntropyTerm t) const;
+    const emslam::maps::WeightedHistogram* trackedHistogram(emslam::maps::EntropyTerm t) const
+    {
+        return m_engine.trackedHistogram(t);
+    }
     /** Builds the histogram of any term from scratch. */
-    emslam::maps::WeightedHistogram buildHistogram(emslam::maps::EntropyTerm t) const;
+    emslam::maps::WeightedHistogram buildHistogram(emslam::maps::EntropyTerm t) const
+    {
+        return m_engine.buildHistogram(t);
+    }
     /** Total weight W of the map. */
-    double totalWeight() const { return m_total_weight; }
+    double totalWeight() const { return m_engine.totalWeight(); }
     /** Memory statistics. */
-    MemoryStats memoryStats() const;
+    MemoryStats memoryStats() const { return m_engine.memoryStats(); }
+    /** The engine holding the observations and the tracked histograms. */
+    const emslam::maps::IncrementalEntropyGrid& engine() const { return m_engine; }
     /** @} */
 
     /** Pose of MRPT's sensor frame (+X forward, +Y left, +Z up) in the optical
@@ -228,7 +231,7 @@ public:
 
     /** @name CMetricMap interface */
     /** @{ */
-    bool isEmpty() const override { return m_obs.empty(); }
+    bool isEmpty() const override { return m_engine.observationCount() == 0; }
     /** Writes `<prefix>_cells.txt` (x y z weight of each 3D cell) and
      * `<prefix>.3Dscene` (getVisualizationInto()). */
     void saveMetricMapRepresentationToFile(const std::string& filNamePrefix) const override;
@@ -260,113 +263,15 @@ protected:
         const mrpt::obs::CObservation& obs) const override;
 
 private:
-    /** Bounding box of a set of cells (inclusive; empty if hi < lo). */
-    struct CellBox
-    {
-        std::int32_t lo[3]{0, 0, 0};
-        std::int32_t hi[3]{-1, -1, -1};
-    };
-    struct Observation
-    {
-        emslam::maps::WeightedPointCloud cloud;      //!< simplified, own frame
-        mrpt::poses::CPose3D pose;                   //!< T_world_obs
-        std::vector<emslam::maps::CellIndex> cells;  //!< current cell of each point
-        CellBox box;                                 //!< bounding box of `cells`
-        double weight_sum{0};                        //!< cloud.totalWeight()
-        bool integral_weights{false};                //!< cloud.hasIntegralWeights()
-    };
-    /** Sets the cached weight statistics of `o` from its cloud. */
-    static void setWeightStats(Observation& o);
-    struct UndoEntry
-    {
-        std::size_t index{0};
-        mrpt::poses::CPose3D old_pose;
-        std::vector<emslam::maps::CellIndex> cells;  //!< buffer: old cells after a move
-        CellBox box;                                 //!< bounding box of `cells`
-    };
-
     /** Converts an MRPT observation to a cloud in the robot frame (sensorPose
      * applied, range and decimation filters); false if unsupported. */
     bool observationToCloud(
         const mrpt::obs::CObservation& obs, emslam::maps::WeightedPointCloud& out) const;
-    /** Cell indices of a cloud at a pose (and their bounding box, if `box`). */
-    void computeCells(
-        const emslam::maps::WeightedPointCloud& cloud,
-        const mrpt::poses::CPose3D& pose,
-        std::vector<emslam::maps::CellIndex>& out,
-        CellBox* box = nullptr) const;
-    /** Adds (sign +1) or removes (−1) an observation's weights to/from the tracked histograms. */
-    void addToTracked(const Observation& o, double sign);
-    /** One observation going from one cell assignment to another. */
-    struct CellChange
-    {
-        const emslam::maps::WeightedPointCloud* cloud{nullptr};
-        const std::vector<emslam::maps::CellIndex>* from{nullptr};
-        const std::vector<emslam::maps::CellIndex>* to{nullptr};
-        CellBox from_box;  //!< bounding box of *from
-        CellBox to_box;    //!< bounding box of *to
-    };
-    /** Applies the changes of distinct observations to every tracked term. */
-    void applyCellDeltas(const CellChange* changes, std::size_t count);
-    /** Applies one observation's change; the marginal terms only if not
-     * `marginals_applied`; 3D updates are left for flushPending3d(). */
-    void applyCellDelta(const CellChange& change, bool marginals_applied);
-    static CellBox unionOf(const CellBox& a, const CellBox& b);
-    /** True if index(0..count-1) has no repeated value. */
-    template <typename INDEX>
-    bool distinctIndices(std::size_t count, INDEX&& index)
-    {
-        m_seen.assign(m_obs.size(), 0);
-        for (std::size_t k = 0; k < count; k++)
-        {
-            auto& seen = m_seen[index(k)];
-            if (seen)
-            {
-                return false;
-            }
-            seen = 1;
-        }
-        return true;
-    }
-    /** Applies the 3D updates collected by applyCellDelta() calls. */
-    void flushPending3d();
-    /** Applies updates to term `t` (addManyIntegral() if m_integral_weights). */
-    void addNetUpdates(
-        std::size_t t, const emslam::maps::WeightedHistogram::Update* u, std::size_t count);
-    /** The marginal terms of `changes` through dense grids of weight deltas
-     * over `box` (which contains every from and to cell); false (nothing
-     * done) if a grid would be too large or the terms have no dense path. */
-    bool applyMarginalDeltasDense(const CellChange* changes, std::size_t count, const CellBox& box);
-    /** Starts deferred batches on the tracked histograms. */
-    void beginBatches(std::size_t max_new_cells);
-    /** Ends the batches started by beginBatches(). */
-    void endBatches();
-    void resetTracked();
-    /** Ends the histograms' undo records (see WeightedHistogram::rollback()). */
-    void dropHistogramUndo();
+    /** Throws, naming `caller`, if `i` is not an observation index. */
+    void requireIndex(std::size_t i, const char* caller) const;
 
     TCreationOptions m_creation;
-    emslam::maps::TermMask m_tracked{0};
-    std::array<emslam::maps::WeightedHistogram, emslam::maps::NUM_ENTROPY_TERMS> m_hist;
-    std::vector<Observation> m_obs;
-    std::vector<UndoEntry> m_undo;  //!< entries [0, m_undo_count) are live; buffers are reused
-    std::size_t m_undo_count{0};
-    std::vector<emslam::maps::WeightedHistogram::Update>
-        m_updates;  //!< scratch of applyCellDelta()
-    std::vector<emslam::maps::WeightedHistogram::Update>
-        m_pending3d;  //!< 3D updates of applyCellDelta(), [0, m_pending3d_count) live
-    std::size_t m_pending3d_count{0};
-    std::vector<std::uint64_t> m_keys3d;  //!< scratch of applyCellDelta(): packed from/to cells
-    std::vector<double> m_dense;  //!< scratch of applyMarginalDeltasDense(): grids, kept zero
-    std::vector<std::uint64_t> m_fields;
-    std::vector<CellChange> m_changes;  //!< scratch of moves and reverts
-    std::vector<std::uint8_t> m_seen;   //!< scratch of distinctIndices()  //!< scratch of
-                                        //!< applyMarginalDeltasDense(): key fields
-    double m_total_weight{0};
-    /** Every observation weight is an integer ≤ 2^24 (point counts): cell
-     * weights are then exact integer sums and moves use
-     * WeightedHistogram::addManyIntegral(). */
-    bool m_integral_weights{true};
+    emslam::maps::IncrementalEntropyGrid m_engine;
 
     MAP_DEFINITION_START(CEntropyVoxelMap)
     emslam::CEntropyVoxelMap::TCreationOptions creationOpts;    //!< `_creationOpts`

@@ -1,0 +1,432 @@
+// SPDX-License-Identifier: BSD-3-Clause
+// IncrementalEntropyGrid: applying the cell changes of moved observations to
+// the tracked histograms (dense marginal grids, hashed bulk updates).
+#include "TermKeys.h"
+
+#include <emslam/maps/IncrementalEntropyGrid.h>
+
+#include <algorithm>
+
+namespace emslam::maps
+{
+using detail::TERM_AXES;
+using detail::TermList;
+
+namespace
+{
+/** Largest dense grid of applyMarginalDeltasDense() (8 B per cell). */
+constexpr std::size_t DENSE_MAX_CELLS = std::size_t{1} << 16;
+/** At most this many marginal terms (Exp. 8-12 track up to 3). */
+constexpr std::size_t MAX_DENSE_TERMS = 3;
+
+/** The dense grids of one applyMarginalDeltasDense() call. */
+struct DenseGrids
+{
+    std::size_t n{0};
+    std::size_t term[NUM_ENTROPY_TERMS]{};
+    int a[MAX_DENSE_TERMS]{};  //!< grid index = d_a * stride + d_b (d: offset in the box)
+    int b[MAX_DENSE_TERMS]{};  //!< a == b: 1D term, index d_b
+    std::int32_t stride[MAX_DENSE_TERMS]{};
+    std::size_t area[MAX_DENSE_TERMS]{};
+    std::size_t offset[MAX_DENSE_TERMS]{};
+};
+
+/** Marginal term sets of the energies, each with a compiled scatter loop. */
+enum class DensePattern
+{
+    None,
+    XY_XZ_YZ,  //!< structured
+    XZ_X_Z,    //!< planar_structured
+    XZ,        //!< planar_low_structured
+    Y          //!< low_structured
+};
+
+DensePattern termsPattern(const DenseGrids& g)
+{
+    const auto is = [&](std::size_t k, EntropyTerm t)
+    { return g.term[k] == static_cast<std::size_t>(t); };
+    if (g.n == 3 && is(0, EntropyTerm::XY) && is(1, EntropyTerm::XZ) && is(2, EntropyTerm::YZ))
+    {
+        return DensePattern::XY_XZ_YZ;
+    }
+    if (g.n == 3 && is(0, EntropyTerm::XZ) && is(1, EntropyTerm::X) && is(2, EntropyTerm::Z))
+    {
+        return DensePattern::XZ_X_Z;
+    }
+    if (g.n == 1 && is(0, EntropyTerm::XZ))
+    {
+        return DensePattern::XZ;
+    }
+    if (g.n == 1 && is(0, EntropyTerm::Y))
+    {
+        return DensePattern::Y;
+    }
+    return DensePattern::None;
+}
+
+/** Kept axes of one grid, as template arguments (A == B: 1D term). */
+template <int A, int B>
+struct GridAxes
+{
+    static constexpr int a = A;
+    static constexpr int b = B;
+};
+
+struct ScatterArgs
+{
+    const CellIndex* from;
+    const CellIndex* to;
+    const float* weights;
+    std::size_t n;
+    std::int32_t lo[3];
+    std::int32_t stride[MAX_DENSE_TERMS];
+    double* const* grids;
+};
+
+/** Adds −w at each point's old grid cell and +w at its new one, for every
+ * grid G... in one pass over the points (their offsets are computed once).
+ * An unchanged cell adds ±0 (branch-free: the change is unpredictable). */
+template <typename... G>
+void scatterDeltas(const ScatterArgs& s)
+{
+    const std::int32_t lx = s.lo[0], ly = s.lo[1], lz = s.lo[2];
+    const auto one = [&](std::size_t j)
+    {
+        const CellIndex& p = s.from[j];
+        const CellIndex& q = s.to[j];
+        const std::int32_t dp[3] = {p.x - lx, p.y - ly, p.z - lz};
+        const std::int32_t dq[3] = {q.x - lx, q.y - ly, q.z - lz};
+        const double w = s.weights[j];
+        std::size_t k = 0;
+        const auto grid = [&](auto axes)
+        {
+            using A = decltype(axes);
+            std::int32_t ia = dp[A::b], ib = dq[A::b];
+            if constexpr (A::a != A::b)
+            {
+                ia += dp[A::a] * s.stride[k];
+                ib += dq[A::a] * s.stride[k];
+            }
+            const double wk = ia != ib ? w : 0.0;
+            s.grids[k][ia] -= wk;
+            s.grids[k][ib] += wk;
+            k++;
+        };
+        (grid(G{}), ...);
+    };
+    // Points are stored in cell order, so consecutive points often hit the
+    // same cell: their read-modify-writes would form one long dependency
+    // chain through memory. Interleaving four distant quarters of the cloud
+    // gives four independent chains.
+    const std::size_t q = s.n / 4;
+    for (std::size_t j = 0; j < q; j++)
+    {
+        one(j);
+        one(j + q);
+        one(j + 2 * q);
+        one(j + 3 * q);
+    }
+    for (std::size_t j = 4 * q; j < s.n; j++)
+    {
+        one(j);
+    }
+}
+}  // namespace
+
+void IncrementalEntropyGrid::addNetUpdates(
+    std::size_t t, const WeightedHistogram::Update* u, std::size_t count)
+{
+    if (m_integral_weights)
+    {
+        m_hist[t].addManyIntegral(u, count);
+    }
+    else
+    {
+        m_hist[t].addMany(u, count);
+    }
+}
+
+bool IncrementalEntropyGrid::applyMarginalDeltasDense(
+    const CellChange* changes, std::size_t count, const CellBox& box)
+{
+    const TermList terms(m_tracked);
+    DenseGrids g;
+    for (std::size_t k = 0; k < terms.n; k++)
+    {
+        const std::size_t t = terms.idx[k];
+        if (t != static_cast<std::size_t>(EntropyTerm::H3D))
+        {
+            g.term[g.n++] = t;
+        }
+    }
+    const auto pattern = termsPattern(g);
+    if (pattern == DensePattern::None)
+    {
+        return false;
+    }
+    std::size_t n = 0;
+    for (std::size_t c = 0; c < count; c++)
+    {
+        n += changes[c].cloud->size();
+    }
+    std::size_t dim[3];
+    for (int a = 0; a < 3; a++)
+    {
+        dim[a] = static_cast<std::size_t>(std::int64_t{box.hi[a]} - box.lo[a] + 1);
+    }
+    // Grid k: row major over its kept axes (a, b), or over b alone for a 1D term.
+    std::size_t total = 0;
+    for (std::size_t k = 0; k < g.n; k++)
+    {
+        const auto& ax = TERM_AXES[g.term[k]];
+        const int b = ax[2] ? 2 : (ax[1] ? 1 : 0);
+        const int a = (ax[0] && b != 0) ? 0 : ((ax[1] && b == 2) ? 1 : b);
+        g.a[k] = a;
+        g.b[k] = b;
+        g.stride[k] = a == b ? 0 : static_cast<std::int32_t>(dim[b]);
+        g.area[k] = a == b ? dim[b] : dim[a] * dim[b];
+        g.offset[k] = total;
+        total += g.area[k];
+        // The sweep costs ~area, the hash path a few times that per point.
+        if (g.area[k] > DENSE_MAX_CELLS || g.area[k] > 16 * n + 4096)
+        {
+            return false;
+        }
+    }
+    if (m_dense.size() < total)
+    {
+        m_dense.resize(total, 0.0);  // grows only; the sweep leaves it zero
+    }
+    double* grids[MAX_DENSE_TERMS]{};
+    for (std::size_t k = 0; k < g.n; k++)
+    {
+        grids[k] = m_dense.data() + g.offset[k];
+    }
+    for (std::size_t c = 0; c < count; c++)
+    {
+        const ScatterArgs args{
+            changes[c].from->data(),
+            changes[c].to->data(),
+            changes[c].cloud->weights.data(),
+            changes[c].cloud->size(),
+            {box.lo[0], box.lo[1], box.lo[2]},
+            {g.stride[0], g.stride[1], g.stride[2]},
+            grids};
+        switch (pattern)
+        {
+            case DensePattern::XY_XZ_YZ:
+                scatterDeltas<GridAxes<0, 1>, GridAxes<0, 2>, GridAxes<1, 2>>(args);
+                break;
+            case DensePattern::XZ_X_Z:
+                scatterDeltas<GridAxes<0, 2>, GridAxes<0, 0>, GridAxes<2, 2>>(args);
+                break;
+            case DensePattern::XZ:
+                scatterDeltas<GridAxes<0, 2>>(args);
+                break;
+            case DensePattern::Y:
+                scatterDeltas<GridAxes<1, 1>>(args);
+                break;
+            case DensePattern::None:
+                break;
+        }
+    }
+
+    // Packed key fields of each box coordinate, per axis.
+    m_fields.resize(dim[0] + dim[1] + dim[2]);
+    std::uint64_t* field[3] = {
+        m_fields.data(), m_fields.data() + dim[0], m_fields.data() + dim[0] + dim[1]};
+    constexpr std::uint64_t FIELD = (std::uint64_t{1} << 21) - 1;
+    for (int a = 0; a < 3; a++)
+    {
+        const std::uint64_t mask = FIELD << (42 - 21 * a);
+        for (std::size_t i = 0; i < dim[a]; i++)
+        {
+            std::int32_t c[3] = {0, 0, 0};
+            c[a] = box.lo[a] + static_cast<std::int32_t>(i);
+            field[a][i] = packCellKey(c[0], c[1], c[2]) & mask;
+        }
+    }
+    const std::uint64_t zero_key = packCellKey(0, 0, 0);
+    // Sweep each grid: one net update per changed cell (branch-free
+    // compaction), clearing the grid for the next call. Net updates hit
+    // distinct cells: immediate updates, one w log w each.
+    for (std::size_t k = 0; k < g.n; k++)
+    {
+        const std::size_t t = g.term[k];
+        const int a = g.a[k], b = g.b[k];
+        const std::size_t rows = a == b ? 1 : dim[a];
+        const std::uint64_t keep_a = a == b ? 0 : FIELD << (42 - 21 * a);
+        const std::uint64_t keep_b = FIELD << (42 - 21 * b);
+        const std::uint64_t fill = zero_key & ~(keep_a | keep_b);
+        if (m_updates.size() < g.area[k])
+        {
+            m_updates.resize(g.area[k]);
+        }
+        WeightedHistogram::Update* const u = m_updates.data();
+        const std::uint64_t* const fb = field[b];
+        double* row = grids[k];
+        std::size_t net = 0;
+        for (std::size_t ia = 0; ia < rows; ia++, row += dim[b])
+        {
+            const std::uint64_t ka = (a == b ? 0 : field[a][ia]) | fill;
+            for (std::size_t ib = 0; ib < dim[b]; ib++)
+            {
+                const double v = row[ib];
+                u[net].key = ka | fb[ib];
+                u[net].w = v;
+                net += v != 0 ? 1 : 0;
+                row[ib] = 0;
+            }
+        }
+        addNetUpdates(t, u, net);
+    }
+    return true;
+}
+
+void IncrementalEntropyGrid::flushPending3d()
+{
+    if (m_pending3d_count > 0)
+    {
+        // 3D cells are mostly touched once and hold small integer weights:
+        // immediate updates (table look-ups) beat deferral. All moved
+        // observations at once: one call, one prefetching loop.
+        addNetUpdates(
+            static_cast<std::size_t>(EntropyTerm::H3D), m_pending3d.data(), m_pending3d_count);
+        m_pending3d_count = 0;
+    }
+}
+
+void IncrementalEntropyGrid::applyCellDeltas(const CellChange* changes, std::size_t count)
+{
+    // Marginal cells are shared by many observations: when one set of dense
+    // grids covers every change, the net change of each cell is taken over
+    // all of them (one sweep, and the updates of overlapping observations
+    // cancel before reaching the histogram).
+    CellBox box;
+    std::size_t points = 0;
+    for (std::size_t c = 0; c < count; c++)
+    {
+        if (changes[c].cloud->size() == 0)
+        {
+            continue;  // its boxes are empty
+        }
+        const CellBox b = unionOf(changes[c].from_box, changes[c].to_box);
+        box = points == 0 ? b : unionOf(box, b);
+        points += changes[c].cloud->size();
+    }
+    const bool marginals_done = points > 0 && applyMarginalDeltasDense(changes, count, box);
+    for (std::size_t c = 0; c < count; c++)
+    {
+        applyCellDelta(changes[c], marginals_done);
+    }
+    flushPending3d();
+}
+
+IncrementalEntropyGrid::CellBox IncrementalEntropyGrid::unionOf(const CellBox& a, const CellBox& b)
+{
+    CellBox u;
+    for (int k = 0; k < 3; k++)
+    {
+        u.lo[k] = std::min(a.lo[k], b.lo[k]);
+        u.hi[k] = std::max(a.hi[k], b.hi[k]);
+    }
+    return u;
+}
+
+void IncrementalEntropyGrid::applyCellDelta(const CellChange& change, bool marginals_applied)
+{
+    const TermList terms(m_tracked);
+    const WeightedPointCloud& cloud = *change.cloud;
+    const std::vector<CellIndex>& from = *change.from;
+    const std::vector<CellIndex>& to = *change.to;
+    const std::size_t n = cloud.size();
+    if (n == 0)
+    {
+        return;
+    }
+    // Pack each point's from/to 3D cell once (lazily: only the 3D term and
+    // the hash path of large marginals use them); a term's key is then the
+    // 3D key with the dropped axes' fields replaced by the packed 0 (same
+    // bits as packCellKey() with those axes set to 0).
+    bool packed = false;
+    std::uint64_t* kf = nullptr;
+    std::uint64_t* kt = nullptr;
+    const auto pack = [&]()
+    {
+        m_keys3d.resize(2 * n);
+        kf = m_keys3d.data();
+        kt = kf + n;
+        for (std::size_t j = 0; j < n; j++)
+        {
+            kf[j] = packCellKey(from[j].x, from[j].y, from[j].z);
+            kt[j] = packCellKey(to[j].x, to[j].y, to[j].z);
+        }
+        packed = true;
+    };
+    const std::uint64_t zero_key = packCellKey(0, 0, 0);
+    // Marginal cells collect many updates each: accumulate the net change
+    // per cell in dense grids over the observation's box (no hashing per
+    // update), then touch each changed cell once.
+    const bool marginals_done =
+        marginals_applied ||
+        applyMarginalDeltasDense(&change, 1, unionOf(change.from_box, change.to_box));
+    for (std::size_t k = 0; k < terms.n; k++)
+    {
+        const std::size_t t = terms.idx[k];
+        const bool is3d = t == static_cast<std::size_t>(EntropyTerm::H3D);
+        if (!is3d && marginals_done)
+        {
+            continue;
+        }
+        if (!packed)
+        {
+            pack();
+        }
+        // Hash path: collect the (cell, ±w) updates of the points whose
+        // projected cell changes, then hand them to the histogram in bulk.
+        constexpr std::uint64_t FIELD = (std::uint64_t{1} << 21) - 1;
+        const std::uint64_t keep =  // all-ones fields for the kept axes
+            (TERM_AXES[t][0] ? FIELD << 42 : 0) | (TERM_AXES[t][1] ? FIELD << 21 : 0) |
+            (TERM_AXES[t][2] ? FIELD : 0);
+        const std::uint64_t fill = zero_key & ~keep;
+        // Branch-free collection: both updates are always written and kept
+        // only if the projected cell changes (a data-dependent branch here
+        // mispredicts about half of the time). The 3D updates are only
+        // collected: flushPending3d() applies those of every moved
+        // observation together.
+        std::vector<WeightedHistogram::Update>& buffer = is3d ? m_pending3d : m_updates;
+        const std::size_t base = is3d ? m_pending3d_count : 0;
+        if (buffer.size() < base + 2 * n)
+        {  // grow only: shrinking and regrowing value-initialised it every time
+            buffer.resize(std::max(base + 2 * n, 2 * buffer.size()));
+        }
+        WeightedHistogram::Update* u = buffer.data() + base;
+        const float* const wts = cloud.weights.data();
+        std::size_t count = 0;
+        for (std::size_t j = 0; j < n; j++)
+        {
+            const std::uint64_t ka = (kf[j] & keep) | fill;
+            const std::uint64_t kb = (kt[j] & keep) | fill;
+            const double w = wts[j];
+            u[count].key = ka;
+            u[count].w = -w;
+            u[count + 1].key = kb;
+            u[count + 1].w = w;
+            count += (ka != kb) ? 2 : 0;
+        }
+        if (is3d)
+        {
+            m_pending3d_count += count;
+        }
+        else
+        {
+            // Marginal cells collect many updates with large weights:
+            // deferral evaluates w log w once per touched cell.
+            m_hist[t].beginBatch(count);
+            m_hist[t].addDeferredMany(u, count);
+            m_hist[t].endBatch();
+        }
+    }
+}
+
+}  // namespace emslam::maps
