@@ -13,13 +13,14 @@ export DEBIAN_FRONTEND=noninteractive
 $SUDO apt-get update -q
 # chromium: the MapperReport test renders report.html with it, headless
 # (the test is skipped without it). xvfb, xauth: the live-viewer test opens
-# its window on a virtual X display (skipped without Xvfb).
+# its window on a virtual X display (skipped without Xvfb). doxygen: the API
+# reference must build without a warning (skipped without it).
 $SUDO apt-get install -y -q --no-install-recommends \
     build-essential cmake pkg-config ca-certificates \
     libmrpt-dev mrpt-apps mrpt-common \
     libopencv-dev opencv-doc libeigen3-dev \
     libusb-1.0-0-dev libdc1394-dev zlib1g-dev \
     libgtest-dev libgmock-dev libbenchmark-dev \
-    clang-format \
+    clang-format doxygen \
     chromium \
     xvfb xauth

@@ -1,4 +1,5 @@
 // SPDX-License-Identifier: BSD-3-Clause
+#include <emslam/io/AtomicFile.h>
 #include <emslam/apps/EntropyVoxelObject.h>
 #include <emslam/apps/MapStyle.h>
 
@@ -88,11 +89,8 @@ void writeEntropyMapScene(
     const emslam::CEntropyVoxelMap& map, std::size_t max_cells, const std::string& file)
 {
     const auto scene = buildEntropyMapScene(map, max_cells);
-    const std::string tmp = file + ".partial";
-    if (!scene->saveToFile(tmp) || std::rename(tmp.c_str(), file.c_str()) != 0)
-    {
-        throw std::runtime_error("cannot write '" + file + "'");
-    }
+    emslam::io::writeFileAtomically(
+        file, [&](const std::string& partial) { return scene->saveToFile(partial); });
 }
 
 }  // namespace emslam::apps

@@ -1,8 +1,10 @@
 // SPDX-License-Identifier: BSD-3-Clause
+#include <emslam/apps/RawlogRecording.h>
 #include <emslam/apps/CommandLine.h>
 #include <emslam/apps/ImportApp.h>
 #include <emslam/apps/ProgressLine.h>
 #include <emslam/apps/StopSignal.h>
+#include <emslam/io/DatasetSequence.h>
 #include <emslam/io/EurocSequence.h>
 #include <emslam/io/KittiSequence.h>
 #include <emslam/io/RawlogOutput.h>
@@ -45,36 +47,27 @@ constexpr std::size_t MAX_LISTED_FRAMES = 10'000'000;
         "bad command line: " + msg + "; try " + std::string(PROGRAM) + " --help");
 }
 
-/** A dataset reader seen through one interface. */
+/** The dataset being imported, and how the messages name it. */
 struct FrameSource
 {
-    struct Frame
-    {
-        mrpt::obs::CObservation::Ptr obs;
-        std::optional<mrpt::poses::CPose3D> ground_truth;
-        double t{0.0};
-    };
+    std::shared_ptr<const emslam::io::DatasetSequence> sequence;
     std::size_t size{0};
     bool has_gt{false};
     std::string description;
-    std::function<Frame(std::size_t)> get;
+
+    emslam::io::SequenceFrame get(std::size_t i) const { return sequence->readFrame(i); }
     /** Timestamp of frame i [s], without loading it. */
-    std::function<double(std::size_t)> time;
+    double time(std::size_t i) const { return sequence->timestamp(i); }
 };
 
-template <class Reader>
-FrameSource makeSource(std::shared_ptr<Reader> reader, bool has_gt, const std::string& description)
+FrameSource makeSource(
+    std::shared_ptr<const emslam::io::DatasetSequence> sequence, const std::string& description)
 {
     FrameSource s;
-    s.size = reader->size();
-    s.has_gt = has_gt;
+    s.size = sequence->size();
+    s.has_gt = sequence->hasGroundTruth();
     s.description = description;
-    s.get = [reader](std::size_t i)
-    {
-        auto f = reader->frame(i);
-        return FrameSource::Frame{f.obs, f.ground_truth, f.t};
-    };
-    s.time = [reader](std::size_t i) { return reader->timestamp(i); };
+    s.sequence = std::move(sequence);
     return s;
 }
 
@@ -474,7 +467,7 @@ void ImportApp::run()
         }
         r->open(input_dir, kitti_poses_file);
         src = makeSource(
-            r, r->hasGroundTruth(),
+            r,
             mrpt::format(
                 "KITTI sequence '%s' (%zu frames, %ux%u)", input_dir.c_str(), r->size(),
                 r->imageWidth(), r->imageHeight()));
@@ -485,7 +478,7 @@ void ImportApp::run()
         r->sensor_label = sensor_label.empty() ? "STEREO" : sensor_label;
         r->open(input_dir, euroc_gt_file);
         src = makeSource(
-            r, r->hasGroundTruth(),
+            r,
             mrpt::format(
                 "EuRoC sequence '%s' (%zu stereo pairs, %ux%u, %zu unpaired)",
                 r->directory().c_str(), r->size(), r->imageWidth(), r->imageHeight(),
@@ -502,7 +495,7 @@ void ImportApp::run()
         }
         r->open(input_dir);
         src = makeSource(
-            r, r->hasGroundTruth(),
+            r,
             mrpt::format(
                 "TUM RGB-D sequence '%s' (%zu colour/depth pairs, %ux%u, %zu colour images without "
                 "depth)",
@@ -544,55 +537,38 @@ void ImportApp::run()
         }
     }
 
-    emslam::io::TumTrajectory gt;
     std::optional<mrpt::poses::CPose3D> T_world_ref;
-    StopSignal::clear();
-    const StopSignalGuard signals;
-    try
-    {
-        io::RawlogOutput out(output_file, gz_level, gt_out_file);
+    const RawlogRecording rec = recordRawlog(
+        PROGRAM, output_file, gz_level, gt_out_file, indices.size(), !quiet,
+        [&](std::size_t k, mrpt::serialization::CArchive& out, emslam::io::TumTrajectory& gt)
         {
-            ProgressLine progress(PROGRAM, indices.size(), !quiet);
-            for (std::size_t k = 0; k < indices.size() && !StopSignal::requested(); k++)
+            auto fr = src.get(indices[k]);
+            if (retimed)
             {
-                auto fr = src.get(indices[k]);
-                if (retimed)
-                {
-                    fr.t = t0 + static_cast<double>(k) * period;
-                    fr.obs->timestamp = mrpt::Clock::fromDouble(fr.t);
-                }
-                out.archive() << *fr.obs;
-                ++frames_written;
-                if (fr.ground_truth)
-                {
-                    if (!T_world_ref)
-                    {
-                        T_world_ref = *fr.ground_truth;
-                        gt.add(fr.t, mrpt::poses::CPose3D());  // exactly the identity
-                    }
-                    else
-                    {
-                        // T_ref_cam = inv(T_world_ref) * T_world_cam
-                        gt.add(fr.t, *fr.ground_truth - *T_world_ref);
-                    }
-                }
-                else if (src.has_gt)
-                {
-                    ++frames_without_gt;
-                }
-                progress.update(k + 1);
+                fr.t = t0 + static_cast<double>(k) * period;
+                fr.obs->timestamp = mrpt::Clock::fromDouble(fr.t);
             }
-            progress.finish();
-        }
-        noteInterruption(PROGRAM, frames_written, indices.size(), output_file);
-        poses_written = out.commit(gt);
-    }
-    catch (...)
-    {
-        frames_written = 0;
-        poses_written = 0;
-        throw;
-    }
+            out << *fr.obs;
+            if (fr.ground_truth)
+            {
+                if (!T_world_ref)
+                {
+                    T_world_ref = *fr.ground_truth;
+                    gt.add(fr.t, mrpt::poses::CPose3D());  // exactly the identity
+                }
+                else
+                {
+                    // T_ref_cam = inv(T_world_ref) * T_world_cam
+                    gt.add(fr.t, *fr.ground_truth - *T_world_ref);
+                }
+            }
+            else if (src.has_gt)
+            {
+                ++frames_without_gt;
+            }
+        });
+    frames_written = rec.frames_written;
+    poses_written = rec.poses_written;
 
     output_bytes = fs::file_size(output_file);
     elapsed_seconds =

@@ -1,4 +1,5 @@
 // SPDX-License-Identifier: BSD-3-Clause
+#include <emslam/io/AtomicFile.h>
 #include <emslam/apps/EntropyVoxelObject.h>
 #include <emslam/apps/MapScene.h>
 #include <emslam/apps/MapStyle.h>
@@ -212,11 +213,8 @@ mrpt::opengl::COpenGLScene::Ptr buildMapScene(const MapDrawingContent& c)
 void writeMapScene(const MapDrawingContent& content, const std::string& file)
 {
     const auto scene = buildMapScene(content);
-    const std::string tmp = file + ".partial";
-    if (!scene->saveToFile(tmp) || std::rename(tmp.c_str(), file.c_str()) != 0)
-    {
-        throw std::runtime_error("cannot write '" + file + "'");
-    }
+    emslam::io::writeFileAtomically(
+        file, [&](const std::string& partial) { return scene->saveToFile(partial); });
 }
 
 }  // namespace emslam::apps

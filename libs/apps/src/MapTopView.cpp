@@ -1,4 +1,5 @@
 // SPDX-License-Identifier: BSD-3-Clause
+#include <emslam/io/AtomicFile.h>
 #include <emslam/apps/MapStyle.h>
 #include <emslam/apps/MapTopView.h>
 
@@ -182,11 +183,9 @@ void writeTopView(
     const MapDrawingContent& content, const std::string& file, const TopViewOptions& o)
 {
     const MapTopView view = renderTopView(content, o);
-    const std::string tmp = file + ".partial.png";
-    if (!cv::imwrite(tmp, view.image) || std::rename(tmp.c_str(), file.c_str()) != 0)
-    {
-        throw std::runtime_error("cannot write '" + file + "'");
-    }
+    emslam::io::writeFileAtomically(
+        file, [&](const std::string& partial) { return cv::imwrite(partial, view.image); },
+        /*keep_extension=*/true);
 }
 
 }  // namespace emslam::apps

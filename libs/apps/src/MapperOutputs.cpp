@@ -1,4 +1,5 @@
 // SPDX-License-Identifier: BSD-3-Clause
+#include <emslam/io/AtomicFile.h>
 #include <emslam/apps/EnergyScanOutputs.h>
 #include <emslam/apps/EntropyVoxelObject.h>
 #include <emslam/apps/MapScene.h>
@@ -276,20 +277,19 @@ void writeTopViewPng(
 
 void writeEntropyMap(const slam::EntropySlam& m, const std::string& file)
 {
-    const std::string tmp = file + ".partial";
-    {
-        mrpt::io::CFileOutputStream f;
-        if (!f.open(tmp))
+    io::writeFileAtomically(
+        file,
+        [&](const std::string& partial)
         {
-            throw std::runtime_error("cannot write '" + file + "'");
-        }
-        auto a = mrpt::serialization::archiveFrom(f);
-        a << m.entropyMap();
-    }
-    if (std::rename(tmp.c_str(), file.c_str()) != 0)
-    {
-        throw std::runtime_error("cannot rename '" + tmp + "' to '" + file + "'");
-    }
+            mrpt::io::CFileOutputStream f;
+            if (!f.open(partial))
+            {
+                return false;
+            }
+            auto a = mrpt::serialization::archiveFrom(f);
+            a << m.entropyMap();
+            return true;
+        });
 }
 
 void writeEntropyMapView(const slam::EntropySlam& m, const std::string& file)

@@ -3,9 +3,9 @@
 #include <emslam/apps/ConfigValidation.h>
 #include <emslam/apps/OdometryApp.h>
 #include <emslam/egomotion/EgomotionEstimator.h>
+#include <emslam/slam/StereoOdometry.h>
 #include <emslam/io/RawlogInput.h>
 #include <emslam/io/TrajectoryWriter.h>
-#include <emslam/stereo/StereoFrontEnd.h>
 
 #include <mrpt/img/CImage.h>
 #include <mrpt/serialization/CArchive.h>
@@ -120,11 +120,7 @@ void OdometryApp::run()
     sp.loadFromConfigFile(params, STEREO_SECTION);
     emslam::egomotion::EgomotionEstimator::TParameters ep;
     ep.loadFromConfigFile(params, EGOMOTION_SECTION);
-    emslam::stereo::StereoFrontEnd front(sp);
-    emslam::egomotion::EgomotionEstimator egomotion(ep);
-    // [Stereo] sparse_at_features: stereo only at the features (no map here).
-    front.setPixelSelector([&egomotion](const cv::Mat& image)
-                           { return egomotion.locateFeatures(image); });
+    slam::StereoOdometry odometry(sp, ep);
     std::printf(
         "[Stereo] num_disparities=%d range=[%g, %g] m  [Egomotion] |W|=%d S_min=%g sigma_min=%g "
         "min_final_matches=%d\n",
@@ -133,48 +129,34 @@ void OdometryApp::run()
 
     io::RawlogInput in(m_rawlog);
 
-    using clock = std::chrono::steady_clock;
     trajectory = {};
     degenerate.clear();
     frames_processed = failures = 0;
-    mrpt::poses::CPose3D T_first_cur;
-    mrpt::poses::CPose3D velocity;  // the last estimated step: a failed one repeats it
     double sum_stereo = 0, sum_feat = 0, sum_desc = 0, sum_match = 0, sum_lwo = 0, sum_pose = 0,
            sum_ego = 0, sum_init = 0, sum_final = 0;
-    std::size_t steps = 0, guided_steps = 0, guided_fallbacks = 0;
+    std::size_t steps = 0;
 
+    slam::StereoOdometry::Step step;
     auto handle = [&](const mrpt::obs::CObservation& o)
     {
-        emslam::stereo::StereoFrame f;
-        const auto t0 = clock::now();
-        if (!front.process(o, f))
+        if (!odometry.process(o, step))
         {
             return false;
         }
-        const double ms_stereo =
-            std::chrono::duration<double, std::milli>(clock::now() - t0).count();
-        const auto r = egomotion.process(f);
-        if (frames_processed > 0)
+        const auto& f = step.frame;
+        const auto& r = step.egomotion;
+        const double ms_stereo = step.ms_stereo;
+        if (!step.first)
         {
             ++steps;
-            failures += !r.ok;
-            guided_steps += r.ok && r.guided;
-            guided_fallbacks += r.guided_fallback;
             sum_init += static_cast<double>(r.initial_matches);
             sum_final += static_cast<double>(r.final_matches);
             sum_match += r.ms_matching;
             sum_lwo += r.ms_lwo;
             sum_pose += r.ms_pose;
         }
-        if (r.ok)
-        {
-            velocity = r.T_prev_cur;
-        }
-        if (frames_processed > 0)
-        {
-            T_first_cur = T_first_cur + velocity;
-        }
-        trajectory.add(mrpt::Clock::toDouble(f.timestamp), T_first_cur);
+        failures = odometry.failures();
+        trajectory.add(mrpt::Clock::toDouble(f.timestamp), odometry.pose());
         sum_stereo += ms_stereo;
         sum_feat += r.ms_features;
         sum_desc += r.ms_descriptors;
@@ -230,13 +212,13 @@ void OdometryApp::run()
     {
         std::printf("ignored %zu observations of other classes\n", ignored);
     }
-    if (egomotion.parameters().guided_matching)
+    if (odometry.estimator().parameters().guided_matching)
     {
         std::printf(
-            "guided matching: %zu steps guided, %zu fell back to the full search\n", guided_steps,
-            guided_fallbacks);
+            "guided matching: %zu steps guided, %zu fell back to the full search\n",
+            odometry.guidedSteps(), odometry.guidedFallbacks());
     }
-    const auto& T = T_first_cur;
+    const auto& T = odometry.pose();
     std::printf(
         "%zu frames, %zu failed steps; matches %.0f -> %.0f after LWO on average\n"
         "mean ms per frame: stereo %.1f, features %.1f, descriptors %.1f, matching %.1f, LWO "

@@ -1,8 +1,8 @@
 // SPDX-License-Identifier: BSD-3-Clause
 #include <emslam/apps/PlyFile.h>
+#include <emslam/io/AtomicFile.h>
 
 #include <cstdint>
-#include <cstdio>
 #include <fstream>
 #include <stdexcept>
 
@@ -10,35 +10,34 @@ namespace emslam::apps
 {
 void savePly(const emslam::slam::IntensityCloud& cloud, const std::string& file)
 {
-    const std::string tmp = file + ".partial";
-    {
-        std::ofstream out(tmp, std::ios::binary);
-        if (!out)
+    emslam::io::writeFileAtomically(
+        file,
+        [&](const std::string& partial)
         {
-            throw std::runtime_error("cannot write '" + file + "'");
-        }
-        out << "ply\nformat binary_little_endian 1.0\ncomment emslam map\nelement vertex "
-            << cloud.size()
-            << "\nproperty float x\nproperty float y\nproperty float z\n"
-               "property uchar red\nproperty uchar green\nproperty uchar blue\nend_header\n";
-        for (std::size_t i = 0; i < cloud.size(); ++i)
-        {
-            const auto& p = cloud.points[i];
-            const float xyz[3] = {p.x, p.y, p.z};
-            const std::uint8_t g = cloud.intensity[i];
-            const std::uint8_t rgb[3] = {g, g, g};
-            out.write(reinterpret_cast<const char*>(xyz), sizeof(xyz));
-            out.write(reinterpret_cast<const char*>(rgb), sizeof(rgb));
-        }
-        if (!out.flush())
-        {
-            throw std::runtime_error("cannot write '" + file + "' (disk full?)");
-        }
-    }
-    if (std::rename(tmp.c_str(), file.c_str()) != 0)
-    {
-        throw std::runtime_error("cannot rename '" + tmp + "' to '" + file + "'");
-    }
+            std::ofstream out(partial, std::ios::binary);
+            if (!out)
+            {
+                return false;
+            }
+            out << "ply\nformat binary_little_endian 1.0\ncomment emslam map\nelement vertex "
+                << cloud.size()
+                << "\nproperty float x\nproperty float y\nproperty float z\n"
+                   "property uchar red\nproperty uchar green\nproperty uchar blue\nend_header\n";
+            for (std::size_t i = 0; i < cloud.size(); ++i)
+            {
+                const auto& p = cloud.points[i];
+                const float xyz[3] = {p.x, p.y, p.z};
+                const std::uint8_t g = cloud.intensity[i];
+                const std::uint8_t rgb[3] = {g, g, g};
+                out.write(reinterpret_cast<const char*>(xyz), sizeof(xyz));
+                out.write(reinterpret_cast<const char*>(rgb), sizeof(rgb));
+            }
+            if (!out.flush())
+            {
+                throw std::runtime_error("cannot write '" + file + "' (disk full?)");
+            }
+            return true;
+        });
 }
 
 }  // namespace emslam::apps

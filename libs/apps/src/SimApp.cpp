@@ -1,4 +1,5 @@
 // SPDX-License-Identifier: BSD-3-Clause
+#include <emslam/apps/RawlogRecording.h>
 #include <emslam/apps/CommandLine.h>
 #include <emslam/apps/ConfigValidation.h>
 #include <emslam/apps/ProgressLine.h>
@@ -178,19 +179,13 @@ void SimApp::run()
                   << sim.world().elements().size() << " elements, " << cam.width << "x"
                   << cam.height << ", seed " << sim.seed() << ") into '" << output_file << "'\n";
     }
-    emslam::io::TumTrajectory gt;
-    StopSignal::clear();
-    const StopSignalGuard signals;
-    try
-    {
-        io::RawlogOutput out(output_file, gz_level, gt_out_file);
-        ProgressLine progress(PROGRAM, n, !quiet);
-        for (std::size_t i = 0; i < n && !StopSignal::requested(); ++i)
+    const RawlogRecording rec = recordRawlog(
+        PROGRAM, output_file, gz_level, gt_out_file, n, !quiet,
+        [&](std::size_t i, mrpt::serialization::CArchive& out, emslam::io::TumTrajectory& gt)
         {
             const auto fr = sim.renderFrame(i);
-            out.archive() << *fr.obs;
+            out << *fr.obs;
             gt.add(fr.t, fr.T_first_left);
-            ++frames_written;
             if (!png_dir.empty())
             {
                 char name[64];
@@ -199,18 +194,9 @@ void SimApp::run()
                 std::snprintf(name, sizeof(name), "/right_%06zu.png", i);
                 cv::imwrite(png_dir + name, fr.obs->imageRight.asCvMatRef());
             }
-            progress.update(i + 1);
-        }
-        progress.finish();
-        noteInterruption(PROGRAM, frames_written, n, output_file);
-        poses_written = out.commit(gt);
-    }
-    catch (...)
-    {
-        frames_written = 0;
-        poses_written = 0;
-        throw;
-    }
+        });
+    frames_written = rec.frames_written;
+    poses_written = rec.poses_written;
     output_bytes = fs::file_size(output_file);
     elapsed_seconds =
         std::chrono::duration<double>(std::chrono::steady_clock::now() - t_start).count();

@@ -4,14 +4,12 @@
 #include <emslam/apps/StereoApp.h>
 #include <emslam/io/InputFileChecks.h>
 #include <emslam/io/RawlogInput.h>
+#include <emslam/io/RawlogOutput.h>
 #include <emslam/stereo/RangeScanConversion.h>
 #include <emslam/stereo/StereoCalibration.h>
 #include <emslam/stereo/StereoFrontEnd.h>
 
 #include <mrpt/img/CImage.h>
-#include <mrpt/io/CFileGZOutputStream.h>
-#include <mrpt/serialization/CArchive.h>
-#include <mrpt/system/filesystem.h>
 
 #include <algorithm>
 #include <chrono>
@@ -20,6 +18,7 @@
 #include <iostream>
 #include <opencv2/imgcodecs.hpp>
 #include <opencv2/imgproc.hpp>
+#include <optional>
 #include <stdexcept>
 
 namespace emslam::apps
@@ -209,15 +208,11 @@ void StereoApp::run()
               << " num_disparities=" << sp.num_disparities << " block_size=" << sp.block_size
               << " range=[" << sp.min_range << ", " << sp.max_range << "] m\n";
 
-    std::unique_ptr<mrpt::io::CFileGZOutputStream> out_stream;
-    const std::string out_tmp = m_out_rawlog + ".partial";
+    // Written to OUT.partial, renamed when the run succeeds (removed if not).
+    std::optional<emslam::io::RawlogOutput> out;
     if (!m_out_rawlog.empty())
     {
-        out_stream = std::make_unique<mrpt::io::CFileGZOutputStream>();
-        if (!out_stream->open(out_tmp))
-        {
-            throw std::runtime_error("cannot write '" + m_out_rawlog + "'");
-        }
+        out.emplace(m_out_rawlog, 1);
     }
 
     double total_ms = 0, total_density = 0;
@@ -274,10 +269,9 @@ void StereoApp::run()
                     100.0 * bad_pixel_rate, n_both, 100.0 * gt_coverage);
             }
         }
-        if (out_stream)
+        if (out)
         {
-            auto arch = mrpt::serialization::archiveFrom(*out_stream);
-            arch << *emslam::stereo::toRangeScan(f);
+            out->archive() << *emslam::stereo::toRangeScan(f);
         }
         ++frames_processed;
         total_points += f.points.size();
@@ -334,19 +328,13 @@ void StereoApp::run()
     }
     catch (...)
     {
-        // Never leave a half-written output behind.
-        out_stream.reset();
-        std::remove(out_tmp.c_str());
+        out.reset();  // never leave a half-written output behind
         throw;
     }
 
-    if (out_stream)
+    if (out)
     {
-        out_stream->close();
-        if (!mrpt::system::renameFile(out_tmp, m_out_rawlog))
-        {
-            throw std::runtime_error("cannot rename '" + out_tmp + "' to '" + m_out_rawlog + "'");
-        }
+        out->commit();
     }
     if (frames_processed == 0)
     {

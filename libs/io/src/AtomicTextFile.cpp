@@ -1,4 +1,5 @@
 // SPDX-License-Identifier: BSD-3-Clause
+#include <emslam/io/AtomicFile.h>
 #include <emslam/io/AtomicTextFile.h>
 #include <emslam/io/OutputPathChecks.h>
 
@@ -9,7 +10,7 @@
 namespace emslam::io
 {
 AtomicTextFile::AtomicTextFile(std::string file)
-    : m_file(requireOutputFile(file, "output file")), m_tmp(m_file + ".partial")
+    : m_file(requireOutputFile(file, "output file")), m_tmp(partialFileFor(m_file))
 {
     m_out.open(m_tmp, std::ios::out | std::ios::binary | std::ios::trunc);
     if (!m_out)
@@ -36,12 +37,7 @@ void AtomicTextFile::commit()
     {
         throw std::runtime_error("cannot write '" + m_file + "' (disk full?)");
     }
-    std::error_code ec;
-    std::filesystem::rename(m_tmp, m_file, ec);
-    if (ec)
-    {
-        throw std::runtime_error("cannot write '" + m_file + "': " + ec.message());
-    }
+    commitPartialFile(m_tmp, m_file);
     m_committed = true;
 }
 

@@ -1,4 +1,5 @@
 // SPDX-License-Identifier: BSD-3-Clause
+#include <emslam/io/AtomicFile.h>
 #include <emslam/io/OutputPathChecks.h>
 #include <emslam/io/RawlogOutput.h>
 
@@ -34,10 +35,10 @@ void RawlogOutput::checkOutputFolders(const std::string& file, const std::string
 
 RawlogOutput::RawlogOutput(const std::string& file, int gz_level, const std::string& gt_file)
     : m_file(requireOutputFile(file, "output rawlog")),
-      m_partial(m_file + ".partial"),
+      m_partial(partialFileFor(m_file)),
       m_gt_file(
           gt_file.empty() ? std::string() : requireOutputFile(gt_file, "ground-truth output file")),
-      m_gt_partial(m_gt_file.empty() ? std::string() : m_gt_file + ".partial")
+      m_gt_partial(m_gt_file.empty() ? std::string() : partialFileFor(m_gt_file))
 {
     std::string err;
     if (!m_stream.open(m_partial, gz_level, err))
@@ -68,11 +69,11 @@ std::size_t RawlogOutput::commit(const emslam::io::TumTrajectory& ground_truth)
     {
         ground_truth.saveToFile(m_gt_partial);
     }
-    fs::rename(m_partial, m_file);
+    commitPartialFile(m_partial, m_file);
     std::size_t poses = 0;
     if (!m_gt_partial.empty())
     {
-        fs::rename(m_gt_partial, m_gt_file);
+        commitPartialFile(m_gt_partial, m_gt_file);
         poses = ground_truth.size();
     }
     m_committed = true;

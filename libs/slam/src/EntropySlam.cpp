@@ -141,8 +141,7 @@ void EntropySlam::TParameters::saveToConfigFile(mrpt::config::CConfigFileBase& c
 
 EntropySlam::EntropySlam(const TParameters& p)
     : m_p(p),
-      m_front(p.stereo),
-      m_egomotion_estimator(p.egomotion),
+      m_odometry(p.stereo, p.egomotion),
       m_sampler(p.sampling),
       m_clouds(static_cast<std::size_t>(std::max(p.rectifier.n_max, 0)), p.mapper.map_cell_size)
 {
@@ -153,9 +152,6 @@ EntropySlam::EntropySlam(const TParameters& p)
         m_p.rectifier.rectify_every = 0;
     }
     m_runner = emslam::rectify::createRectificationRunner(m_p.rectifier, m_p.map, m_p.insertion);
-    // [Stereo] sparse_at_features: stereo only at the egomotion's features.
-    m_front.setPixelSelector([this](const cv::Mat& image)
-                             { return m_egomotion_estimator.locateFeatures(image); });
 }
 
 EntropySlam::~EntropySlam() = default;
@@ -167,10 +163,10 @@ bool EntropySlam::process(const mrpt::obs::CObservation& obs)
         throw std::logic_error("EntropySlam::process after finish()");
     }
     const auto t0 = Clock::now();
-    emslam::stereo::StereoFrame f;
+    StereoOdometry::Step step;
     try
     {
-        if (!m_front.process(obs, f))
+        if (!m_odometry.process(obs, step))
         {
             return false;
         }
@@ -184,47 +180,38 @@ bool EntropySlam::process(const mrpt::obs::CObservation& obs)
         // The front-end changes no mapper state: the caller may skip the frame.
         throw UnusableObservation(emslam::stereo::shortExceptionMessage(e));
     }
+    const emslam::stereo::StereoFrame& f = step.frame;
+    const auto& ego = step.egomotion;
     FrameRecord r;
     r.index = m_records.size();
     r.timestamp = mrpt::Clock::toDouble(f.timestamp);
-    r.ms_stereo = msSince(t0);
+    r.ms_stereo = step.ms_stereo;
     r.points = f.size();
     m_image_width = f.intensity.cols;
     m_image_height = f.intensity.rows;
     m_last_image = f.intensity;
 
-    const auto ego = m_egomotion_estimator.process(f);
     r.ms_egomotion = ego.ms_total;
-    mrpt::poses::CPose3D action;  // identity: the first frame
+    const mrpt::poses::CPose3D& action = step.action;  // identity: the first frame
     emslam::rectify::ActionCovariance action_cov = m_p.rectifier.odometryPrior().stepCovariance();
-    if (r.index > 0)
+    if (!step.first)
     {
         r.initial_matches = ego.initial_matches;
         r.final_matches = ego.final_matches;
         r.egomotion_ok = ego.ok;
-        m_guided_steps += ego.ok && ego.guided;
-        m_guided_fallbacks += ego.guided_fallback;
-        if (ego.ok)
-        {
-            action = ego.T_prev_cur;
-            if (ego.has_covariance)
-            {
-                action_cov = ego.covariance;
-            }
-            m_velocity = action;
-        }
-        else
+        if (step.predicted)
         {
             // Constant velocity, with a covariance wide enough for the
             // rectifier to move the step wherever the map says.
-            ++m_failures;
-            action = m_velocity;
             action_cov = emslam::rectify::predictionCovariance(
                 action, FAILED_STEP_MIN_SIGMA_XYZ, mrpt::DEG2RAD(FAILED_STEP_MIN_SIGMA_ROT_DEG));
         }
+        else if (ego.has_covariance)
+        {
+            action_cov = ego.covariance;
+        }
     }
-    m_T_world_cur = m_T_world_cur + action;
-    m_egomotion.push_back({r.timestamp, r.index, m_T_world_cur});
+    m_egomotion.push_back({r.timestamp, r.index, m_odometry.pose()});
     // Sparse front-end: the previous keyframe's dense cloud was computed on
     // the other core while this frame's stereo and egomotion ran; it joins
     // the map now, before this frame may become a keyframe.
@@ -256,7 +243,7 @@ bool EntropySlam::process(const mrpt::obs::CObservation& obs)
         // by the motion since the previous accepted frame.
         k.action =
             m_sampler.accepted() == 1 ? mrpt::poses::CPose3D() : m_sampler.actionSinceAccepted();
-        if (auto task = m_front.mapFrameTask(f))
+        if (auto task = m_odometry.frontEnd().mapFrameTask(f))
         {
             k.cloud = std::async(std::launch::async, std::move(task));
             m_pending = std::move(k);

@@ -9,8 +9,6 @@
 
 namespace emslam::apps
 {
-/** \defgroup emslam_apps_grp Applications (libs/apps) */
-
 /** The dataset importer behind `emslam-import`: converts a KITTI odometry
  * sequence, a EuRoC MAV stereo sequence or a TUM RGB-D sequence into a
  * gz-compressed, observations-only rawlog of stock MRPT classes, plus

@@ -9,8 +9,6 @@
 
 namespace emslam::apps
 {
-/** \defgroup emslam_apps_grp Applications (libs/apps) */
-
 /** `emslam-stereo`: runs the stereo front-end on one rectified or raw image
  * pair, or on every stereo / RGB-D observation of a rawlog, and prints what it
  * found (points, density, depth range, time per frame, and the bad-pixel rate

@@ -8,8 +8,6 @@
 
 namespace emslam::egomotion
 {
-/** \defgroup emslam_egomotion_grp Egomotion (libs/egomotion, paper §2.1) */
-
 /** A gradient-local-maximum (GLM) feature: a pixel of the reference image
  * whose gradient magnitude is a strict local maximum in its window, with the
  * stereo 3D point seen there (left camera frame, metres).

@@ -183,9 +183,10 @@ public:
 
         /** Raw (unrectified) calibration of the pair, from the calibration sections. */
         mrpt::img::TStereoCamera stereo_camera;
-        /** Raw calibration of the third camera ([<calibration_section>_THIRD]). */
+        /** Raw calibration of the third camera (`[CALIBRATION_SECTION_THIRD]`, CALIBRATION_SECTION
+         * = `calibration_section`). */
         mrpt::img::TCamera third_camera;
-        /** Third camera in the raw left camera's frame ([<calibration_section>_LEFT2THIRD_POSE]).
+        /** Third camera in the raw left camera's frame (`[CALIBRATION_SECTION_LEFT2THIRD_POSE]`).
          */
         mrpt::poses::CPose3D T_left_third;
         /** Stereo matcher parameters (read only if compute_range_scan). */

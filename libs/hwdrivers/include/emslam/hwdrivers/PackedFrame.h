@@ -9,8 +9,6 @@
 
 namespace emslam::hwdrivers
 {
-/** \defgroup emslam_hwdrivers_grp Capture sensors (libs/hwdrivers) */
-
 /** How a multi-sensor camera packs the images of its sensors into the one
  * frame it transfers. Every sensor image is 8-bit, `width` x `height`, and
  * "channel k" is the k-th image of the packed frame (which physical camera

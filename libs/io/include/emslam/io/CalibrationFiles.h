@@ -7,8 +7,6 @@
 
 namespace emslam::io
 {
-/** \defgroup emslam_io_grp Datasets, trajectories and rawlogs on disk (libs/io) */
-
 /** Reads a KITTI odometry `calib.txt`: the `P0:` (left) and `P1:` (right)
  * 3x4 row-major projection matrices of the rectified pair. Other lines (P2,
  * P3, Tr, ...) are ignored; CRLF line ends are tolerated. Image size is not in

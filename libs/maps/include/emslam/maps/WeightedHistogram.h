@@ -9,8 +9,6 @@
 
 namespace emslam::maps
 {
-/** \defgroup emslam_maps_grp emslam maps: entropy of voxel histograms */
-
 /** Integer cell coordinates of a voxel (cell index = floor(coordinate / l_d)).
  * \ingroup emslam_maps_grp */
 struct CellIndex

@@ -8,8 +8,6 @@
 
 namespace emslam::sim
 {
-/** \defgroup emslam_sim_grp Synthetic stereo worlds (libs/sim) */
-
 /** A seeded, procedurally generated grey-level texture (albedo in [0,255]),
  * square, power-of-two sized, sampled bilinearly with wrap-around (tiling) or
  * clamping (posters, doors stretched once over a surface).

@@ -10,6 +10,7 @@
 #include <emslam/slam/ElementClouds.h>
 #include <emslam/slam/FrameRecord.h>
 #include <emslam/slam/IntensityCloud.h>
+#include <emslam/slam/StereoOdometry.h>
 #include <emslam/stereo/StereoFrontEnd.h>
 
 #include <mrpt/config/CConfigFileBase.h>
@@ -128,12 +129,12 @@ public:
     /** Frames accepted into the trajectory. */
     std::size_t acceptedCount() const { return m_sampler.accepted(); }
     /** Steps whose egomotion failed. */
-    std::size_t egomotionFailures() const { return m_failures; }
+    std::size_t egomotionFailures() const { return m_odometry.failures(); }
     /** Successful steps matched near the constant-velocity prediction, and
      * steps whose guided attempt fell back to the full search
      * ([Egomotion] guided_matching; both 0 without it). */
-    std::size_t guidedSteps() const { return m_guided_steps; }
-    std::size_t guidedFallbacks() const { return m_guided_fallbacks; }
+    std::size_t guidedSteps() const { return m_odometry.guidedSteps(); }
+    std::size_t guidedFallbacks() const { return m_odometry.guidedFallbacks(); }
     /** One record per processed frame. */
     const std::vector<FrameRecord>& frames() const { return m_records; }
     /** Energy of the map after the last rectification (or of the unrectified
@@ -218,11 +219,9 @@ private:
     void addAccepted(const emslam::stereo::StereoFrame& f, const PendingKeyframe& k);
 
     TParameters m_p;
-    emslam::stereo::StereoFrontEnd m_front;
-    emslam::egomotion::EgomotionEstimator m_egomotion_estimator;
+    StereoOdometry m_odometry;
     emslam::rectify::SpaceSampler m_sampler;
     std::unique_ptr<emslam::rectify::RectificationRunner> m_runner;
-    mrpt::poses::CPose3D m_T_world_cur;
     std::vector<emslam::rectify::TimedPose> m_egomotion, m_slam, m_keyframe_slam;
     /** Where a frame is measured from: its keyframe and the egomotion since. */
     struct KeyframeLink
@@ -234,13 +233,9 @@ private:
     mrpt::poses::CPose3D m_T_keyframe_cur;
     /** The egomotion's covariance of m_T_keyframe_cur (zero at a keyframe). */
     emslam::rectify::ActionCovariance m_cov_keyframe_cur;
-    /** The last step the egomotion estimated: a failed step repeats it. */
-    mrpt::poses::CPose3D m_velocity;
     std::size_t m_last_keyframe{0};
     std::vector<std::size_t> m_keyframes;
     std::vector<FrameRecord> m_records;
-    std::size_t m_failures{0};
-    std::size_t m_guided_steps{0}, m_guided_fallbacks{0};
     double m_energy{0.0};
     bool m_has_energy{false};
     double m_entropy{0.0};

@@ -8,8 +8,6 @@
 
 namespace emslam::stereo
 {
-/** \defgroup emslam_stereo_grp Stereo front-end (libs/stereo) */
-
 /** Reads MRPT's own TStereoCamera INI form: sections `[<section>_LEFT]`,
  * `[<section>_RIGHT]` and `[<section>_LEFT2RIGHT_POSE]` (as written by
  * `TStereoCamera::saveToConfigFile`). Throws when a section is missing or a
