@@ -1,7 +1,7 @@
 // SPDX-License-Identifier: BSD-3-Clause
-#include <emslam/io/AtomicFile.h>
 #include <emslam/apps/EntropyVoxelObject.h>
 #include <emslam/apps/MapStyle.h>
+#include <emslam/io/AtomicFile.h>
 
 #include <mrpt/img/color_maps.h>
 #include <mrpt/opengl/COpenGLScene.h>

@@ -2,6 +2,7 @@
 #include "GrabberSensors.h"
 
 #include <emslam/apps/ConfigValidation.h>
+#include <emslam/apps/StopSignal.h>
 #include <emslam/hwdrivers/CDigiclopsStereoCamera.h>
 #include <emslam/hwdrivers/CSimulatedStereoCamera.h>
 #include <emslam/hwdrivers/CStereoImageFolderCamera.h>

@@ -7,6 +7,7 @@
 
 #include <emslam/apps/GrabberApp.h>
 #include <emslam/apps/LiveViewer.h>
+#include <emslam/hwdrivers/SensorStatus.h>
 #include <emslam/io/RawlogOutput.h>
 
 #include <mrpt/core/format.h>

@@ -1,8 +1,8 @@
 // SPDX-License-Identifier: BSD-3-Clause
-#include <emslam/apps/RawlogRecording.h>
 #include <emslam/apps/CommandLine.h>
 #include <emslam/apps/ImportApp.h>
 #include <emslam/apps/ProgressLine.h>
+#include <emslam/apps/RawlogRecording.h>
 #include <emslam/apps/StopSignal.h>
 #include <emslam/io/DatasetSequence.h>
 #include <emslam/io/EurocSequence.h>
@@ -467,10 +467,9 @@ void ImportApp::run()
         }
         r->open(input_dir, kitti_poses_file);
         src = makeSource(
-            r,
-            mrpt::format(
-                "KITTI sequence '%s' (%zu frames, %ux%u)", input_dir.c_str(), r->size(),
-                r->imageWidth(), r->imageHeight()));
+            r, mrpt::format(
+                   "KITTI sequence '%s' (%zu frames, %ux%u)", input_dir.c_str(), r->size(),
+                   r->imageWidth(), r->imageHeight()));
     }
     else if (dataset == "euroc")
     {
@@ -478,11 +477,10 @@ void ImportApp::run()
         r->sensor_label = sensor_label.empty() ? "STEREO" : sensor_label;
         r->open(input_dir, euroc_gt_file);
         src = makeSource(
-            r,
-            mrpt::format(
-                "EuRoC sequence '%s' (%zu stereo pairs, %ux%u, %zu unpaired)",
-                r->directory().c_str(), r->size(), r->imageWidth(), r->imageHeight(),
-                r->unpairedCount()));
+            r, mrpt::format(
+                   "EuRoC sequence '%s' (%zu stereo pairs, %ux%u, %zu unpaired)",
+                   r->directory().c_str(), r->size(), r->imageWidth(), r->imageHeight(),
+                   r->unpairedCount()));
     }
     else if (dataset == "tum")
     {

@@ -1,8 +1,8 @@
 // SPDX-License-Identifier: BSD-3-Clause
-#include <emslam/io/AtomicFile.h>
 #include <emslam/apps/EntropyVoxelObject.h>
 #include <emslam/apps/MapScene.h>
 #include <emslam/apps/MapStyle.h>
+#include <emslam/io/AtomicFile.h>
 
 #include <mrpt/core/format.h>
 #include <mrpt/opengl/CGridPlaneXY.h>

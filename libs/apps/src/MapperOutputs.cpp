@@ -1,11 +1,11 @@
 // SPDX-License-Identifier: BSD-3-Clause
-#include <emslam/io/AtomicFile.h>
 #include <emslam/apps/EnergyScanOutputs.h>
 #include <emslam/apps/EntropyVoxelObject.h>
 #include <emslam/apps/MapScene.h>
 #include <emslam/apps/MapStyle.h>
 #include <emslam/apps/MapTopView.h>
 #include <emslam/apps/MapperOutputs.h>
+#include <emslam/io/AtomicFile.h>
 #include <emslam/io/AtomicTextFile.h>
 #include <emslam/io/Json.h>
 #include <emslam/maps/EntropyEnergy.h>
@@ -253,15 +253,29 @@ MapDrawingContent mapDrawingContent(
     return c;
 }
 
+namespace
+{
+/** The trajectories the drawings of `m` show (ground truth in the map frame). */
+struct DrawnTrajectories
+{
+    emslam::io::TumTrajectory egomotion, slam, ground_truth;
+
+    DrawnTrajectories(const slam::EntropySlam& m, const emslam::io::TumTrajectory& gt)
+        : egomotion(tumTrajectoryOf(m.egomotionPoses())),
+          slam(tumTrajectoryOf(m.slamPoses())),
+          ground_truth(groundTruthInMapFrame(gt, egomotion))
+    {
+    }
+};
+}  // namespace
+
 void writeScene(
     const slam::EntropySlam& m,
     const emslam::io::TumTrajectory& ground_truth,
     const std::string& file)
 {
-    const auto ego = tumTrajectoryOf(m.egomotionPoses());
-    const auto slam = tumTrajectoryOf(m.slamPoses());
-    const auto gt = groundTruthInMapFrame(ground_truth, ego);
-    writeMapScene(mapDrawingContent(m, ego, slam, gt), file);
+    const DrawnTrajectories t(m, ground_truth);
+    writeMapScene(mapDrawingContent(m, t.egomotion, t.slam, t.ground_truth), file);
 }
 
 void writeTopViewPng(
@@ -269,10 +283,8 @@ void writeTopViewPng(
     const emslam::io::TumTrajectory& ground_truth,
     const std::string& file)
 {
-    const auto ego = tumTrajectoryOf(m.egomotionPoses());
-    const auto slam = tumTrajectoryOf(m.slamPoses());
-    const auto gt = groundTruthInMapFrame(ground_truth, ego);
-    writeTopView(mapDrawingContent(m, ego, slam, gt), file);
+    const DrawnTrajectories t(m, ground_truth);
+    writeTopView(mapDrawingContent(m, t.egomotion, t.slam, t.ground_truth), file);
 }
 
 void writeEntropyMap(const slam::EntropySlam& m, const std::string& file)

@@ -3,9 +3,9 @@
 #include <emslam/apps/ConfigValidation.h>
 #include <emslam/apps/OdometryApp.h>
 #include <emslam/egomotion/EgomotionEstimator.h>
-#include <emslam/slam/StereoOdometry.h>
 #include <emslam/io/RawlogInput.h>
 #include <emslam/io/TrajectoryWriter.h>
+#include <emslam/slam/StereoOdometry.h>
 
 #include <mrpt/img/CImage.h>
 #include <mrpt/serialization/CArchive.h>

@@ -13,9 +13,7 @@ RawlogRecording recordRawlog(
     const std::string& gt_out_file,
     std::size_t frames,
     bool show_progress,
-    const std::function<void(
-        std::size_t k, mrpt::serialization::CArchive& out, emslam::io::TumTrajectory& gt)>&
-        write_frame)
+    const RawlogFrameWriter& write_frame)
 {
     RawlogRecording r;
     emslam::io::TumTrajectory gt;

@@ -1,8 +1,8 @@
 // SPDX-License-Identifier: BSD-3-Clause
-#include <emslam/apps/RawlogRecording.h>
 #include <emslam/apps/CommandLine.h>
 #include <emslam/apps/ConfigValidation.h>
 #include <emslam/apps/ProgressLine.h>
+#include <emslam/apps/RawlogRecording.h>
 #include <emslam/apps/SimApp.h>
 #include <emslam/apps/StopSignal.h>
 #include <emslam/io/InputFileChecks.h>

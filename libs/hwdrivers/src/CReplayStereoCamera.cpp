@@ -9,48 +9,70 @@
 #include <algorithm>
 #include <cstdint>
 #include <stdexcept>
+#include <utility>
 
 namespace emslam::hwdrivers
 {
-void TReplayRange::loadRangeKeys(const mrpt::config::CConfigFileBase& c, const std::string& s)
+TReplayOptions::TReplayOptions(std::string sensor, std::string source_clock)
+    : timestamps(source_clock), m_sensor(std::move(sensor)), m_source_clock(std::move(source_clock))
 {
+}
+
+void TReplayOptions::loadFromConfigFile(
+    const mrpt::config::CConfigFileBase& c, const std::string& s)
+{
+    loadSourceKeys(c, s);
     first_frame = readCount(c, s, "first_frame", first_frame);
     max_frames = readCount(c, s, "max_frames", max_frames);
     loop = c.read_bool(s, "loop", loop);
+    timestamps = c.read_string(s, "timestamps", timestamps);
+    validate();
 }
 
-void TReplayRange::saveRangeKeys(mrpt::config::CConfigFileBase& c, const std::string& s) const
+void TReplayOptions::saveToConfigFile(mrpt::config::CConfigFileBase& c, const std::string& s) const
 {
+    saveSourceKeys(c, s);
     c.write(s, "first_frame", static_cast<std::uint64_t>(first_frame));
     c.write(s, "max_frames", static_cast<std::uint64_t>(max_frames));
     c.write(s, "loop", loop);
+    c.write(s, "timestamps", timestamps);
+}
+
+void TReplayOptions::validate() const
+{
+    if (timestamps != m_source_clock && timestamps != "now")
+    {
+        throw std::invalid_argument(
+            m_sensor + ": 'timestamps' must be '" + m_source_clock + "' or 'now', not '" +
+            timestamps + "'");
+    }
 }
 
 void CReplayStereoCamera::startReplay(
-    const TReplayRange& range,
+    const TReplayOptions& options,
     std::size_t source_frames,
-    bool stamp_now,
     double default_rate,
     const std::string& where)
 {
-    if (range.first_frame >= source_frames)
+    if (options.first_frame >= source_frames)
     {
         throw std::invalid_argument(
-            where + "first_frame " + std::to_string(range.first_frame) + " is past the " +
+            where + "first_frame " + std::to_string(options.first_frame) + " is past the " +
             std::to_string(source_frames) + " frames of " + sourceName());
     }
-    m_range = range;
+    m_first = options.first_frame;
+    m_loop = options.loop;
     m_end = source_frames;
-    if (range.max_frames > 0)
+    if (options.max_frames > 0)
     {
-        m_end = std::min(m_end, range.first_frame + range.max_frames);
+        m_end = std::min(m_end, options.first_frame + options.max_frames);
     }
     if (m_process_rate <= 0)
     {
         m_process_rate = default_rate;
     }
-    m_stamp_now = stamp_now;
-    m_next = range.first_frame;
+    m_stamp_now = options.stampNow();
+    m_next = options.first_frame;
     m_delivered = 0;
     m_started = true;
 }
@@ -64,13 +86,13 @@ void CReplayStereoCamera::doProcess()
     }
     if (m_next >= m_end)
     {
-        if (!m_range.loop)
+        if (!m_loop)
         {
             throw EndOfStream(
                 std::string(GetRuntimeClass()->className) + " '" + m_sensorLabel + "': end of " +
                 sourceName() + " after " + std::to_string(m_delivered) + " frames");
         }
-        m_next = m_range.first_frame;
+        m_next = m_first;
     }
     m_state = ssWorking;
     auto obs = replayFrame(m_next++);

@@ -12,21 +12,16 @@ IMPLEMENTS_GENERIC_SENSOR(CSimulatedStereoCamera, emslam::hwdrivers)
 
 namespace emslam::hwdrivers
 {
-void CSimulatedStereoCamera::TParameters::loadFromConfigFile(
+void CSimulatedStereoCamera::TParameters::loadSourceKeys(
     const mrpt::config::CConfigFileBase& c, const std::string& s)
 {
     world_file = c.read_string(s, "world_file", world_file);
-    loadRangeKeys(c, s);
-    timestamps = c.read_string(s, "timestamps", timestamps);
-    validate();
 }
 
-void CSimulatedStereoCamera::TParameters::saveToConfigFile(
+void CSimulatedStereoCamera::TParameters::saveSourceKeys(
     mrpt::config::CConfigFileBase& c, const std::string& s) const
 {
     c.write(s, "world_file", world_file);
-    saveRangeKeys(c, s);
-    c.write(s, "timestamps", timestamps);
 }
 
 void CSimulatedStereoCamera::TParameters::validate() const
@@ -35,12 +30,7 @@ void CSimulatedStereoCamera::TParameters::validate() const
     {
         throw std::invalid_argument("CSimulatedStereoCamera: 'world_file' is mandatory");
     }
-    if (timestamps != "now" && timestamps != "simulation")
-    {
-        throw std::invalid_argument(
-            "CSimulatedStereoCamera: 'timestamps' must be 'now' or 'simulation', not '" +
-            timestamps + "'");
-    }
+    TReplayOptions::validate();
 }
 
 void CSimulatedStereoCamera::loadConfig_sensorSpecific(
@@ -68,7 +58,7 @@ void CSimulatedStereoCamera::loadConfig_sensorSpecific(
             "': " + emslam::stereo::shortExceptionMessage(e));
     }
     startReplay(
-        p, sim->frameCount(), p.timestamps == "now", sim->params().fps,
+        p, sim->frameCount(), sim->params().fps,
         "CSimulatedStereoCamera, section " + section + ": ");
     m_params = p;
     m_sim = std::move(sim);

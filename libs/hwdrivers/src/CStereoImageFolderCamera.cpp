@@ -16,24 +16,19 @@ IMPLEMENTS_GENERIC_SENSOR(CStereoImageFolderCamera, emslam::hwdrivers)
 
 namespace emslam::hwdrivers
 {
-void CStereoImageFolderCamera::TParameters::loadFromConfigFile(
+void CStereoImageFolderCamera::TParameters::loadSourceKeys(
     const mrpt::config::CConfigFileBase& c, const std::string& s)
 {
     format = c.read_string(s, "format", format);
     folder = c.read_string(s, "folder", folder);
-    loadRangeKeys(c, s);
-    timestamps = c.read_string(s, "timestamps", timestamps);
     time_offset = c.read_double(s, "time_offset", time_offset);
-    validate();
 }
 
-void CStereoImageFolderCamera::TParameters::saveToConfigFile(
+void CStereoImageFolderCamera::TParameters::saveSourceKeys(
     mrpt::config::CConfigFileBase& c, const std::string& s) const
 {
     c.write(s, "format", format);
     c.write(s, "folder", folder);
-    saveRangeKeys(c, s);
-    c.write(s, "timestamps", timestamps);
     // With a decimal point even when whole: a number key, not an integer one.
     c.write(s, "time_offset", mrpt::format("%#.17g", time_offset));
 }
@@ -49,12 +44,6 @@ void CStereoImageFolderCamera::TParameters::validate() const
     {
         throw std::invalid_argument("CStereoImageFolderCamera: 'folder' is mandatory");
     }
-    if (timestamps != "dataset" && timestamps != "now")
-    {
-        throw std::invalid_argument(
-            "CStereoImageFolderCamera: 'timestamps' must be 'dataset' or 'now', not '" +
-            timestamps + "'");
-    }
     // A UNIX time: finite, and within +-1e11 s (about 3,000 years) so that
     // adding dataset times keeps microsecond resolution.
     if (!(std::abs(time_offset) <= 1e11))
@@ -63,6 +52,7 @@ void CStereoImageFolderCamera::TParameters::validate() const
             "CStereoImageFolderCamera: 'time_offset' = %g: must be a UNIX time within +-1e11 s",
             time_offset));
     }
+    TReplayOptions::validate();
 }
 
 void CStereoImageFolderCamera::loadConfig_sensorSpecific(
@@ -102,7 +92,7 @@ void CStereoImageFolderCamera::loadConfig_sensorSpecific(
     }
     m_params = p;
     // The dataset's mean rate; 10 Hz for a one-frame folder.
-    startReplay(p, sequence->size(), p.timestamps == "now", sequence->meanFrameRate(10.0), where);
+    startReplay(p, sequence->size(), sequence->meanFrameRate(10.0), where);
     m_sequence = std::move(sequence);
 }
 

@@ -6,6 +6,7 @@
 #include <emslam/stereo/ExceptionMessage.h>
 #include <emslam/stereo/StereoCalibration.h>
 
+#include <mrpt/core/format.h>
 #include <mrpt/math/CMatrixFixed.h>
 #include <mrpt/poses/CPose3D.h>
 #include <mrpt/poses/CPose3DQuat.h>
@@ -16,7 +17,6 @@
 #include <filesystem>
 #include <fstream>
 #include <optional>
-#include <sstream>
 #include <stdexcept>
 #include <string>
 #include <string_view>
@@ -33,19 +33,16 @@ namespace
 
 void requireFile(const std::string& file, const std::string& what)
 {
-    std::error_code ec;
-    if (!std::filesystem::is_regular_file(file, ec))
+    if (std::error_code ec; !std::filesystem::is_regular_file(file, ec))
     {
         fail(what, "file not found");
     }
 }
 
+/** Ten significant digits, as the stereo library's calibration messages. */
 std::string fmt(double v)
 {
-    std::ostringstream s;
-    s.precision(10);
-    s << v;
-    return s.str();
+    return mrpt::format("%.10g", v);
 }
 
 // ---------------------------------------------------------------------------

@@ -321,9 +321,9 @@ EurocSequence::Frame EurocSequence::frame(std::size_t i) const
     ASSERT_LT_(i, m_stamps.size());
     Frame f;
     f.t = timestamp(i);
-    f.obs = loadStereoPairObservation(
-        m_left_files[i], m_right_files[i], m_calib, "calibration", sensor_label,
-        fromNs(m_stamps[i]));
+    f.obs = loadStereoPairObservation(m_left_files[i], m_right_files[i], m_calib, "calibration");
+    f.obs->timestamp = fromNs(m_stamps[i]);
+    f.obs->sensorLabel = sensor_label;
     f.ground_truth = m_gt[i];
     return f;
 }

@@ -160,8 +160,9 @@ KittiSequence::Frame KittiSequence::frame(std::size_t i) const
     Frame f;
     f.t = timestamp(i);
     f.obs = loadStereoPairObservation(
-        leftImageFile(i), rightImageFile(i), m_calib, "first frame, calib", sensor_label,
-        mrpt::Clock::fromDouble(f.t));
+        leftImageFile(i), rightImageFile(i), m_calib, "first frame, calib");
+    f.obs->timestamp = mrpt::Clock::fromDouble(f.t);
+    f.obs->sensorLabel = sensor_label;
     if (hasGroundTruth())
     {
         f.ground_truth = m_poses[i];

@@ -14,9 +14,7 @@ mrpt::obs::CObservationStereoImages::Ptr loadStereoPairObservation(
     const std::string& left_file,
     const std::string& right_file,
     const mrpt::img::TStereoCamera& calib,
-    const std::string& size_source,
-    const std::string& sensor_label,
-    mrpt::Clock::time_point timestamp)
+    const std::string& size_source)
 {
     const cv::Mat left = loadImageFile(left_file);
     const cv::Mat right = loadImageFile(right_file);
@@ -32,8 +30,6 @@ mrpt::obs::CObservationStereoImages::Ptr loadStereoPairObservation(
         }
     }
     auto obs = mrpt::obs::CObservationStereoImages::Create();
-    obs->timestamp = timestamp;
-    obs->sensorLabel = sensor_label;
     obs->imageLeft = mrpt::img::CImage(left, mrpt::img::SHALLOW_COPY);
     obs->imageRight = mrpt::img::CImage(right, mrpt::img::SHALLOW_COPY);
     obs->hasImageRight = true;

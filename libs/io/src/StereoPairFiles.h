@@ -2,7 +2,6 @@
 // Private to emslam_io (not installed): shared by the stereo dataset readers.
 #pragma once
 
-#include <mrpt/core/Clock.h>
 #include <mrpt/img/TStereoCamera.h>
 #include <mrpt/obs/CObservationStereoImages.h>
 
@@ -11,16 +10,14 @@
 namespace emslam::io
 {
 /** One stereo pair of a dataset folder as the observation emslam-import
- * writes: both images (as stored), `hasImageRight`, the calibration
- * `calib`, the camera at the robot's origin. Throws, naming the file, if an
- * image cannot be read or its size is not `calib`'s (`size_source` says where
- * that size came from, for the message). */
+ * writes (the caller sets its label and time): both images (as stored),
+ * `hasImageRight`, the calibration `calib`, the camera at the robot's
+ * origin. Throws, naming the file, if an image cannot be read or its size is
+ * not `calib`'s (`size_source` says where that size came from). */
 mrpt::obs::CObservationStereoImages::Ptr loadStereoPairObservation(
     const std::string& left_file,
     const std::string& right_file,
     const mrpt::img::TStereoCamera& calib,
-    const std::string& size_source,
-    const std::string& sensor_label,
-    mrpt::Clock::time_point timestamp);
+    const std::string& size_source);
 
 }  // namespace emslam::io

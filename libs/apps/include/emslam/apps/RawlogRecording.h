@@ -18,6 +18,11 @@ struct RawlogRecording
     std::size_t poses_written{0};  //!< ground-truth poses (0 without a GT file)
 };
 
+/** Writes frame `k` of a recording to `out`, and its ground-truth pose (if
+ * any) to `gt`. \ingroup emslam_apps_grp */
+using RawlogFrameWriter = std::function<void(
+    std::size_t k, mrpt::serialization::CArchive& out, emslam::io::TumTrajectory& gt)>;
+
 /** The recording loop emslam-import and emslam-sim share: writes `frames`
  * frames through an io::RawlogOutput (`output_file`, gzip `gz_level`, the
  * ground truth to `gt_out_file` if not empty) by calling
@@ -33,8 +38,6 @@ RawlogRecording recordRawlog(
     const std::string& gt_out_file,
     std::size_t frames,
     bool show_progress,
-    const std::function<void(
-        std::size_t k, mrpt::serialization::CArchive& out, emslam::io::TumTrajectory& gt)>&
-        write_frame);
+    const RawlogFrameWriter& write_frame);
 
 }  // namespace emslam::apps

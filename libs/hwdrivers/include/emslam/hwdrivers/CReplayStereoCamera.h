@@ -2,6 +2,7 @@
 #pragma once
 
 #include <mrpt/config/CConfigFileBase.h>
+#include <mrpt/config/CLoadableOptions.h>
 #include <mrpt/hwdrivers/CGenericSensor.h>
 #include <mrpt/obs/CObservation.h>
 
@@ -10,27 +11,52 @@
 
 namespace emslam::hwdrivers
 {
-/** The INI keys every replayed source shares (frames first_frame ..
- * first_frame + max_frames - 1, then loop or end). Sensors' TParameters
- * derive from it. \ingroup emslam_hwdrivers_grp \sa CReplayStereoCamera */
-struct TReplayRange
+/** The INI keys every replayed source shares: frames first_frame ..
+ * first_frame + max_frames - 1, then loop or end, stamped with the source's
+ * own clock or the wall clock. A sensor's TParameters derive from it and add
+ * their source's keys (loadSourceKeys(), saveSourceKeys(), validate()).
+ * \ingroup emslam_hwdrivers_grp \sa CReplayStereoCamera */
+struct TReplayOptions : public mrpt::config::CLoadableOptions
 {
+    /** `sensor`: the class name for messages; `source_clock`: the name of
+     * the source's own times ("simulation", "dataset"), the default of
+     * `timestamps`. */
+    TReplayOptions(std::string sensor, std::string source_clock);
+
     /** First frame replayed. (Default: 0) */
     std::size_t first_frame{0};
     /** Frames per pass; 0: to the end of the source. (Default: 0) */
     std::size_t max_frames{0};
     /** Start again at first_frame after the last frame. (Default: false) */
     bool loop{false};
+    /** The source's clock (see the constructor) or "now" (the wall clock
+     * when the frame is emitted). */
+    std::string timestamps;
 
-    /** Reads first_frame, max_frames (whole numbers ≥ 0: throws
-     * std::invalid_argument naming the key otherwise) and loop. */
-    void loadRangeKeys(const mrpt::config::CConfigFileBase& c, const std::string& s);
-    void saveRangeKeys(mrpt::config::CConfigFileBase& c, const std::string& s) const;
+    /** Reads the source's keys, then first_frame, max_frames (whole numbers
+     * ≥ 0), loop and timestamps, and validates; throws
+     * std::invalid_argument naming the key of a bad value. */
+    void loadFromConfigFile(const mrpt::config::CConfigFileBase& c, const std::string& s) final;
+    void saveToConfigFile(mrpt::config::CConfigFileBase& c, const std::string& s) const final;
+    /** Throws std::invalid_argument naming the key of an invalid value
+     * (overrides check their keys, then call this one). */
+    virtual void validate() const;
+    /** True if frames get the wall clock's time. */
+    bool stampNow() const { return timestamps == "now"; }
+
+protected:
+    virtual void loadSourceKeys(const mrpt::config::CConfigFileBase& c, const std::string& s) = 0;
+    virtual void saveSourceKeys(mrpt::config::CConfigFileBase& c, const std::string& s) const = 0;
+    /** The sensor's class name, for messages. */
+    const std::string& sensorName() const { return m_sensor; }
+
+private:
+    std::string m_sensor, m_source_clock;
 };
 
 /** A "live" camera replaying a finite source frame by frame (the simulator,
  * a dataset folder): each doProcess() emits the next frame of the range
- * (TReplayRange), stamped with the wall clock if asked, and after the last
+ * (TReplayOptions), stamped with the wall clock if asked, and after the last
  * one starts again (`loop`) or throws EndOfStream. Subclasses open their
  * source in loadConfig_sensorSpecific(), then call startReplay().
  * \ingroup emslam_hwdrivers_grp \sa CSimulatedStereoCamera, CStereoImageFolderCamera */
@@ -45,13 +71,12 @@ public:
     std::size_t framesDelivered() const { return m_delivered; }
 
 protected:
-    /** Starts the range over a source of `source_frames` frames; throws
-     * std::invalid_argument (prefixed by `where`) if first_frame is past it.
-     * A process_rate of 0 becomes `default_rate` [Hz]. */
+    /** Starts the range of `options` over a source of `source_frames`
+     * frames; throws std::invalid_argument (prefixed by `where`) if
+     * first_frame is past it. A process_rate of 0 becomes `default_rate` [Hz]. */
     void startReplay(
-        const TReplayRange& range,
+        const TReplayOptions& options,
         std::size_t source_frames,
-        bool stamp_now,
         double default_rate,
         const std::string& where);
 
@@ -61,7 +86,8 @@ protected:
     virtual std::string sourceName() const = 0;
 
 private:
-    TReplayRange m_range;
+    std::size_t m_first{0};
+    bool m_loop{false};
     bool m_started{false};
     bool m_stamp_now{false};
     std::size_t m_next{0};

@@ -42,21 +42,23 @@ class CSimulatedStereoCamera : public CReplayStereoCamera
 
 public:
     /** The sensor-specific INI keys (see the class comment). */
-    struct TParameters : public mrpt::config::CLoadableOptions, public TReplayRange
+    struct TParameters : public TReplayOptions
     {
-        void loadFromConfigFile(
-            const mrpt::config::CConfigFileBase& c, const std::string& s) override;
-        void saveToConfigFile(
-            mrpt::config::CConfigFileBase& c, const std::string& s) const override;
-        /** Throws std::invalid_argument naming the key of an invalid value. */
-        void validate() const;
+        /** `timestamps`: "now" (wall clock when rendered, the default) or
+         * "simulation" (the world's own times, [Simulation] start_time + i / fps). */
+        TParameters() : TReplayOptions("CSimulatedStereoCamera", "simulation")
+        {
+            timestamps = "now";
+        }
+        void validate() const override;
 
         /** World INI file (config/sim/ format); relative paths are taken from
          * the working folder. Mandatory. */
         std::string world_file;
-        /** "now" (wall clock when rendered) or "simulation" (the world's own
-         * times, [Simulation] start_time + i / fps). (Default: now) */
-        std::string timestamps{"now"};
+
+    protected:
+        void loadSourceKeys(const mrpt::config::CConfigFileBase& c, const std::string& s) override;
+        void saveSourceKeys(mrpt::config::CConfigFileBase& c, const std::string& s) const override;
     };
 
     CSimulatedStereoCamera() = default;

@@ -42,25 +42,24 @@ class CStereoImageFolderCamera : public CReplayStereoCamera
 
 public:
     /** The sensor-specific INI keys (see the class comment). */
-    struct TParameters : public mrpt::config::CLoadableOptions, public TReplayRange
+    struct TParameters : public TReplayOptions
     {
-        void loadFromConfigFile(
-            const mrpt::config::CConfigFileBase& c, const std::string& s) override;
-        void saveToConfigFile(
-            mrpt::config::CConfigFileBase& c, const std::string& s) const override;
-        /** Throws std::invalid_argument naming the key of an invalid value. */
-        void validate() const;
+        /** `timestamps`: "dataset" (the folder's own times, the default) or "now". */
+        TParameters() : TReplayOptions("CStereoImageFolderCamera", "dataset") {}
+        void validate() const override;
 
         /** "kitti" or "euroc". (Default: kitti) */
         std::string format{"kitti"};
         /** The sequence folder (KITTI `sequences/NN`, EuRoC `mav0` or its
          * parent); relative paths are taken from the working folder. Mandatory. */
         std::string folder;
-        /** "dataset" (the folder's own times) or "now". (Default: dataset) */
-        std::string timestamps{"dataset"};
         /** kitti: UNIX time [s] of times.txt's zero. (Default: 1317340800,
          * emslam::io::KittiSequence::DEFAULT_TIME_OFFSET) */
         double time_offset{1317340800.0};
+
+    protected:
+        void loadSourceKeys(const mrpt::config::CConfigFileBase& c, const std::string& s) override;
+        void saveSourceKeys(mrpt::config::CConfigFileBase& c, const std::string& s) const override;
     };
 
     CStereoImageFolderCamera() = default;
