@@ -356,7 +356,7 @@ TEST(ImportApp, helpRequestsQuit)
     testing::internal::CaptureStdout();
     initApp(app, {"--help"});
     const std::string text = testing::internal::GetCapturedStdout();
-    EXPECT_TRUE(app.quit_requested);
+    EXPECT_TRUE(app.helpRequested());
     EXPECT_NE(text.find("--gt-out"), std::string::npos);
     EXPECT_NO_THROW(app.run());
     EXPECT_EQ(app.frames_written, 0U);

@@ -178,6 +178,11 @@ bool parseCommandLine(
     return run;
 }
 
+void usageError(const std::string& program, const std::string& message)
+{
+    throw std::invalid_argument("bad command line: " + message + "; try " + program + " --help");
+}
+
 std::string withDefault(const std::string& description, const std::string& value)
 {
     return description + " (default: " + value + ")";

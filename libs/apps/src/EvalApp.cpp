@@ -32,7 +32,9 @@ std::string fmt(double v, const char* f = "%.4f")
 }
 }  // namespace
 
-void EvalApp::initialize(int argc, const char** argv)
+EvalApp::EvalApp() : App(PROGRAM) {}
+
+bool EvalApp::parseArguments(int argc, const char** argv)
 {
     TCLAP::CmdLine cmd(
         "emslam-eval: an estimated trajectory against ground truth (each TUM, KITTI poses + "
@@ -82,11 +84,9 @@ void EvalApp::initialize(int argc, const char** argv)
             "Drift segments start every N matched poses", std::to_string(options.segment_step)),
         false, static_cast<long long>(options.segment_step), "N", cmd);
 
-    if (!parseCommandLine(
-            cmd, PROGRAM, argc, argv, {{"--gt", "", 0, "GT"}, {"--est", "", 1, "EST"}}))
+    if (!parseCommandLine(cmd, argc, argv, {{"--gt", "", 0, "GT"}, {"--est", "", 1, "EST"}}))
     {
-        m_help_requested = true;
-        return;
+        return false;
     }
     m_gt = gt.getValue();
     m_est = est.getValue();
@@ -125,14 +125,11 @@ void EvalApp::initialize(int argc, const char** argv)
         throw std::invalid_argument("--max-dt must be a positive number of seconds");
     }
     options.segment_step = countOption(step.getValue(), "--segment-step", 1, PROGRAM);
+    return true;
 }
 
-void EvalApp::run()
+void EvalApp::execute()
 {
-    if (m_help_requested)
-    {
-        return;
-    }
     const auto gt = io::loadTrajectoryInput(m_gt, "ground-truth", m_gt_options);
     const auto est = io::loadTrajectoryInput(m_est, "estimate", m_est_options);
     io::requireComparableTimes(gt, m_gt, est, m_est);

@@ -20,7 +20,9 @@ namespace
 constexpr const char* PROGRAM = "emslam-experiments";
 }  // namespace
 
-void ExperimentsApp::initialize(int argc, const char** argv)
+ExperimentsApp::ExperimentsApp() : App(PROGRAM) {}
+
+bool ExperimentsApp::parseArguments(int argc, const char** argv)
 {
     TCLAP::CmdLine cmd(
         "emslam-experiments: the paper's experiments (section 3) in one command. Each "
@@ -58,11 +60,10 @@ void ExperimentsApp::initialize(int argc, const char** argv)
         "(is its minimum at the truth?): energy_scan.csv per run and three scan columns in the "
         "tables",
         cmd);
-    TCLAP::SwitchArg quiet("q", "quiet", "No progress lines", cmd);
-    if (!parseCommandLine(cmd, PROGRAM, argc, argv))
+    addQuietOption(cmd, "No progress lines");
+    if (!parseCommandLine(cmd, argc, argv))
     {
-        m_help_requested = true;
-        return;
+        return false;
     }
     m_command = PROGRAM;
     for (int i = 1; i < argc; ++i)
@@ -72,7 +73,6 @@ void ExperimentsApp::initialize(int argc, const char** argv)
     m_suite_file = suite.getValue();
     m_out = out.getValue();
     m_quick = quick.getValue();
-    m_quiet = quiet.getValue();
     m_exact_depth = exact_depth.getValue();
     m_energy_scan = energy_scan.getValue();
     const ExperimentSuite s = ExperimentSuite::load(m_suite_file);
@@ -86,14 +86,11 @@ void ExperimentsApp::initialize(int argc, const char** argv)
     // Before hours of runs: an --out that cannot take the reports fails now.
     io::requireOutputFolder(m_out, "output folder");
     io::requireReplaceableFiles(m_out, {"experiments.md", "experiments.json", "experiments.html"});
+    return true;
 }
 
-void ExperimentsApp::run()
+void ExperimentsApp::execute()
 {
-    if (m_help_requested)
-    {
-        return;
-    }
     const auto t_start = std::chrono::steady_clock::now();
     io::createOutputFolder(m_out);
     std::size_t total = 0;
@@ -126,7 +123,7 @@ void ExperimentsApp::run()
                 const std::string what = "[" + std::to_string(k) + "/" + std::to_string(total) +
                                          "] " + e.name + " " + mapper + " seed " +
                                          std::to_string(seed);
-                ProgressLine progress(std::string(PROGRAM) + ": " + what, 1, !m_quiet);
+                ProgressLine progress(std::string(PROGRAM) + ": " + what, 1, !quiet());
                 ExperimentRunOptions opt;
                 opt.max_frames = m_quick ? m_quick_frames : 0;
                 opt.exact_depth = m_exact_depth;
@@ -144,7 +141,7 @@ void ExperimentsApp::run()
                 {
                     break;  // what finished is written below
                 }
-                if (!m_quiet)
+                if (!quiet())
                 {
                     std::fprintf(
                         stderr,

@@ -49,12 +49,6 @@ using namespace grabber;
 
 namespace
 {
-[[noreturn]] void usageError(const std::string& msg)
-{
-    throw std::invalid_argument(
-        "bad command line: " + msg + "; try " + std::string(PROGRAM) + " --help");
-}
-
 }  // namespace
 
 void GrabberApp::requestStop()
@@ -69,12 +63,9 @@ void GrabberApp::checkConfig(const mrpt::config::CConfigFileBase& params)
     (void)createSensors(params, "INI");
 }
 
-void GrabberApp::initialize(int argc, char** argv)
-{
-    initialize(argc, const_cast<const char**>(argv));
-}
+GrabberApp::GrabberApp() : App(PROGRAM) {}
 
-void GrabberApp::initialize(int argc, const char** argv)
+bool GrabberApp::parseArguments(int argc, const char** argv)
 {
     TCLAP::CmdLine cmd(
         "Records stereo cameras (CDigiclopsStereoCamera, CSimulatedStereoCamera, "
@@ -103,12 +94,9 @@ void GrabberApp::initialize(int argc, const char** argv)
     TCLAP::SwitchArg arg_quiet("q", "quiet", "No status line or summary.", cmd, false);
     TCLAP::SwitchArg arg_viewer(
         "", "viewer", "Show the left images live in a window (no display: a warning).", cmd, false);
-
-    quit_requested = false;
-    if (!parseCommandLine(cmd, PROGRAM, argc, argv))
+    if (!parseCommandLine(cmd, argc, argv))
     {
-        quit_requested = true;
-        return;
+        return false;
     }
     list_devices = arg_list.getValue();
     quiet = arg_quiet.getValue();
@@ -119,7 +107,7 @@ void GrabberApp::initialize(int argc, const char** argv)
     max_seconds.reset();
     if (list_devices)
     {
-        return;
+        return true;
     }
     if (arg_cfg.getValue().size() > 1)
     {
@@ -150,14 +138,11 @@ void GrabberApp::initialize(int argc, const char** argv)
         max_seconds = arg_seconds.getValue();
     }
     loadConfig(params, config_file, {});
+    return true;
 }
 
-void GrabberApp::run()
+void GrabberApp::execute()
 {
-    if (quit_requested)
-    {
-        return;
-    }
     const auto t_start = Clock::now();
     auto elapsed = [&] { return std::chrono::duration<double>(Clock::now() - t_start).count(); };
     if (list_devices)

@@ -41,12 +41,6 @@ constexpr const char* PROGRAM = "emslam-import";
 /** More frames than any dataset has: a typo such as 0:999999999 fails fast. */
 constexpr std::size_t MAX_LISTED_FRAMES = 10'000'000;
 
-[[noreturn]] void usageError(const std::string& msg)
-{
-    throw std::invalid_argument(
-        "bad command line: " + msg + "; try " + std::string(PROGRAM) + " --help");
-}
-
 /** The dataset being imported, and how the messages name it. */
 struct FrameSource
 {
@@ -97,7 +91,9 @@ std::vector<double> parseIntrinsics(const std::string& s)
     }
     if (v.size() != 4 || v[0] <= 0 || v[1] <= 0)
     {
-        usageError("--intrinsics expects 'fx,fy,cx,cy' (positive focal lengths), got '" + s + "'");
+        usageError(
+            PROGRAM,
+            "--intrinsics expects 'fx,fy,cx,cy' (positive focal lengths), got '" + s + "'");
     }
     return v;
 }
@@ -110,8 +106,8 @@ std::size_t parseFrameIndex(
         text.find_first_not_of("0123456789") != std::string::npos)
     {
         usageError(
-            "--frames item '" + item + "': '" + text + "' is not " + what +
-            " (items are N, A:B or A:B:STEP, e.g. 0:50:2,49:1:-2)");
+            PROGRAM, "--frames item '" + item + "': '" + text + "' is not " + what +
+                         " (items are N, A:B or A:B:STEP, e.g. 0:50:2,49:1:-2)");
     }
     return static_cast<std::size_t>(std::stoul(text));
 }
@@ -124,14 +120,15 @@ long long parseRangeStep(const std::string& item, const std::string& text, long 
     const long long magnitude = static_cast<long long>(parseFrameIndex(item, digits, "a STEP"));
     if (magnitude == 0)
     {
-        usageError("--frames item '" + item + "': STEP must not be 0");
+        usageError(PROGRAM, "--frames item '" + item + "': STEP must not be 0");
     }
     const long long step = negative ? -magnitude : magnitude;
     if ((b - a) * step < 0)
     {
         usageError(
-            "--frames item '" + item + "': STEP " + text + " leads away from " + std::to_string(b) +
-            " (use a " + (step > 0 ? "negative" : "positive") + " STEP)");
+            PROGRAM, "--frames item '" + item + "': STEP " + text + " leads away from " +
+                         std::to_string(b) + " (use a " + (step > 0 ? "negative" : "positive") +
+                         " STEP)");
     }
     return step;
 }
@@ -151,7 +148,7 @@ void appendFrameItem(const std::string& item, std::vector<std::size_t>& out)
     }
     if (parts.empty() || parts.size() > 3)
     {
-        usageError("--frames item '" + item + "': expected N, A:B or A:B:STEP");
+        usageError(PROGRAM, "--frames item '" + item + "': expected N, A:B or A:B:STEP");
     }
     const auto a = static_cast<long long>(parseFrameIndex(item, parts[0]));
     if (parts.size() == 1)
@@ -164,7 +161,8 @@ void appendFrameItem(const std::string& item, std::vector<std::size_t>& out)
         parts.size() == 3 ? parseRangeStep(item, parts[2], a, b) : (b >= a ? 1 : -1);
     if (out.size() + static_cast<std::size_t>((b - a) / step + 1) > MAX_LISTED_FRAMES)
     {
-        usageError("--frames lists more than " + std::to_string(MAX_LISTED_FRAMES) + " frames");
+        usageError(
+            PROGRAM, "--frames lists more than " + std::to_string(MAX_LISTED_FRAMES) + " frames");
     }
     for (long long i = a; step > 0 ? i <= b : i >= b; i += step)
     {
@@ -265,12 +263,9 @@ std::string humanBytes(std::uintmax_t n)
 
 }  // namespace
 
-void ImportApp::initialize(int argc, char** argv)
-{
-    initialize(argc, const_cast<const char**>(argv));
-}
+ImportApp::ImportApp() : App(PROGRAM) {}
 
-void ImportApp::initialize(int argc, const char** argv)
+bool ImportApp::parseArguments(int argc, const char** argv)
 {
     TCLAP::CmdLine cmd(
         "Imports a KITTI odometry, EuRoC MAV or TUM RGB-D sequence into a gz-compressed rawlog of "
@@ -337,12 +332,10 @@ void ImportApp::initialize(int argc, const char** argv)
     TCLAP::SwitchArg arg_quiet("q", "quiet", "No progress or summary output.", cmd, false);
 
     m_initialized = false;
-    quit_requested = false;
     // Usage shows the program name, not the path it was started from.
-    if (!parseCommandLine(cmd, PROGRAM, argc, argv, {{"--poses", "--gt", 0, "POSES.txt"}}))
+    if (!parseCommandLine(cmd, argc, argv, {{"--poses", "--gt", 0, "POSES.txt"}}))
     {
-        quit_requested = true;  // --help / --version: already printed
-        return;
+        return false;
     }
 
     dataset = arg_dataset.getValue();
@@ -433,14 +426,11 @@ void ImportApp::initialize(int argc, const char** argv)
         }
     }
     m_initialized = true;
+    return true;
 }
 
-void ImportApp::run()
+void ImportApp::execute()
 {
-    if (quit_requested)
-    {
-        return;
-    }
     ASSERTMSG_(
         m_initialized || !dataset.empty(),
         "ImportApp::run(): call initialize() (or fill the settings) first");

@@ -31,7 +31,9 @@ bool endsWith(const std::string& s, const std::string& tail)
 }
 }  // namespace
 
-void MapViewApp::initialize(int argc, const char** argv)
+MapViewApp::MapViewApp() : App(PROGRAM) {}
+
+bool MapViewApp::parseArguments(int argc, const char** argv)
 {
     TCLAP::CmdLine cmd(
         "emslam-mapview: opens emslam's map files in a 3D window: entropy_map.bin (the entropy "
@@ -42,10 +44,9 @@ void MapViewApp::initialize(int argc, const char** argv)
     TCLAP::ValueArg<long long> max_cells(
         "", "max-cells", "Entropy cells drawn at most (the heaviest; default 50000)", false, 50000,
         "N", cmd);
-    if (!parseCommandLine(cmd, PROGRAM, argc, argv))
+    if (!parseCommandLine(cmd, argc, argv))
     {
-        m_help_requested = true;
-        return;
+        return false;
     }
     if (max_cells.getValue() < 1)
     {
@@ -53,6 +54,7 @@ void MapViewApp::initialize(int argc, const char** argv)
     }
     m_file = file.getValue();
     m_max_cells = static_cast<std::size_t>(max_cells.getValue());
+    return true;
 }
 
 mrpt::opengl::COpenGLScene::Ptr MapViewApp::loadScene(
@@ -98,12 +100,8 @@ mrpt::opengl::COpenGLScene::Ptr MapViewApp::loadScene(
         ", not a metric map or a 3D scene");
 }
 
-void MapViewApp::run()
+void MapViewApp::execute()
 {
-    if (m_help_requested)
-    {
-        return;
-    }
     auto scene = loadScene(m_file, m_max_cells);
     const std::string problem = LiveViewer::displayProblem();
     if (!problem.empty())

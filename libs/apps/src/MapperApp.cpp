@@ -104,7 +104,9 @@ void writeKeyframes(const slam::EntropySlam& m, const std::string& file)
 }
 }  // namespace
 
-void MapperApp::initialize(int argc, const char** argv)
+MapperApp::MapperApp() : App(PROGRAM) {}
+
+bool MapperApp::parseArguments(int argc, const char** argv)
 {
     TCLAP::CmdLine cmd(
         "emslam-mapper: Entropy Minimization SLAM over a rawlog. Stereo (or RGB-D) "
@@ -149,25 +151,21 @@ void MapperApp::initialize(int argc, const char** argv)
             "trajectory_*_times.txt) or both",
             "tum"),
         false, "tum", "tum|kitti|both", cmd);
-    TCLAP::MultiArg<std::string> sets(
-        "", "set", "Override a parameter: SECTION.key=value", false, "SECTION.key=value", cmd);
-    TCLAP::ValueArg<long long> max_frames(
-        "", "max-frames", withDefault("Stop after N stereo / RGB-D frames (0: all)", "0"), false, 0,
-        "N", cmd);
+    addSetOption(cmd, "Override a parameter: SECTION.key=value");
+    addMaxFramesOption(cmd, "Stop after N stereo / RGB-D frames (0: all)");
     TCLAP::SwitchArg energy_scan(
         "", "energy-scan",
         "With --gt: scan the entropy along each dimension of a few actions of the final "
         "trajectory around the ground truth (does the energy have its minimum at the truth?); "
         "writes energy_scan.csv and an energy_scan object in summary.json",
         cmd);
-    TCLAP::SwitchArg quiet("q", "quiet", "No progress line", cmd);
+    addQuietOption(cmd, "No progress line");
     TCLAP::SwitchArg viewer(
         "", "viewer", "Show the run live in a window (map, trajectories, camera, image)", cmd);
 
-    if (!parseCommandLine(cmd, PROGRAM, argc, argv))
+    if (!parseCommandLine(cmd, argc, argv))
     {
-        m_help_requested = true;
-        return;
+        return false;
     }
     m_config = config.getValue();
     m_rawlog = rawlog.getValue();
@@ -197,10 +195,8 @@ void MapperApp::initialize(int argc, const char** argv)
         throw std::invalid_argument(std::string("--trajectory-format: ") + e.what());
     }
     m_egomotion_only = egomotion_only.getValue();
-    m_max_frames = countOption(max_frames.getValue(), "--max-frames", 0, PROGRAM);
-    m_quiet = quiet.getValue();
     m_viewer = viewer.getValue();
-    loadConfig(params, m_config, sets.getValue());
+    loadParameters(m_config);
 
     // Everything a run needs is checked here, before any long work.
     checkConfig(params);
@@ -215,6 +211,7 @@ void MapperApp::initialize(int argc, const char** argv)
         m_ground_truth = io::loadTrajectoryInput(m_gt, "ground-truth", m_gt_options);
         io::requireTimes(m_ground_truth, m_gt, "ground truth", "--gt-times");
     }
+    return true;
 }
 
 void MapperApp::checkConfig(const mrpt::config::CConfigFileBase& params)
@@ -226,12 +223,8 @@ void MapperApp::checkConfig(const mrpt::config::CConfigFileBase& params)
     p.loadFromConfigFile(params);
 }
 
-void MapperApp::run()
+void MapperApp::execute()
 {
-    if (m_help_requested)
-    {
-        return;
-    }
     const auto t_start = std::chrono::steady_clock::now();
     m_degenerate.clear();
     slam::EntropySlam::TParameters p;
@@ -246,7 +239,7 @@ void MapperApp::run()
 
     StopSignal::clear();
     const StopSignalGuard signals;
-    ProgressLine progress(PROGRAM, 1, !m_quiet);
+    ProgressLine progress(PROGRAM, 1, !quiet());
     const auto live = m_viewer ? std::make_unique<MapperLiveFeed>(PROGRAM) : nullptr;
     std::vector<mrpt::obs::CObservation::Ptr> batch;
     bool done = false;
@@ -256,7 +249,7 @@ void MapperApp::run()
         for (const auto& o : batch)
         {
             if (StopSignal::requested() ||
-                (m_max_frames != 0 && m_mapper->frameCount() >= m_max_frames))
+                (maxFrames() != 0 && m_mapper->frameCount() >= maxFrames()))
             {
                 done = true;
                 break;

@@ -44,7 +44,9 @@ std::string quotedList(const std::vector<std::string>& files)
 }
 }  // namespace
 
-void OdometryApp::initialize(int argc, const char** argv)
+OdometryApp::OdometryApp() : App(PROGRAM) {}
+
+bool OdometryApp::parseArguments(int argc, const char** argv)
 {
     TCLAP::CmdLine cmd(
         "emslam-odometry: stereo visual odometry (GLM features, log-polar matching, LWO, Dpp "
@@ -71,17 +73,13 @@ void OdometryApp::initialize(int argc, const char** argv)
         "c", "config",
         withDefault("INI file with [Stereo] and [Egomotion] sections", "the built-in defaults"),
         false, "", "CONFIG.ini", cmd);
-    TCLAP::MultiArg<std::string> sets(
-        "", "set", "Override a parameter: SECTION.key=value ([Stereo], [Egomotion])", false,
-        "SECTION.key=value", cmd);
-    TCLAP::ValueArg<long long> max_frames(
-        "", "max-frames", withDefault("Stop after N frames (0: all)", "0"), false, 0, "N", cmd);
-    TCLAP::SwitchArg quiet("q", "quiet", "Print the summary only, not every frame", cmd);
+    addSetOption(cmd, "Override a parameter: SECTION.key=value ([Stereo], [Egomotion])");
+    addMaxFramesOption(cmd, "Stop after N frames (0: all)");
+    addQuietOption(cmd, "Print the summary only, not every frame");
 
-    if (!parseCommandLine(cmd, PROGRAM, argc, argv, {{"--rawlog", "", 0, "DATASET.rawlog"}}))
+    if (!parseCommandLine(cmd, argc, argv, {{"--rawlog", "", 0, "DATASET.rawlog"}}))
     {
-        m_help_requested = true;
-        return;
+        return false;
     }
     m_rawlog = rawlog.getValue();
     m_output = output.getValue();
@@ -93,12 +91,10 @@ void OdometryApp::initialize(int argc, const char** argv)
     {
         throw std::invalid_argument(std::string("--trajectory-format: ") + e.what());
     }
-    m_max_frames = countOption(max_frames.getValue(), "--max-frames", 0, PROGRAM);
-    m_quiet = quiet.getValue();
-    loadConfig(params, config.getValue(), sets.getValue());
-    // A typo or a non-number must not run silently on a default.
-    requireValidOverrides(sets.getValue(), knownParameters());
+    const auto known = knownParameters();
+    loadParameters(config.getValue(), &known);
     checkConfig(params);
+    return true;
 }
 
 void OdometryApp::checkConfig(const mrpt::config::CConfigFileBase& params)
@@ -109,12 +105,8 @@ void OdometryApp::checkConfig(const mrpt::config::CConfigFileBase& params)
         params, EGOMOTION_SECTION);
 }
 
-void OdometryApp::run()
+void OdometryApp::execute()
 {
-    if (m_help_requested)
-    {
-        return;
-    }
     // Parameters are read (and validated) before any input is touched.
     emslam::stereo::StereoMatcher::TParameters sp;
     sp.loadFromConfigFile(params, STEREO_SECTION);
@@ -161,7 +153,7 @@ void OdometryApp::run()
         sum_feat += r.ms_features;
         sum_desc += r.ms_descriptors;
         sum_ego += r.ms_total;
-        if (!m_quiet)
+        if (!quiet())
         {
             std::printf(
                 "frame %zu: %zu points, %zu features, matches %zu -> %zu (LWO %d it), %s | ms: "
@@ -178,11 +170,11 @@ void OdometryApp::run()
 
     std::vector<mrpt::obs::CObservation::Ptr> batch;
     std::size_t ignored = 0;
-    while ((m_max_frames == 0 || frames_processed < m_max_frames) && in.next(batch))
+    while ((maxFrames() == 0 || frames_processed < maxFrames()) && in.next(batch))
     {
         for (const auto& o : batch)
         {
-            if (m_max_frames != 0 && frames_processed >= m_max_frames)
+            if (maxFrames() != 0 && frames_processed >= maxFrames())
             {
                 break;
             }

@@ -33,20 +33,11 @@ namespace
 {
 constexpr const char* PROGRAM = "emslam-sim";
 
-[[noreturn]] void usageError(const std::string& msg)
-{
-    throw std::invalid_argument(
-        "bad command line: " + msg + "; try " + std::string(PROGRAM) + " --help");
-}
-
 }  // namespace
 
-void SimApp::initialize(int argc, char** argv)
-{
-    initialize(argc, const_cast<const char**>(argv));
-}
+SimApp::SimApp() : App(PROGRAM) {}
 
-void SimApp::initialize(int argc, const char** argv)
+bool SimApp::parseArguments(int argc, const char** argv)
 {
     TCLAP::CmdLine cmd(
         "Renders a synthetic stereo world (config/sim/*.ini) into a gz-compressed rawlog of "
@@ -74,12 +65,9 @@ void SimApp::initialize(int argc, const char** argv)
     TCLAP::ValueArg<int> arg_gz(
         "", "gz-level", "gzip level of the rawlog, 0..9 (default 1).", false, 1, "0..9", cmd);
     TCLAP::SwitchArg arg_quiet("q", "quiet", "No progress or summary output.", cmd, false);
-
-    quit_requested = false;
-    if (!parseCommandLine(cmd, PROGRAM, argc, argv))
+    if (!parseCommandLine(cmd, argc, argv))
     {
-        quit_requested = true;
-        return;
+        return false;
     }
     world_file = arg_world.getValue();
     output_file = arg_out.getValue();
@@ -114,6 +102,7 @@ void SimApp::initialize(int argc, const char** argv)
     {
         params.write("World", "seed", static_cast<int>(arg_seed.getValue()));
     }
+    return true;
 }
 
 namespace
@@ -140,12 +129,8 @@ void SimApp::checkConfig(const mrpt::config::CConfigFileBase& params)
     emslam::sim::StereoSimulator().load(params);
 }
 
-void SimApp::run()
+void SimApp::execute()
 {
-    if (quit_requested)
-    {
-        return;
-    }
     ASSERTMSG_(!output_file.empty(), "SimApp: no output file");
     const auto t_start = std::chrono::steady_clock::now();
     frames_written = 0;

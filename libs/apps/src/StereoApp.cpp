@@ -103,7 +103,9 @@ DepthStats depthStats(const emslam::stereo::StereoFrame& f)
 }
 }  // namespace
 
-void StereoApp::initialize(int argc, const char** argv)
+StereoApp::StereoApp() : App(PROGRAM) {}
+
+bool StereoApp::parseArguments(int argc, const char** argv)
 {
     TCLAP::CmdLine cmd(
         "emslam-stereo: run the emslam stereo front-end (rectification + disparity -> "
@@ -120,14 +122,11 @@ void StereoApp::initialize(int argc, const char** argv)
     TCLAP::ValueArg<std::string> calib_section(
         "", "calib-section", withDefault("Calibration section prefix in CALIB.ini", "CAMERA"),
         false, "CAMERA", "NAME", cmd);
-    TCLAP::ValueArg<long long> max_frames(
-        "", "max-frames", withDefault("Stop after N frames of the rawlog (0: all)", "0"), false, 0,
-        "N", cmd);
+    addMaxFramesOption(cmd, "Stop after N frames of the rawlog (0: all)");
     TCLAP::ValueArg<std::string> config(
         "c", "config", withDefault("INI file with a [Stereo] section", "the built-in defaults"),
         false, "", "CONFIG.ini", cmd);
-    TCLAP::MultiArg<std::string> sets(
-        "", "set", "Override a parameter: Stereo.key=value", false, "SECTION.key=value", cmd);
+    addSetOption(cmd, "Override a parameter: Stereo.key=value");
     TCLAP::ValueArg<std::string> gt(
         "", "gt-disparity", "Ground-truth disparity image of the first frame (0 = unknown)", false,
         "", "PNG", cmd);
@@ -143,14 +142,13 @@ void StereoApp::initialize(int argc, const char** argv)
         "", "disparity-png", "Write the first frame's disparity image", false, "", "FILE", cmd);
 
     if (!parseCommandLine(
-            cmd, PROGRAM, argc, argv,
+            cmd, argc, argv,
             {{"--rawlog", "", 0, "DATASET.rawlog"},
              {"--left", "", 0, "LEFT"},
              {"--right", "", 1, "RIGHT"},
              {"--calib", "", 2, "CALIB.ini"}}))
     {
-        m_help_requested = true;
-        return;
+        return false;
     }
     const auto& in = inputs.getValue();
     for (const auto& i : in)
@@ -173,18 +171,16 @@ void StereoApp::initialize(int argc, const char** argv)
     m_right = in.size() == 3 ? in[1] : "";
     m_calib = in.size() == 3 ? in[2] : "";
     m_calib_section = calib_section.getValue();
-    m_max_frames = countOption(max_frames.getValue(), "--max-frames", 0, PROGRAM);
     m_gt_disparity = gt.getValue();
     m_gt_scale = gt_scale.getValue();
     m_out_rawlog = out_rawlog.getValue();
     m_ply = ply.getValue();
     m_disparity_png = disp_png.getValue();
-    loadConfig(params, config.getValue(), sets.getValue());
-    // A typo or a non-number must not run silently on a default.
     mrpt::config::CConfigFileMemory known;
     emslam::stereo::StereoMatcher::TParameters().saveToConfigFile(known, STEREO_SECTION);
-    requireValidOverrides(sets.getValue(), known);
+    loadParameters(config.getValue(), &known);
     checkConfig(params);
+    return true;
 }
 
 void StereoApp::checkConfig(const mrpt::config::CConfigFileBase& params)
@@ -195,12 +191,8 @@ void StereoApp::checkConfig(const mrpt::config::CConfigFileBase& params)
     emslam::stereo::StereoMatcher::TParameters().loadFromConfigFile(params, STEREO_SECTION);
 }
 
-void StereoApp::run()
+void StereoApp::execute()
 {
-    if (m_help_requested)
-    {
-        return;
-    }
     emslam::stereo::StereoMatcher::TParameters sp;
     sp.loadFromConfigFile(params, STEREO_SECTION);
     emslam::stereo::StereoFrontEnd front(sp);
@@ -305,7 +297,7 @@ void StereoApp::run()
             io::RawlogInput in(m_rawlog);
             std::vector<mrpt::obs::CObservation::Ptr> batch;
             std::size_t ignored = 0;
-            while ((m_max_frames == 0 || frames_processed < m_max_frames) && in.next(batch))
+            while ((maxFrames() == 0 || frames_processed < maxFrames()) && in.next(batch))
             {
                 for (const auto& o : batch)
                 {

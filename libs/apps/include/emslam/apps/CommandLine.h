@@ -55,6 +55,10 @@ std::vector<std::string> rewriteDeprecatedSpellings(
     const std::vector<std::string>& args,
     const std::vector<DeprecatedSpelling>& deprecated);
 
+/** "bad command line: MESSAGE; try PROGRAM --help", thrown as
+ * std::invalid_argument. \ingroup emslam_apps_grp \sa App::usageError() */
+[[noreturn]] void usageError(const std::string& program, const std::string& message);
+
 /** `description` followed by " (default: `value`)", for --help texts.
  * \ingroup emslam_apps_grp */
 std::string withDefault(const std::string& description, const std::string& value);

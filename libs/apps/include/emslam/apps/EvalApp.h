@@ -1,6 +1,7 @@
 // SPDX-License-Identifier: BSD-3-Clause
 #pragma once
 
+#include <emslam/apps/App.h>
 #include <emslam/eval/TrajectoryMetrics.h>
 #include <emslam/io/TrajectoryReader.h>
 
@@ -22,20 +23,10 @@ namespace emslam::apps
  *   [--max-dt SECONDS] [--segment-step N]
  * \endcode
  * It has no INI parameters. \ingroup emslam_apps_grp \sa TrajectoryMetrics */
-class EvalApp
+class EvalApp : public App
 {
 public:
-    /** Parses the command line. Throws on bad arguments (including an unknown
-     * --align value or a non-positive --max-dt). After `--help` or
-     * `--version`, helpRequested() is true and run() does nothing. */
-    void initialize(int argc, const char** argv);
-    void initialize(int argc, char** argv) { initialize(argc, const_cast<const char**>(argv)); }
-    /** Reads both trajectories, computes and prints the metrics, writes the
-     * JSON file. Throws with a message naming the file and the cause on a
-     * missing, unreadable or empty trajectory, or when no timestamps match. */
-    void run();
-
-    bool helpRequested() const { return m_help_requested; }
+    EvalApp();
 
     /** Options of the evaluation; tests may edit them between initialize() and run(). */
     eval::TrajectoryMetrics::Options options;
@@ -48,8 +39,14 @@ public:
     /** True if both were KITTI without times, paired line by line. */
     bool paired_by_index{false};
 
+protected:
+    bool parseArguments(int argc, const char** argv) override;
+    /** Reads both trajectories, computes and prints the metrics, writes the
+     * JSON file. Throws with a message naming the file and the cause on a
+     * missing, unreadable or empty trajectory, or when no timestamps match. */
+    void execute() override;
+
 private:
-    bool m_help_requested{false};
     std::string m_gt, m_est, m_json;
     emslam::io::TrajectoryReadOptions m_gt_options, m_est_options;
 };

@@ -1,6 +1,7 @@
 // SPDX-License-Identifier: BSD-3-Clause
 #pragma once
 
+#include <emslam/apps/App.h>
 #include <emslam/apps/ExperimentRunner.h>
 #include <emslam/apps/ExperimentSuite.h>
 
@@ -32,24 +33,21 @@ namespace emslam::apps
  * - Ctrl-C (SIGINT) or SIGTERM: the running run stops, and the tables are
  *   written for the runs that finished.
  * \ingroup emslam_apps_grp \sa ExperimentSuite, runExperiment() */
-class ExperimentsApp
+class ExperimentsApp : public App
 {
 public:
-    /** Parses the command line and loads and checks the suite (every world
-     * and mapper INI included). Throws on bad arguments or configuration. */
-    void initialize(int argc, const char** argv);
-    void initialize(int argc, char** argv) { initialize(argc, const_cast<const char**>(argv)); }
-    /** Runs every selected experiment and writes the outputs. */
-    void run();
+    ExperimentsApp();
 
-    bool helpRequested() const { return m_help_requested; }
     /** The finished runs of the last run(). */
     const std::vector<ExperimentResult>& results() const { return m_results; }
 
+protected:
+    bool parseArguments(int argc, const char** argv) override;
+    /** Runs every selected experiment and writes the outputs. */
+    void execute() override;
+
 private:
-    bool m_help_requested{false};
     bool m_quick{false};
-    bool m_quiet{false};
     bool m_exact_depth{false};
     bool m_energy_scan{false};
     std::string m_suite_file, m_out, m_command;

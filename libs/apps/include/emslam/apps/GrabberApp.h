@@ -1,6 +1,8 @@
 // SPDX-License-Identifier: BSD-3-Clause
 #pragma once
 
+#include <emslam/apps/App.h>
+
 #include <mrpt/config/CConfigFileMemory.h>
 
 #include <cstddef>
@@ -42,23 +44,10 @@ namespace emslam::apps
  * `rawlog-grabber-ignore = true`. Sections without `driver` (calibration,
  * [Stereo]) are ignored.
  * \ingroup emslam_apps_grp \sa doc/apps/emslam-grabber.md */
-class GrabberApp
+class GrabberApp : public App
 {
 public:
-    GrabberApp() = default;
-
-    /** Parses the command line and reads the INI file into `params`. Throws
-     * std::invalid_argument on bad arguments; `--help` / `--version` set
-     * quit_requested. */
-    void initialize(int argc, const char** argv);
-    /** \overload */
-    void initialize(int argc, char** argv);
-
-    /** Lists devices (`--list-devices`) or grabs until a stop condition.
-     * Throws on configuration or sensor-initialisation errors (no output is
-     * left), and, after committing the rawlog, if every sensor failed or
-     * writing failed. */
-    void run();
+    GrabberApp();
 
     /** Asks a running run() to stop, as SIGINT does (thread- and signal-safe). */
     static void requestStop();
@@ -72,8 +61,6 @@ public:
 
     /** \name Settings (filled by initialize(); may be edited before run())
      * @{ */
-    /** The INI content. */
-    mrpt::config::CConfigFileMemory params;
     /** INI file name (for messages). */
     std::string config_file;
     /** Output rawlog; empty: `<rawlog_prefix>.rawlog`. */
@@ -104,7 +91,6 @@ public:
 
     /** \name Results
      * @{ */
-    bool quit_requested{false};         //!< `--help` / `--version` was handled
     std::string device_listing;         //!< `--list-devices` output
     std::size_t frames_written{0};      //!< CObservationStereoImages written
     std::size_t objects_written{0};     //!< all observations written
@@ -113,6 +99,13 @@ public:
     std::uintmax_t output_bytes{0};     //!< size of the rawlog [bytes]
     double elapsed_seconds{0.0};        //!< wall-clock time of run() [s]
     /** @} */
+protected:
+    bool parseArguments(int argc, const char** argv) override;
+    /** Lists devices (`--list-devices`) or grabs until a stop condition.
+     * Throws on configuration or sensor-initialisation errors (no output is
+     * left), and, after committing the rawlog, if every sensor failed or
+     * writing failed. */
+    void execute() override;
 };
 
 }  // namespace emslam::apps

@@ -1,6 +1,8 @@
 // SPDX-License-Identifier: BSD-3-Clause
 #pragma once
 
+#include <emslam/apps/App.h>
+
 #include <cstddef>
 #include <cstdint>
 #include <optional>
@@ -47,21 +49,10 @@ namespace emslam::apps
  *
  * Errors (bad arguments, bad input) are exceptions; nothing calls exit().
  * \ingroup emslam_apps_grp \sa doc/apps/emslam-import.md */
-class ImportApp
+class ImportApp : public App
 {
 public:
-    ImportApp() = default;
-
-    /** Parses the command line (argv[0] is the program name). Throws
-     * std::invalid_argument with the error and a short usage on bad
-     * arguments. `--help` / `--version` print to stdout and set
-     * quit_requested (run() then does nothing). */
-    void initialize(int argc, const char** argv);
-    /** \overload */
-    void initialize(int argc, char** argv);
-
-    /** Runs the import. Throws on any error, leaving no output file behind. */
-    void run();
+    ImportApp();
 
     /** \name Settings (filled by initialize(); may be edited before run())
      * @{ */
@@ -105,7 +96,6 @@ public:
     /** \name Results
      * @{ */
     /** True after `--help` / `--version`: nothing to run. */
-    bool quit_requested{false};
     /** Observations written to output_file. */
     std::size_t frames_written{0};
     /** Poses written to gt_out_file. */
@@ -119,6 +109,11 @@ public:
     /** Wall-clock duration of run() [s]. */
     double elapsed_seconds{0.0};
     /** @} */
+
+protected:
+    bool parseArguments(int argc, const char** argv) override;
+    /** Runs the import. Throws on any error, leaving no output file behind. */
+    void execute() override;
 
 private:
     bool m_initialized{false};

@@ -1,6 +1,8 @@
 // SPDX-License-Identifier: BSD-3-Clause
 #pragma once
 
+#include <emslam/apps/App.h>
+
 #include <mrpt/opengl/COpenGLScene.h>
 
 #include <string>
@@ -18,17 +20,10 @@ namespace emslam::apps
  * drawing), or a `.3Dscene` (map.3Dscene, entropy_map.3Dscene). The window
  * stays until it is closed. Without a display it fails naming the cause.
  * \ingroup emslam_apps_grp \sa entropyVoxelObject(), LiveViewer */
-class MapViewApp
+class MapViewApp : public App
 {
 public:
-    /** Parses the command line; throws std::invalid_argument on bad
-     * arguments. `--help` / `--version` set helpRequested(). */
-    void initialize(int argc, const char** argv);
-    void initialize(int argc, char** argv) { initialize(argc, const_cast<const char**>(argv)); }
-    /** Loads the file, opens the window and returns when it is closed. */
-    void run();
-
-    bool helpRequested() const { return m_help_requested; }
+    MapViewApp();
 
     /** The scene shown for `file` (see the class comment). Throws
      * std::runtime_error naming the file if it is missing, unreadable or of
@@ -36,8 +31,12 @@ public:
     static mrpt::opengl::COpenGLScene::Ptr loadScene(
         const std::string& file, std::size_t max_cells);
 
+protected:
+    bool parseArguments(int argc, const char** argv) override;
+    /** Loads the file, opens the window and returns when it is closed. */
+    void execute() override;
+
 private:
-    bool m_help_requested{false};
     std::string m_file;
     std::size_t m_max_cells{50000};
 };

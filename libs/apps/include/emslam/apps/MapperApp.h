@@ -1,6 +1,7 @@
 // SPDX-License-Identifier: BSD-3-Clause
 #pragma once
 
+#include <emslam/apps/App.h>
 #include <emslam/apps/DegenerateRun.h>
 #include <emslam/apps/MapperOutputs.h>
 #include <emslam/apps/ProgressLine.h>
@@ -53,21 +54,10 @@ namespace emslam::apps
  *   output in it may be a folder, device, FIFO or symbolic link. The folder
  *   is created only when the outputs are written.
  * \ingroup emslam_apps_grp \sa Mapper */
-class MapperApp
+class MapperApp : public App
 {
 public:
-    /** Parses the command line and loads and checks the configuration.
-     * Throws on bad arguments or configuration. After `--help` or
-     * `--version`, helpRequested() is true and run() does nothing. */
-    void initialize(int argc, const char** argv);
-    void initialize(int argc, char** argv) { initialize(argc, const_cast<const char**>(argv)); }
-    /** Maps the rawlog and writes the outputs. Throws naming the file and the
-     * cause on bad input (unreadable rawlog, no usable stereo / RGB-D
-     * observation), or after writing the outputs when an error stopped the
-     * mapping. */
-    void run();
-
-    bool helpRequested() const { return m_help_requested; }
+    MapperApp();
 
     /** The configuration check initialize() runs on the INI file plus the
      * `--set` overrides, before any input is read: every section of the mapper ([Stereo]
@@ -76,9 +66,6 @@ public:
      * parameter structs' validate()). Throws std::invalid_argument naming the section, key and
      * value. */
     static void checkConfig(const mrpt::config::CConfigFileBase& params);
-
-    /** Effective configuration; tests may edit it between initialize() and run(). */
-    mrpt::config::CConfigFileMemory params;
 
     /** The mapper of the last run() (results stay readable). */
     const slam::EntropySlam& mapper() const { return *m_mapper; }
@@ -92,15 +79,21 @@ public:
      * EXIT_DEGENERATE when degenerateResult() is not empty. */
     int exitCode() const { return m_degenerate.empty() ? 0 : EXIT_DEGENERATE; }
 
+protected:
+    bool parseArguments(int argc, const char** argv) override;
+    /** Maps the rawlog and writes the outputs. Throws naming the file and the
+     * cause on bad input (unreadable rawlog, no usable stereo / RGB-D
+     * observation), or after writing the outputs when an error stopped the
+     * mapping. */
+    void execute() override;
+
 private:
     void writeOutputs(const emslam::io::TumTrajectory& ground_truth);
     /** Counts an observation the mapper could not use and warns about the
      * first few. */
     void skipObservation(std::size_t record, const std::string& reason, ProgressLine& progress);
 
-    bool m_help_requested{false};
     std::string m_degenerate;
-    bool m_quiet{false};
     bool m_viewer{false};
     bool m_egomotion_only{false};
     bool m_energy_scan{false};
@@ -108,7 +101,6 @@ private:
     emslam::io::TrajectoryReadOptions m_gt_options;
     emslam::io::LoadedTrajectory m_ground_truth;
     emslam::io::TrajectoryOutput m_trajectory_output{emslam::io::TrajectoryOutput::Tum};
-    std::size_t m_max_frames{0};
     std::unique_ptr<slam::EntropySlam> m_mapper;
     MapperRunInfo m_info;
 };

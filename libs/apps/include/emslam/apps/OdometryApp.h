@@ -1,6 +1,7 @@
 // SPDX-License-Identifier: BSD-3-Clause
 #pragma once
 
+#include <emslam/apps/App.h>
 #include <emslam/apps/DegenerateRun.h>
 #include <emslam/io/TrajectoryWriter.h>
 #include <emslam/io/TumTrajectory.h>
@@ -28,18 +29,10 @@ namespace emslam::apps
  * Parameters: `[Stereo]` (StereoMatcher::TParameters) and `[Egomotion]`
  * (EgomotionEstimator::TParameters); see config/odometry/kitti.ini.
  * \ingroup emslam_apps_grp \sa emslam::egomotion::EgomotionEstimator */
-class OdometryApp
+class OdometryApp : public App
 {
 public:
-    /** Parses the command line. Throws on bad arguments. After `--help` or
-     * `--version`, helpRequested() is true and run() does nothing. */
-    void initialize(int argc, const char** argv);
-    void initialize(int argc, char** argv) { initialize(argc, const_cast<const char**>(argv)); }
-    /** Runs the odometry and writes the trajectory. Throws with a message
-     * naming the file on bad input or when no frame was found. */
-    void run();
-
-    bool helpRequested() const { return m_help_requested; }
+    OdometryApp();
 
     /** The configuration check initialize() runs on the INI file plus the
      * `--set` overrides, before any input is read: [Stereo] and [Egomotion] (other sections are
@@ -47,9 +40,6 @@ public:
      * values in their ranges (the parameter structs' validate()). Throws std::invalid_argument
      * naming the section, key and value. */
     static void checkConfig(const mrpt::config::CConfigFileBase& params);
-
-    /** Effective configuration; tests may edit it between initialize() and run(). */
-    mrpt::config::CConfigFileMemory params;
 
     // ---- Results of run() ----
     std::size_t frames_processed{0};
@@ -70,12 +60,15 @@ public:
      * EXIT_DEGENERATE when `degenerate` is not empty. */
     int exitCode() const { return degenerate.empty() ? 0 : EXIT_DEGENERATE; }
 
+protected:
+    bool parseArguments(int argc, const char** argv) override;
+    /** Runs the odometry and writes the trajectory. Throws with a message
+     * naming the file on bad input or when no frame was found. */
+    void execute() override;
+
 private:
-    bool m_help_requested{false};
-    bool m_quiet{false};
     std::string m_rawlog, m_output;
     emslam::io::TrajectoryOutput m_trajectory_output{emslam::io::TrajectoryOutput::Tum};
-    std::size_t m_max_frames{0};
 };
 
 }  // namespace emslam::apps

@@ -1,6 +1,8 @@
 // SPDX-License-Identifier: BSD-3-Clause
 #pragma once
 
+#include <emslam/apps/App.h>
+
 #include <mrpt/config/CConfigFileMemory.h>
 
 #include <cstddef>
@@ -27,20 +29,10 @@ namespace emslam::apps
  *   on any error the partial files are removed and run() throws.
  * - `--png DIR` also writes `left_NNNNNN.png` / `right_NNNNNN.png`.
  * \ingroup emslam_apps_grp \sa doc/apps/emslam-sim.md */
-class SimApp
+class SimApp : public App
 {
 public:
-    SimApp() = default;
-
-    /** Parses the command line and reads the world file into `params`.
-     * Throws std::invalid_argument on bad arguments; `--help` / `--version`
-     * set quit_requested. */
-    void initialize(int argc, const char** argv);
-    /** \overload */
-    void initialize(int argc, char** argv);
-
-    /** Renders and writes the outputs. Throws on any error, leaving no output. */
-    void run();
+    SimApp();
 
     /** The check run() makes of a world INI before rendering: the values of
      * the sections of StereoSimulator, StereoRenderer, Trajectory and World
@@ -52,8 +44,6 @@ public:
 
     /** \name Settings (filled by initialize(); may be edited before run())
      * @{ */
-    /** The world INI content (with `--seed` applied as [World] seed). */
-    mrpt::config::CConfigFileMemory params;
     /** World file name (for messages). */
     std::string world_file;
     /** Output rawlog. */
@@ -72,12 +62,15 @@ public:
 
     /** \name Results
      * @{ */
-    bool quit_requested{false};      //!< `--help` / `--version` was handled
     std::size_t frames_written{0};   //!< observations written
     std::size_t poses_written{0};    //!< ground-truth lines written
     std::uintmax_t output_bytes{0};  //!< size of output_file [bytes]
     double elapsed_seconds{0.0};     //!< wall-clock time of run() [s]
     /** @} */
+protected:
+    bool parseArguments(int argc, const char** argv) override;
+    /** Renders and writes the outputs. Throws on any error, leaving no output. */
+    void execute() override;
 };
 
 }  // namespace emslam::apps

@@ -1,6 +1,8 @@
 // SPDX-License-Identifier: BSD-3-Clause
 #pragma once
 
+#include <emslam/apps/App.h>
+
 #include <mrpt/config/CConfigFileMemory.h>
 
 #include <cstddef>
@@ -25,17 +27,10 @@ namespace emslam::apps
  * \endcode
  * Parameters are read from the `[Stereo]` section (StereoMatcher::TParameters).
  * \ingroup emslam_apps_grp */
-class StereoApp
+class StereoApp : public App
 {
 public:
-    /** Parses the command line. Throws on bad arguments. After `--help` or
-     * `--version`, helpRequested() is true and run() does nothing. */
-    void initialize(int argc, const char** argv);
-    void initialize(int argc, char** argv) { initialize(argc, const_cast<const char**>(argv)); }
-    /** Processes the input. Throws with a message naming the file on bad input. */
-    void run();
-
-    bool helpRequested() const { return m_help_requested; }
+    StereoApp();
 
     /** The configuration check initialize() runs on the INI file plus the
      * `--set` overrides, before any input is read: [Stereo] (other sections are ignored) must
@@ -43,9 +38,6 @@ public:
      * and values in their ranges (the parameter structs' validate()).
      * Throws std::invalid_argument naming the section, key and value. */
     static void checkConfig(const mrpt::config::CConfigFileBase& params);
-
-    /** Effective configuration; tests may edit it between initialize() and run(). */
-    mrpt::config::CConfigFileMemory params;
 
     // ---- Results of run() ----
     std::size_t frames_processed{0};
@@ -58,12 +50,15 @@ public:
     /** Fraction of ground-truth pixels that got a disparity, or -1. */
     double gt_coverage{-1};
 
+protected:
+    bool parseArguments(int argc, const char** argv) override;
+    /** Processes the input. Throws with a message naming the file on bad input. */
+    void execute() override;
+
 private:
-    bool m_help_requested{false};
     std::string m_left, m_right, m_calib, m_calib_section{"CAMERA"};
     std::string m_rawlog, m_out_rawlog, m_ply, m_disparity_png, m_gt_disparity;
     double m_gt_scale{1.0};
-    std::size_t m_max_frames{0};
 };
 
 }  // namespace emslam::apps
