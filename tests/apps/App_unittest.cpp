@@ -62,11 +62,7 @@ protected:
 void init(DemoApp& app, std::vector<std::string> args)
 {
     args.insert(args.begin(), "emslam-demo");
-    std::vector<const char*> argv;
-    for (const auto& a : args)
-    {
-        argv.push_back(a.c_str());
-    }
+    auto argv = emslam::test::argvOf(args);
     app.initialize(static_cast<int>(argv.size()), argv.data());
 }
 }  // namespace

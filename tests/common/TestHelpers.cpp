@@ -43,6 +43,17 @@ void expectThrowContaining(
     }
 }
 
+std::vector<const char*> argvOf(const std::vector<std::string>& args)
+{
+    std::vector<const char*> argv;
+    argv.reserve(args.size());
+    for (const auto& a : args)
+    {
+        argv.push_back(a.c_str());
+    }
+    return argv;
+}
+
 double maxPoseDifference(const mrpt::poses::CPose3D& a, const mrpt::poses::CPose3D& b)
 {
     double d = (a.translation() - b.translation()).norm();

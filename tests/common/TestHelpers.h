@@ -24,6 +24,9 @@ void expectThrowContaining(
  * positions or the largest difference of a rotation matrix entry. */
 double maxPoseDifference(const mrpt::poses::CPose3D& a, const mrpt::poses::CPose3D& b);
 
+/** `args` as a main() receives them (the strings must outlive the result). */
+std::vector<const char*> argvOf(const std::vector<std::string>& args);
+
 /** How a program run by interruptedRun() ended. */
 struct InterruptedRun
 {
