@@ -62,20 +62,24 @@ std::string fixed(double v, int decimals)
 
 }  // namespace
 
+namespace
+{
+double distance(const mrpt::poses::CPose3D& a, const mrpt::poses::CPose3D& b)
+{
+    return (b.asTPose().translation() - a.asTPose().translation()).norm();
+}
+}  // namespace
+
 double loopGap(const emslam::io::TumTrajectory& t)
 {
-    if (t.size() < 2)
-    {
-        return 0.0;
-    }
-    return (t.poses.back().pose.asTPose().translation() -
-            t.poses.front().pose.asTPose().translation())
-        .norm();
+    return t.size() < 2 ? 0.0 : distance(t.poses.front().pose, t.poses.back().pose);
 }
 
 double loopGap(const std::vector<emslam::rectify::TimedPose>& poses)
 {
-    return loopGap(tumTrajectoryOf(poses));
+    // Straight from the poses: no TUM copy of the whole trajectory.
+    return poses.size() < 2 ? 0.0
+                            : distance(poses.front().T_world_frame, poses.back().T_world_frame);
 }
 
 emslam::io::TumTrajectory tumTrajectoryOf(const std::vector<emslam::rectify::TimedPose>& poses)
