@@ -126,3 +126,35 @@ TEST(AnyTimeRectification, destructorStopsTheThreadWithoutFinish)
     }
     SUCCEED();
 }
+
+TEST(AnyTimeRectification, coarseLevelsAreWalkedDownToTheFineGrid)
+{
+    test::DriveOptions o;
+    o.max_frames = 120;
+    const auto frames = test::driveWorld("config/sim/hall_double_loop.ini", o);
+    CEntropyVoxelMap::TCreationOptions map;
+    map.energy = maps::EnergyType::PlanarLowStructured;
+    map.dof = 3;
+    TRectifierOptions opt;
+    opt.mode = RectificationMode::AnyTime;
+    opt.vertical_band = true;
+    opt.coarse_levels = 1;
+    AnyTimeRectification a(opt, map);
+    for (const auto& f : frames)
+    {
+        a.addFrame(f.action_drifted, f.cloud, f.timestamp, f.frame_index);
+        std::this_thread::sleep_for(std::chrono::milliseconds(5));
+    }
+    a.finish();
+    EXPECT_EQ(a.trajectory().resolutionLevel(), 0);
+    EXPECT_DOUBLE_EQ(a.trajectory().map().creationOptions().cell_size, map.cell_size);
+    std::size_t coarse = 0;
+    for (const auto& s : a.statistics())
+    {
+        coarse += s.coarse_attempts;
+        EXPECT_LE(s.coarse_attempts, s.attempts);
+    }
+    EXPECT_GT(coarse, 0u);
+    // The final (serial) rectification ends on l_d, at the energy it reports.
+    EXPECT_NEAR(a.trajectory().energy(), a.statistics().back().energy_after, 1e-9);
+}

@@ -149,6 +149,51 @@ TEST(EnergyAtPoses, gridPhasesFollowChangesRevertsAndCompression)
     test::expectThrowContaining([&] { t.setGridPhases(0); }, {"setGridPhases", "1..8"});
 }
 
+TEST(EnergyAtPoses, resolutionLevelsRebinOnCoarserCellsAndComeBackExactly)
+{
+    const auto frames = hallFrames(60);
+    Trajectory t = drivenTrajectory(frames, maps::EnergyType::PlanarLowStructured);
+    t.setGridPhases(2);
+    const double fine = t.entropy();
+    const double cell = t.map().creationOptions().cell_size;
+    t.setResolutionLevel(1);
+    EXPECT_DOUBLE_EQ(t.map().creationOptions().cell_size, 2 * cell);
+    // Fewer, fuller cells: less entropy, the same as a map built on them.
+    EXPECT_LT(t.entropy(), fine - 0.1);
+    const auto own = elementPosesAt(t, lookupOf(t.framePoses()));
+    EXPECT_NEAR(t.entropy(), entropyAtElementPoses(t, own, 2), 1e-9 * std::abs(fine));
+    // Moves on the coarse grid are undone exactly; l_d comes back bit for bit.
+    const double before = t.energy();
+    t.changeActions({{5, t.action(5) + CPose3D(0.2, 0, 0.1, 0.03, 0, 0)}});
+    EXPECT_NEAR(t.revertLastChange(), before, 1e-9 * std::abs(before));
+    t.setResolutionLevel(0);
+    EXPECT_NEAR(t.entropy(), fine, 1e-9 * std::abs(fine));
+    // append() works on l_d: it returns there first.
+    t.setResolutionLevel(2);
+    t.append(CPose3D(0.1, 0, 0, 0, 0, 0), frames.back().cloud, 99.0);
+    EXPECT_EQ(t.resolutionLevel(), 0);
+    test::expectThrowContaining([&] { t.setResolutionLevel(5); }, {"setResolutionLevel", "0..4"});
+}
+
+TEST(EnergyAtPoses, priorAtPosesIsTheTrajectorysPriorAndZeroAtTheEgomotion)
+{
+    const auto frames = hallFrames(60);
+    Trajectory t = drivenTrajectory(frames, maps::EnergyType::PlanarLowStructured);
+    OdometryPrior prior;
+    prior.weight = 1e-3;
+    t.setOdometryPrior(prior);
+    const auto own = [&] { return elementPosesAt(t, lookupOf(t.framePoses())); };
+    EXPECT_NEAR(priorAtElementPoses(t, own()), 0.0, 1e-12);  // the actions are the egomotion's
+    t.changeActions({{4, t.action(4) + CPose3D(0.05, 0, -0.04, 0.02, 0, 0)}});
+    t.commitChange();
+    EXPECT_GT(t.priorEnergy(), 1e-4);
+    EXPECT_NEAR(priorAtElementPoses(t, own()), t.priorEnergy(), 1e-9 * t.priorEnergy());
+    t.setOdometryPrior(OdometryPrior{});
+    EXPECT_EQ(priorAtElementPoses(t, own()), 0.0);
+    test::expectThrowContaining(
+        [&] { priorAtElementPoses(t, {CPose3D()}); }, {"1 poses for", "elements"});
+}
+
 TEST(EnergyAtPoses, averagedGridPhasesHideMostOfTheGridPhase)
 {
     // The same map moved rigidly by fractions of a cell: the single grid's

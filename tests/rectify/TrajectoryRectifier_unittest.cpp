@@ -80,6 +80,45 @@ TEST(TrajectoryRectifier, bestEnergyNeverIncreasesAndStopsAfterNcMaxFailures)
     EXPECT_NEAR(t.recomputeEnergy(), s.energy_after, 1e-9);
 }
 
+TEST(TrajectoryRectifier, coarseToFineEndsOnTheFineGridBelowItsStart)
+{
+    Trajectory t = drifted(hallStart());
+    const double cell = t.map().creationOptions().cell_size;
+    TRectifierOptions opt;
+    opt.eps_xyz = 0.01;
+    opt.eps_rot_deg = 0.5;
+    opt.coarse_levels = 2;
+    TrajectoryRectifier r(opt);
+    const RectificationStats s = r.rectify(t);
+    EXPECT_TRUE(s.converged);
+    EXPECT_EQ(t.resolutionLevel(), 0);
+    EXPECT_DOUBLE_EQ(t.map().creationOptions().cell_size, cell);
+    // Two coarse levels of at least NC_max attempts each, then l_d's.
+    EXPECT_GE(s.coarse_attempts, 2u * static_cast<std::size_t>(opt.nc_max));
+    EXPECT_GE(s.attempts, s.coarse_attempts + static_cast<std::size_t>(opt.nc_max));
+    EXPECT_EQ(s.attempts, s.successes + s.failures);
+    EXPECT_LT(s.energy_after, s.energy_before);
+    EXPECT_NEAR(t.recomputeEnergy(), s.energy_after, 1e-9);
+
+    // Stepwise (AnyTime's way): refine() walks the levels down to l_d.
+    Trajectory u = drifted(hallStart());
+    RectificationStats su;
+    r.begin(u, su);
+    EXPECT_EQ(u.resolutionLevel(), 2);
+    EXPECT_DOUBLE_EQ(u.map().creationOptions().cell_size, 4 * cell);
+    EXPECT_TRUE(r.refine(u));
+    EXPECT_EQ(u.resolutionLevel(), 1);
+    EXPECT_TRUE(r.refine(u));
+    EXPECT_FALSE(r.refine(u));
+    EXPECT_EQ(u.resolutionLevel(), 0);
+    // Stopped on a coarse level, finish() still leaves l_d's energy.
+    r.begin(u, su);
+    r.attempt(u, su);
+    r.finish(u, su);
+    EXPECT_EQ(u.resolutionLevel(), 0);
+    EXPECT_NEAR(u.recomputeEnergy(), su.energy_after, 1e-9);
+}
+
 TEST(TrajectoryRectifier, paperRatioRuleKeepsTheBestStateSeen)
 {
     Trajectory t = drifted(hallStart());
@@ -143,6 +182,7 @@ TEST(TrajectoryRectifier, optionsRoundTripAndRejectBadValues)
     o.prior_covariance = PriorCovariance::Egomotion;
     o.proposal = ProposalShape::Coherent;
     o.proposal_scale = 0.5;
+    o.coarse_levels = 2;
     mrpt::config::CConfigFileMemory out;
     o.saveToConfigFile(out, "Rectifier");
     mrpt::config::CConfigFileMemory in(out.getContent());
@@ -160,6 +200,7 @@ TEST(TrajectoryRectifier, optionsRoundTripAndRejectBadValues)
     EXPECT_EQ(back.odometryPrior().covariance, PriorCovariance::Egomotion);
     EXPECT_EQ(back.proposal, ProposalShape::Coherent);
     EXPECT_DOUBLE_EQ(back.proposal_scale, 0.5);
+    EXPECT_EQ(back.coarse_levels, 2);
 
     const auto load = [](const std::string& kv)
     {
@@ -180,6 +221,8 @@ TEST(TrajectoryRectifier, optionsRoundTripAndRejectBadValues)
         [&] { load("prior_sigma_rot_deg = nan"); }, {"prior_sigma_rot_deg"});
     test::expectThrowContaining([&] { load("grid_phases = 0"); }, {"grid_phases", "1..8"});
     test::expectThrowContaining([&] { load("grid_phases = 9"); }, {"grid_phases", "1..8"});
+    test::expectThrowContaining([&] { load("coarse_levels = -1"); }, {"coarse_levels", "0..4"});
+    test::expectThrowContaining([&] { load("coarse_levels = 5"); }, {"coarse_levels", "0..4"});
     test::expectThrowContaining(
         [&] { load("prior_covariance = hessian"); }, {"prior_covariance", "fixed, egomotion"});
     test::expectThrowContaining([&] { load("proposal = gauss"); }, {"proposal", "coherent"});

@@ -37,19 +37,22 @@ MapperEnergyScan scanMapperEnergy(
 {
     const auto& t = m.trajectory();
     MapperEnergyScan s;
-    s.scan = emslam::rectify::scanEnergy(t, emslam::rectify::elementPosesAt(t, T_world_frame));
+    const auto truth = emslam::rectify::elementPosesAt(t, T_world_frame);
+    s.scan = emslam::rectify::scanEnergy(t, truth);
     const int phases = s.scan.summary.grid_phases;
     const auto& ego = m.egomotionPoses();
-    s.entropy_egomotion = emslam::rectify::entropyAtElementPoses(
-        t,
-        emslam::rectify::elementPosesAt(t, [&](std::size_t i) { return ego.at(i).T_world_frame; }),
-        phases);
+    const auto egomotion =
+        emslam::rectify::elementPosesAt(t, [&](std::size_t i) { return ego.at(i).T_world_frame; });
+    s.entropy_egomotion = emslam::rectify::entropyAtElementPoses(t, egomotion, phases);
     std::vector<mrpt::poses::CPose3D> slam;
     for (std::size_t i = 0; i < t.size(); ++i)
     {
         slam.push_back(t.pose(i));
     }
     s.entropy_slam = emslam::rectify::entropyAtElementPoses(t, slam, phases);
+    s.prior_truth = emslam::rectify::priorAtElementPoses(t, truth);
+    s.prior_egomotion = emslam::rectify::priorAtElementPoses(t, egomotion);
+    s.prior_slam = emslam::rectify::priorAtElementPoses(t, slam);
     return s;
 }
 
@@ -146,6 +149,9 @@ std::string energyScanJson(const MapperEnergyScan& m)
       << ", \"energy_at_truth\": " << io::jsonNumber(s.energy_at_truth)
       << ", \"energy_at_egomotion\": " << io::jsonNumber(m.entropy_egomotion)
       << ", \"energy_at_slam\": " << io::jsonNumber(m.entropy_slam)
+      << ", \"prior_at_truth\": " << io::jsonNumber(m.prior_truth)
+      << ", \"prior_at_egomotion\": " << io::jsonNumber(m.prior_egomotion)
+      << ", \"prior_at_slam\": " << io::jsonNumber(m.prior_slam)
       << ", \"fraction_at_truth\": " << io::jsonNumber(s.fraction_at_truth)
       << ", \"median_abs_argmin_translation_m\": "
       << io::jsonNumber(s.median_abs_argmin_translation_m)

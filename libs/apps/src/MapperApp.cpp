@@ -478,10 +478,12 @@ void MapperApp::writeOutputs(const emslam::io::TumTrajectory& ground_truth)
         std::printf(
             "energy scan around the ground truth: minimum at the truth on %zu of %zu lines, median "
             "|argmin| %.3f m / %.2f deg, %.1f s; entropy at truth / egomotion / SLAM %.4f / "
-            "%.4f / %.4f\n",
+            "%.4f / %.4f; odometry prior %.4f / %.4f / %.4f\n",
             e.lines_at_truth, e.lines, e.median_abs_argmin_translation_m,
             mrpt::RAD2DEG(e.median_abs_argmin_rotation_rad), e.seconds, e.energy_at_truth,
-            m_info.energy_scan->entropy_egomotion, m_info.energy_scan->entropy_slam);
+            m_info.energy_scan->entropy_egomotion, m_info.energy_scan->entropy_slam,
+            m_info.energy_scan->prior_truth, m_info.energy_scan->prior_egomotion,
+            m_info.energy_scan->prior_slam);
     }
     std::printf(
         "outputs in '%s' (report: %s)\n", m_out.c_str(), joinPath(m_out, "report.html").c_str());

@@ -54,9 +54,10 @@ void AnyTimeRectification::run()
             const bool capped =
                 m_options.max_attempts > 0 &&
                 m_current.attempts >= static_cast<std::size_t>(m_options.max_attempts);
-            if (m_rectifier.consecutiveFailures() >= m_options.nc_max || capped)
+            const bool converged = m_rectifier.consecutiveFailures() >= m_options.nc_max;
+            if ((converged && !m_rectifier.refine(m_trajectory)) || capped)
             {
-                closeRun();  // converged: idle until new frames arrive
+                closeRun();  // converged at l_d: idle until new frames arrive
             }
         }
         catch (...)

@@ -61,4 +61,22 @@ double entropyAtElementPoses(
     return sum / grid_phases;
 }
 
+double priorAtElementPoses(
+    const Trajectory& t, const std::vector<mrpt::poses::CPose3D>& element_poses)
+{
+    if (element_poses.size() != t.size())
+    {
+        throw std::invalid_argument(
+            "priorAtElementPoses: " + std::to_string(element_poses.size()) + " poses for " +
+            std::to_string(t.size()) + " elements");
+    }
+    std::vector<mrpt::poses::CPose3D> actions;
+    actions.reserve(element_poses.size());
+    for (std::size_t i = 0; i < element_poses.size(); ++i)
+    {
+        actions.push_back(i == 0 ? element_poses[0] : element_poses[i] - element_poses[i - 1]);
+    }
+    return t.priorEnergyOf(actions);
+}
+
 }  // namespace emslam::rectify

@@ -3,6 +3,7 @@
 #include <emslam/rectify/Trajectory.h>
 
 #include <algorithm>
+#include <cmath>
 #include <numeric>
 #include <stdexcept>
 #include <string>
@@ -14,7 +15,7 @@ using emslam::maps::EnergyType;
 Trajectory::Trajectory(
     const emslam::CEntropyVoxelMap::TCreationOptions& map_options,
     const emslam::CEntropyVoxelMap::TInsertionOptions& insertion_options)
-    : m_map(map_options, insertion_options)
+    : m_map(map_options, insertion_options), m_base_cell_size(m_map.creationOptions().cell_size)
 {
 }
 
@@ -32,6 +33,7 @@ void Trajectory::append(
     std::size_t frame_index,
     const std::optional<ActionCovariance>& covariance)
 {
+    setResolutionLevel(0);  // the new cloud is simplified at l_d
     // The caller's action starts at the last frame, which after compression
     // is not the last element's origin.
     mrpt::poses::CPose3D a = action;
@@ -98,6 +100,25 @@ void Trajectory::setGridPhases(int phases)
     rebuildPhaseMaps();
 }
 
+void Trajectory::setResolutionLevel(int level)
+{
+    if (level < 0 || level > 4)
+    {
+        throw std::invalid_argument(
+            "Trajectory::setResolutionLevel: " + std::to_string(level) + " is not in 0..4");
+    }
+    if (level == m_level)
+    {
+        return;
+    }
+    m_level = level;
+    auto options = m_map.creationOptions();
+    options.cell_size = std::ldexp(m_base_cell_size, level);
+    m_undo_valid = false;
+    m_map.setCreationOptions(options);  // re-bins every observation
+    setGridPhases(gridPhases());        // the shifts are fractions of the new cell
+}
+
 mrpt::poses::CPose3D Trajectory::gridPhaseShift(int k, int phases, double cell_size)
 {
     const double d = cell_size * k / phases;
@@ -125,16 +146,37 @@ void Trajectory::setOdometryPrior(const OdometryPrior& prior)
 
 double Trajectory::priorTerm(std::size_t i) const
 {
+    return priorTerm(i, m_actions[i]);
+}
+
+double Trajectory::priorTerm(std::size_t i, const mrpt::poses::CPose3D& action) const
+{
     if (i == 0 || !m_prior.enabled())
     {
         return 0.0;
     }
     if (m_prior.covariance == PriorCovariance::Egomotion)
     {
-        return m_prior.cost(m_actions[i], m_reference[i], m_reference_info[i]);
+        return m_prior.cost(action, m_reference[i], m_reference_info[i]);
     }
     // a_i spans the frames of element i-1 (from its first frame to element i's).
-    return m_prior.cost(m_actions[i], m_reference[i], m_frames[i - 1].size());
+    return m_prior.cost(action, m_reference[i], m_frames[i - 1].size());
+}
+
+double Trajectory::priorEnergyOf(const std::vector<mrpt::poses::CPose3D>& actions) const
+{
+    if (actions.size() != m_actions.size())
+    {
+        throw std::invalid_argument(
+            "Trajectory::priorEnergyOf: got " + std::to_string(actions.size()) +
+            " actions for N = " + std::to_string(m_actions.size()));
+    }
+    double sum = 0.0;
+    for (std::size_t i = 0; i < actions.size(); ++i)
+    {
+        sum += priorTerm(i, dof() == 3 ? planarAction(actions[i]) : actions[i]);
+    }
+    return sum;
 }
 
 void Trajectory::recomputePrior()

@@ -65,6 +65,7 @@ void TrajectoryRectifier::begin(Trajectory& t, RectificationStats& s)
     s = RectificationStats{};
     s.elements = t.size();
     s.frames = t.frameCount();
+    t.setResolutionLevel(0);
     m_energy = t.empty() ? 0.0 : t.recomputeEnergy();
     s.energy_before = m_energy;
     s.energy_after = m_energy;
@@ -72,6 +73,36 @@ void TrajectoryRectifier::begin(Trajectory& t, RectificationStats& s)
     m_best_energy = m_energy;
     m_consecutive_failures = 0;
     m_reuse = false;
+    if (m_p.coarse_levels > 0 && t.size() >= 2)
+    {
+        startLevel(t, m_p.coarse_levels);
+    }
+}
+
+void TrajectoryRectifier::startLevel(Trajectory& t, int level)
+{
+    if (m_p.acceptance != Acceptance::Greedy && m_energy > m_best_energy &&
+        m_best.size() == t.size())
+    {
+        t.setActions(m_best);
+        t.commitChange();
+    }
+    t.setResolutionLevel(level);
+    m_energy = t.recomputeEnergy();
+    m_best = t.actions();
+    m_best_energy = m_energy;
+    m_consecutive_failures = 0;
+    m_reuse = false;
+}
+
+bool TrajectoryRectifier::refine(Trajectory& t)
+{
+    if (t.resolutionLevel() == 0)
+    {
+        return false;
+    }
+    startLevel(t, t.resolutionLevel() - 1);
+    return true;
 }
 
 void TrajectoryRectifier::drawPerturbation(const Trajectory& t)
@@ -169,6 +200,10 @@ bool TrajectoryRectifier::attempt(Trajectory& t, RectificationStats& s)
     }
     const double e_try = t.changeActions(m_changes);
     ++s.attempts;
+    if (t.resolutionLevel() > 0)
+    {
+        ++s.coarse_attempts;
+    }
 
     const bool success = e_try < m_energy - m_p.min_improvement * std::abs(m_energy);
     if (success)
@@ -217,6 +252,10 @@ bool TrajectoryRectifier::attempt(Trajectory& t, RectificationStats& s)
 
 void TrajectoryRectifier::finish(Trajectory& t, RectificationStats& s)
 {
+    if (t.resolutionLevel() > 0)
+    {
+        startLevel(t, 0);  // stopped or capped on a coarse level
+    }
     if (m_p.acceptance != Acceptance::Greedy && m_energy > m_best_energy &&
         m_best.size() == t.size())
     {
@@ -232,12 +271,15 @@ RectificationStats TrajectoryRectifier::rectify(Trajectory& t, const std::atomic
     RectificationStats s;
     begin(t, s);
     const auto t0 = std::chrono::steady_clock::now();
-    while (t.size() >= 2 && m_consecutive_failures < m_p.nc_max &&
-           (m_p.max_attempts == 0 || s.attempts < static_cast<std::size_t>(m_p.max_attempts)) &&
-           !(stop && stop->load(std::memory_order_relaxed)))
+    do
     {
-        attempt(t, s);
-    }
+        while (t.size() >= 2 && m_consecutive_failures < m_p.nc_max &&
+               (m_p.max_attempts == 0 || s.attempts < static_cast<std::size_t>(m_p.max_attempts)) &&
+               !(stop && stop->load(std::memory_order_relaxed)))
+        {
+            attempt(t, s);
+        }
+    } while (m_consecutive_failures >= m_p.nc_max && refine(t));
     finish(t, s);
     s.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
     return s;

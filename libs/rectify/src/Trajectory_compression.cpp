@@ -72,6 +72,7 @@ void Trajectory::compress()
     {
         return;
     }
+    setResolutionLevel(0);  // fused clouds are simplified at l_d
     std::vector<std::vector<ElementFrame>> frames;
     frames.reserve((n + 1) / 2);
     for (std::size_t i = 0; i < n; i += 2)

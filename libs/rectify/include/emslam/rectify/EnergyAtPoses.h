@@ -34,4 +34,11 @@ double entropyAtElementPoses(
     const std::vector<mrpt::poses::CPose3D>& element_poses,
     int grid_phases = 1);
 
+/** The odometry prior's part of `t`'s energy (Trajectory::priorEnergyOf())
+ * with its elements at `element_poses`: beside entropyAtElementPoses(), does
+ * the prior let the rectifier reach those poses? 0 when the prior is off.
+ * \ingroup emslam_rectify_grp */
+double priorAtElementPoses(
+    const Trajectory& t, const std::vector<mrpt::poses::CPose3D>& element_poses);
+
 }  // namespace emslam::rectify

@@ -21,6 +21,8 @@ struct RectificationStats
     double energy_after{0.0};       //!< energy of the trajectory it left (the best seen)
     double seconds{0.0};            //!< wall time spent on attempts [s]
     bool converged{false};          //!< ended by NC_max consecutive failures
+    /** Of `attempts`, those made on a coarser grid than l_d (`coarse_levels`). */
+    std::size_t coarse_attempts{0};
     /** Energy of the trajectory after each attempt (kept or reverted), for
      * plots; 4 bytes per attempt. */
     std::vector<float> energy_trace;

@@ -73,6 +73,7 @@ enum class ProposalShape : std::uint8_t
  * proposal         = box     ; box (the paper's ε) | covariance | coherent (egomotion's)
  * proposal_scale   = 1       ; σ multiplier of the covariance proposal
  * grid_phases      = 1       ; entropy averaged over shifted voxel grids (1: the paper)
+ * coarse_levels    = 0       ; each rectification first runs on cells 2^L..2 l_d (0: the paper)
  * \endcode
  *
  * `vertical_band` is an option beside the paper: for a 3DOF robot (fixed
@@ -120,6 +121,10 @@ struct TRectifierOptions : public mrpt::config::CLoadableOptions
     /** Grid phases the entropy is averaged over (Trajectory::setGridPhases());
      * 1: the paper's single voxel grid (Default: 1) */
     int grid_phases{1};
+    /** Coarse to fine: each rectification first runs to convergence on
+     * cells of 2^L·l_d, then 2^(L-1)·l_d, ..., then l_d; 0: only l_d, the
+     * paper (Default: 0) */
+    int coarse_levels{0};
 
     /** The prior these options describe. */
     OdometryPrior odometryPrior() const

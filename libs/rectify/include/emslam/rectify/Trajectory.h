@@ -93,6 +93,9 @@ public:
     double entropy() const;
     /** The odometry prior's part of energy(). */
     double priorEnergy() const { return m_prior_sum; }
+    /** The odometry prior's cost of other actions (one per element; made
+     * planar for 3DOF), e.g. those of the ground truth: 0 when it is off. */
+    double priorEnergyOf(const std::vector<mrpt::poses::CPose3D>& actions) const;
     /** Recomputes the map's histograms from scratch (drops rounding drift of
      * long runs of incremental updates); returns the energy. */
     double recomputeEnergy();
@@ -112,6 +115,13 @@ public:
     /** The world shift of grid phase k of `phases`: k / phases of a cell
      * along (1, 1, 1). */
     static mrpt::poses::CPose3D gridPhaseShift(int k, int phases, double cell_size);
+    /** Bins the map on cells 2^level times l_d (0: l_d, the map as built):
+     * a coarser grid sees misalignments of up to its cell, so a rectification
+     * may start coarse and refine (coarse to fine). The observations stay
+     * simplified at l_d. append() and compress() need level 0 (they return
+     * to it). Throws unless 0 <= level <= 4. */
+    void setResolutionLevel(int level);
+    int resolutionLevel() const { return m_level; }
     const OdometryPrior& odometryPrior() const { return m_prior; }
     /** The egomotion's estimate of action i (the prior's reference). */
     const mrpt::poses::CPose3D& referenceAction(std::size_t i) const { return m_reference.at(i); }
@@ -157,6 +167,8 @@ private:
     double movePosesFrom(std::size_t first);
     /** Prior cost of action i (0 for a_0 or when the prior is off). */
     double priorTerm(std::size_t i) const;
+    /** Prior cost of `action` in place of action i. */
+    double priorTerm(std::size_t i, const mrpt::poses::CPose3D& action) const;
     /** Recomputes every prior term and their sum. */
     void recomputePrior();
     /** Updates the terms of these actions and the sum. */
@@ -188,6 +200,8 @@ private:
     std::vector<ActionChange> m_undo;  //!< old values of the last change's actions
     bool m_undo_valid{false};
     std::size_t m_compressions{0};
+    double m_base_cell_size{0.0};  //!< l_d: the cell size at resolution level 0
+    int m_level{0};
 };
 
 }  // namespace emslam::rectify

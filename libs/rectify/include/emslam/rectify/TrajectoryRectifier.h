@@ -27,6 +27,11 @@ namespace emslam::rectify
  * usually points down a slope. The run ends after NC_max consecutive failures
  * (or `max_attempts`), and leaves the trajectory at the lowest energy seen.
  *
+ * With `coarse_levels` L > 0 a run starts on cells of 2^L·l_d and, each time
+ * NC_max consecutive failures end a level, goes on one level finer
+ * (refine()), down to l_d: coarse cells see misalignments of up to their
+ * size (a loop's), fine ones the detail.
+ *
  * Deterministic: the same seed, trajectory and call sequence give the same
  * result. Not thread-safe: one thread drives one rectifier.
  * \ingroup emslam_rectify_grp */
@@ -43,12 +48,15 @@ public:
      * begin() once, attempt() any number of times, finish() at the end: the
      * trajectory then holds the best state seen since begin(). */
     /** @{ */
-    /** Starts a run on `t`: the energy is recomputed from scratch, the best
-     * state is the current one, the failure count is 0. */
+    /** Starts a run on `t` at the coarsest level: the energy is recomputed
+     * from scratch, the best state is the current one, the failure count is 0. */
     void begin(Trajectory& t, RectificationStats& s);
     /** One attempt; returns true on success. */
     bool attempt(Trajectory& t, RectificationStats& s);
-    /** Restores the best state seen and fills `s.energy_after`. */
+    /** After NC_max failures on a coarse level: keeps its best state and goes
+     * on one level finer (failure count 0); false at l_d (the run is over). */
+    bool refine(Trajectory& t);
+    /** Restores the best state seen, returns to l_d and fills `s.energy_after`. */
     void finish(Trajectory& t, RectificationStats& s);
     /** Consecutive failed attempts (INC): ≥ NC_max means "map stable". */
     int consecutiveFailures() const { return m_consecutive_failures; }
@@ -63,6 +71,9 @@ private:
         ActionDelta delta{};
     };
     void drawPerturbation(const Trajectory& t);
+    /** Keeps the best state seen (non-greedy acceptance) and moves `t` to
+     * `level`; the energy, best state and failure count start afresh there. */
+    void startLevel(Trajectory& t, int level);
 
     TRectifierOptions m_p;
     std::mt19937_64 m_rng;
