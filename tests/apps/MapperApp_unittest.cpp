@@ -249,6 +249,41 @@ TEST(MapperApp, mapsASimulatedRawlogAndWritesEveryOutput)
     const std::string csv = readText(out + "/stats.csv");
     EXPECT_EQ(countLinesStartingWith(csv, "frame,"), 60U);
     EXPECT_GE(countLinesStartingWith(csv, "rectification,"), 2U);
+    // The egomotion's deviations per step: empty for frame 0, then positive
+    // and of the size of a step's error (millimetres to centimetres).
+    EXPECT_NE(
+        csv.find(",sigma_x_m,sigma_y_m,sigma_z_m,sigma_rx_deg,sigma_ry_deg,sigma_rz_deg\n"),
+        std::string::npos);
+    {
+        std::istringstream lines(csv);
+        std::string line;
+        std::size_t checked = 0;
+        while (std::getline(lines, line))
+        {
+            if (line.rfind("frame,", 0) != 0)
+                continue;
+            std::vector<std::string> cells;
+            std::stringstream cs(line);
+            for (std::string c; std::getline(cs, c, ',');)
+                cells.push_back(c);
+            while (cells.size() < 29)
+                cells.emplace_back();  // trailing empty cells of frame 0
+            ASSERT_EQ(cells.size(), 29U) << line;
+            if (line.rfind("frame,0,", 0) == 0)
+            {
+                EXPECT_TRUE(cells[23].empty()) << line;
+                continue;
+            }
+            const double sx = std::stod(cells[23]);
+            const double sry = std::stod(cells[27]);
+            EXPECT_GT(sx, 1e-5) << line;
+            EXPECT_LT(sx, 0.2) << line;
+            EXPECT_GT(sry, 1e-4) << line;
+            EXPECT_LT(sry, 5.0) << line;
+            ++checked;
+        }
+        EXPECT_EQ(checked, 59U);
+    }
 
     const std::string json = readText(out + "/summary.json");
     for (const char* key :

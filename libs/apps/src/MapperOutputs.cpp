@@ -10,6 +10,7 @@
 #include <emslam/io/Json.h>
 #include <emslam/maps/EntropyEnergy.h>
 
+#include <mrpt/core/bits_math.h>
 #include <mrpt/io/CFileOutputStream.h>
 #include <mrpt/serialization/CArchive.h>
 
@@ -146,14 +147,25 @@ void writeStatsCsv(const slam::EntropySlam& m, const std::string& file)
     o << "type,index,timestamp,ms_stereo,ms_egomotion,ms_rectification,ms_total,points,"
          "matches_before_lwo,matches_after_lwo,accepted,egomotion_ok,energy,"
          "elements,frames,attempts,successes,accepted_worse,failures,energy_before,"
-         "energy_after,seconds,converged\n";
+         "energy_after,seconds,converged,sigma_x_m,sigma_y_m,sigma_z_m,sigma_rx_deg,"
+         "sigma_ry_deg,sigma_rz_deg\n";
     for (const auto& r : m.frames())
     {
         o << "frame," << r.index << ',' << fixed(r.timestamp, 6) << ',' << fixed(r.ms_stereo, 3)
           << ',' << fixed(r.ms_egomotion, 3) << ',' << fixed(r.ms_rectification, 3) << ','
           << fixed(r.ms_total, 3) << ',' << r.points << ',' << r.initial_matches << ','
           << r.final_matches << ',' << (r.accepted ? 1 : 0) << ',' << (r.egomotion_ok ? 1 : 0)
-          << ',' << io::jsonNumber(r.energy) << ",,,,,,,,,,\n";
+          << ',' << io::jsonNumber(r.energy) << ",,,,,,,,,,";
+        for (std::size_t k = 0; k < r.step_sigma.size(); ++k)
+        {
+            const double v = k < 3 ? r.step_sigma[k] : mrpt::RAD2DEG(r.step_sigma[k]);
+            o << ',';
+            if (std::isfinite(v))
+            {
+                o << fixed(v, k < 3 ? 6 : 5);
+            }
+        }
+        o << '\n';
     }
     std::size_t k = 0;
     for (const auto& s : m.rectifications())
@@ -161,7 +173,7 @@ void writeStatsCsv(const slam::EntropySlam& m, const std::string& file)
         o << "rectification," << k++ << ",,,,,,,,,,,," << s.elements << ',' << s.frames << ','
           << s.attempts << ',' << s.successes << ',' << s.accepted_worse << ',' << s.failures << ','
           << io::jsonNumber(s.energy_before) << ',' << io::jsonNumber(s.energy_after) << ','
-          << fixed(s.seconds, 6) << ',' << (s.converged ? 1 : 0) << '\n';
+          << fixed(s.seconds, 6) << ',' << (s.converged ? 1 : 0) << ",,,,,,\n";
     }
     f.commit();
 }

@@ -210,6 +210,10 @@ bool EntropySlam::process(const mrpt::obs::CObservation& obs)
         {
             action_cov = ego.covariance;
         }
+        for (int k = 0; k < 6; ++k)
+        {
+            r.step_sigma[static_cast<std::size_t>(k)] = std::sqrt(std::max(0.0, action_cov(k, k)));
+        }
     }
     m_egomotion.push_back({r.timestamp, r.index, m_odometry.pose()});
     // Sparse front-end: the previous keyframe's dense cloud was computed on

@@ -1,7 +1,9 @@
 // SPDX-License-Identifier: BSD-3-Clause
 #pragma once
 
+#include <array>
 #include <cstddef>
+#include <limits>
 
 namespace emslam::slam
 {
@@ -21,6 +23,15 @@ struct FrameRecord
     bool egomotion_ok{true};         //!< false: the step failed (first frame: true)
     bool accepted{false};            //!< joined the trajectory (space sampling)
     double energy{0.0};  //!< map energy after the frame (0 before the first rectification)
+    /** Standard deviations of the step from the previous frame, as the
+     * odometry prior uses them: δx, δy, δz [m] (translation added) and δθx,
+     * δθy, δθz [rad] (rotation R exp(δθ)), camera frame; from the Dpp
+     * minimum's curvature, a failed step's wide prediction, or the prior's
+     * fixed deviations. NaN for the first frame. */
+    std::array<double, 6> step_sigma{
+        std::numeric_limits<double>::quiet_NaN(), std::numeric_limits<double>::quiet_NaN(),
+        std::numeric_limits<double>::quiet_NaN(), std::numeric_limits<double>::quiet_NaN(),
+        std::numeric_limits<double>::quiet_NaN(), std::numeric_limits<double>::quiet_NaN()};
 };
 
 }  // namespace emslam::slam
