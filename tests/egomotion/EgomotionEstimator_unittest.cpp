@@ -12,6 +12,7 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <cstdio>
 #include <limits>
@@ -40,6 +41,7 @@ euclidean_init = false
 max_lwo_matches = 1500
 guided_matching = true
 guided_radius = 0.25
+covariance_lwo_truncation = true
 )";
 
 void expectEqualParams(
@@ -57,6 +59,7 @@ void expectEqualParams(
     EXPECT_EQ(a.max_lwo_matches, b.max_lwo_matches);
     EXPECT_EQ(a.guided_matching, b.guided_matching);
     EXPECT_DOUBLE_EQ(a.guided_radius, b.guided_radius);
+    EXPECT_EQ(a.covariance_lwo_truncation, b.covariance_lwo_truncation);
 }
 
 /** A frame of `w` x `h` pixels whose every pixel has a point at depth 5 m,
@@ -145,6 +148,39 @@ TEST(EgomotionEstimator, loadsNonDefaultValues)
     EXPECT_EQ(p.max_lwo_matches, 1500);
     EXPECT_TRUE(p.guided_matching);
     EXPECT_DOUBLE_EQ(p.guided_radius, 0.25);
+    EXPECT_TRUE(p.covariance_lwo_truncation);
+}
+
+TEST(EgomotionEstimator, lwoTruncationFactorMatchesTheSpreadOfACentralSample)
+{
+    // The central fraction q of a large Gaussian sample: its variance times
+    // the factor gives back the sample's.
+    std::mt19937 rng(5);
+    std::normal_distribution<double> normal(0.0, 2.0);
+    std::vector<double> x(200000);
+    for (double& v : x)
+        v = normal(rng);
+    std::sort(x.begin(), x.end(), [](double a, double b) { return std::abs(a) < std::abs(b); });
+    const auto variance = [&](std::size_t n)
+    {
+        double s2 = 0;
+        for (std::size_t i = 0; i < n; ++i)
+            s2 += x[i] * x[i];
+        return s2 / static_cast<double>(n);
+    };
+    const double all = variance(x.size());
+    for (const double q : {0.3, 0.5, 0.8, 0.95})
+    {
+        SCOPED_TRACE(q);
+        const double central = variance(static_cast<std::size_t>(q * x.size()));
+        EXPECT_NEAR(central * emslam::egomotion::lwoTruncationVarianceFactor(q) / all, 1.0, 0.02);
+    }
+    EXPECT_DOUBLE_EQ(emslam::egomotion::lwoTruncationVarianceFactor(1.0), 1.0);
+    EXPECT_NEAR(emslam::egomotion::lwoTruncationVarianceFactor(0.5), 7.01, 0.01);
+    EXPECT_THROW(emslam::egomotion::lwoTruncationVarianceFactor(0.0), std::invalid_argument);
+    EXPECT_THROW(emslam::egomotion::lwoTruncationVarianceFactor(1.5), std::invalid_argument);
+    EXPECT_THROW(
+        emslam::egomotion::lwoTruncationVarianceFactor(std::nan("")), std::invalid_argument);
 }
 
 TEST(EgomotionEstimator, saveReparseLoadRoundTrip)

@@ -10,6 +10,7 @@
 #include <chrono>
 #include <cmath>
 #include <functional>
+#include <limits>
 #include <stdexcept>
 #include <string>
 
@@ -63,6 +64,7 @@ void EgomotionEstimator::TParameters::loadFromConfigFile(
     MRPT_LOAD_CONFIG_VAR(max_lwo_matches, int, c, s);
     MRPT_LOAD_CONFIG_VAR(guided_matching, bool, c, s);
     MRPT_LOAD_CONFIG_VAR(guided_radius, double, c, s);
+    MRPT_LOAD_CONFIG_VAR(covariance_lwo_truncation, bool, c, s);
     validate();
 }
 
@@ -84,6 +86,8 @@ void EgomotionEstimator::TParameters::saveToConfigFile(
         "match near the constant-velocity prediction first (full search if it fails)");
     MRPT_SAVE_CONFIG_VAR_COMMENT(
         guided_radius, "guided search radius, fraction of the image width");
+    MRPT_SAVE_CONFIG_VAR_COMMENT(
+        covariance_lwo_truncation, "widen the pose covariance for the residuals LWO cut off");
 }
 
 void EgomotionEstimator::TParameters::validate() const
@@ -122,6 +126,33 @@ void EgomotionEstimator::TParameters::validate() const
     require(
         guided_radius > 0 && guided_radius <= 1, "guided_radius",
         "must be in (0, 1] of the image width (got " + std::to_string(guided_radius) + ")");
+}
+
+double lwoTruncationVarianceFactor(double q)
+{
+    if (!(q > 0.0 && q <= 1.0))
+    {
+        throw std::invalid_argument(
+            "lwoTruncationVarianceFactor: the kept fraction must be in (0, 1] (got " +
+            std::to_string(q) + ")");
+    }
+    if (q == 1.0)
+    {
+        return 1.0;
+    }
+    // c with erf(c / sqrt 2) = q, by bisection (erf is increasing).
+    double lo = 0.0;
+    double hi = 40.0;
+    for (int k = 0; k < 200; ++k)
+    {
+        const double mid = 0.5 * (lo + hi);
+        (std::erf(mid / std::sqrt(2.0)) < q ? lo : hi) = mid;
+    }
+    const double c = 0.5 * (lo + hi);
+    const double pdf = std::exp(-0.5 * c * c) / std::sqrt(2.0 * M_PI);
+    // Var(x | |x| < c) = 1 - 2 c φ(c) / q for a unit Gaussian.
+    const double truncated = 1.0 - 2.0 * c * pdf / q;
+    return truncated > 0.0 ? 1.0 / truncated : std::numeric_limits<double>::infinity();
 }
 
 EgomotionEstimator::EgomotionEstimator(const TParameters& p) : m_params(p)
@@ -352,6 +383,11 @@ EgomotionResult EgomotionEstimator::estimateWithMatches(
     r.energy = pose.energy;
     r.covariance = pose.covariance;
     r.has_covariance = pose.has_covariance;
+    if (r.has_covariance && m_params.covariance_lwo_truncation && r.initial_matches > 0)
+    {
+        r.covariance *= lwoTruncationVarianceFactor(
+            static_cast<double>(r.final_matches) / static_cast<double>(r.initial_matches));
+    }
     r.ok = true;
     r.ms_total = r.ms_features + r.ms_descriptors + msSince(t_start);
     return r;

@@ -98,6 +98,7 @@ void TRectifierOptions::loadFromConfigFile(
     MRPT_LOAD_CONFIG_VAR(prior_sigma_rot_deg, double, c, s);
     MRPT_LOAD_CONFIG_VAR(grid_phases, int, c, s);
     MRPT_LOAD_CONFIG_VAR(coarse_levels, int, c, s);
+    MRPT_LOAD_CONFIG_VAR(validate_phases, int, c, s);
     prior_covariance = readChoice(
         c, s, "prior_covariance", prior_covariance,
         {PriorCovariance::Fixed, PriorCovariance::Egomotion});
@@ -138,6 +139,8 @@ void TRectifierOptions::saveToConfigFile(
         grid_phases, "entropy averaged over shifted voxel grids (1: the paper)");
     MRPT_SAVE_CONFIG_VAR_COMMENT(
         coarse_levels, "each rectification first runs on cells 2^L..2 l_d (0: the paper)");
+    MRPT_SAVE_CONFIG_VAR_COMMENT(
+        validate_phases, "keep a rectification only if K shifted grids agree (0: the paper)");
     c.write(
         s, "prior_covariance", toString(prior_covariance), -1, -1,
         "fixed (prior_sigma_*) | egomotion (Dpp curvature)");
@@ -201,6 +204,9 @@ void TRectifierOptions::validate() const
         "= " + std::to_string(prior_sigma_rot_deg) + ": must be in [1e-6, 180] deg");
     require(grid_phases >= 1 && grid_phases <= 8, "grid_phases", "must be in 1..8");
     require(coarse_levels >= 0 && coarse_levels <= 4, "coarse_levels", "must be in 0..4");
+    require(
+        validate_phases == 0 || (validate_phases >= 2 && validate_phases <= 8), "validate_phases",
+        "must be 0 (off) or in 2..8");
     require(
         std::isfinite(proposal_scale) && proposal_scale > 0 && proposal_scale <= 100,
         "proposal_scale", "must be in (0, 100]");

@@ -1,4 +1,5 @@
 // SPDX-License-Identifier: BSD-3-Clause
+#include <emslam/rectify/EnergyAtPoses.h>
 #include <emslam/rectify/TrajectoryRectifier.h>
 
 #include <mrpt/core/bits_math.h>
@@ -70,6 +71,7 @@ void TrajectoryRectifier::begin(Trajectory& t, RectificationStats& s)
     s.energy_before = m_energy;
     s.energy_after = m_energy;
     m_best = t.actions();
+    m_start = t.actions();
     m_best_energy = m_energy;
     m_consecutive_failures = 0;
     m_reuse = false;
@@ -262,8 +264,35 @@ void TrajectoryRectifier::finish(Trajectory& t, RectificationStats& s)
         m_energy = t.setActions(m_best);
         t.commitChange();
     }
+    if (m_p.validate_phases >= 2 && m_start.size() == t.size() && t.actions() != m_start &&
+        !shiftedGridsConfirm(t))
+    {
+        m_energy = t.setActions(m_start);
+        t.commitChange();
+        s.rejected_by_validation = true;
+    }
     s.energy_after = t.empty() ? 0.0 : m_energy;
     s.converged = m_consecutive_failures >= m_p.nc_max;
+}
+
+bool TrajectoryRectifier::shiftedGridsConfirm(const Trajectory& t) const
+{
+    const auto posesOf = [](const std::vector<mrpt::poses::CPose3D>& actions)
+    {
+        std::vector<mrpt::poses::CPose3D> poses;
+        poses.reserve(actions.size());
+        for (const auto& a : actions)
+        {
+            poses.push_back(poses.empty() ? a : poses.back() + a);
+        }
+        return poses;
+    };
+    const auto energyOf = [&](const std::vector<mrpt::poses::CPose3D>& actions)
+    {
+        return entropyAtElementPoses(t, posesOf(actions), m_p.validate_phases) +
+               t.priorEnergyOf(actions);
+    };
+    return energyOf(t.actions()) < energyOf(m_start);
 }
 
 RectificationStats TrajectoryRectifier::rectify(Trajectory& t, const std::atomic<bool>* stop)

@@ -68,6 +68,7 @@ struct EgomotionResult
  * max_lwo_matches   = 2000   ; most similar matches kept for LWO (O(M^2) memory/time)
  * guided_matching   = false  ; match near the constant-velocity prediction first
  * guided_radius     = 0.1    ; its search radius, fraction of the image width, (0, 1]
+ * covariance_lwo_truncation = false ; widen the covariance for the residuals LWO cut off
  * \endcode
  * Guided matching (not in the paper; process() only): the last step's motion
  * predicts where each previous feature appears, and only current features
@@ -75,6 +76,12 @@ struct EgomotionResult
  * O(N^2) and keeps far look-alikes out. If that step fails (a stop, a sudden
  * turn), the paper's full search runs on the same frames.
  * \ingroup emslam_egomotion_grp */
+/** Var(x) / Var(x | |x| < c) for a Gaussian x, with c such that
+ * P(|x| < c) = q: how much the spread of the central fraction q of a
+ * Gaussian sample underestimates its variance. 1 at q = 1; about 1.9 / q²
+ * for small q. Throws unless 0 < q <= 1. \ingroup emslam_egomotion_grp */
+double lwoTruncationVarianceFactor(double q);
+
 class EgomotionEstimator
 {
 public:
@@ -113,6 +120,11 @@ public:
         bool guided_matching{false};
         /** Guided search radius as a fraction of the image width, in (0, 1]. (Default: 0.1) */
         double guided_radius{0.1};
+        /** The pose covariance's residual scale comes from the matches LWO
+         * kept, the best fraction q of them: read as a Gaussian truncated to
+         * its central q, it is multiplied by lwoTruncationVarianceFactor(q).
+         * (Default: false: the kept residuals as they are) */
+        bool covariance_lwo_truncation{false};
     };
 
     EgomotionEstimator() = default;

@@ -23,6 +23,9 @@ struct RectificationStats
     bool converged{false};          //!< ended by NC_max consecutive failures
     /** Of `attempts`, those made on a coarser grid than l_d (`coarse_levels`). */
     std::size_t coarse_attempts{0};
+    /** `validate_phases`: the shifted grids did not confirm the gain, so the
+     * trajectory went back to where this rectification started. */
+    bool rejected_by_validation{false};
     /** Energy of the trajectory after each attempt (kept or reverted), for
      * plots; 4 bytes per attempt. */
     std::vector<float> energy_trace;

@@ -74,6 +74,7 @@ enum class ProposalShape : std::uint8_t
  * proposal_scale   = 1       ; σ multiplier of the covariance proposal
  * grid_phases      = 1       ; entropy averaged over shifted voxel grids (1: the paper)
  * coarse_levels    = 0       ; each rectification first runs on cells 2^L..2 l_d (0: the paper)
+ * validate_phases  = 0       ; keep a rectification only if K shifted grids agree (0: the paper)
  * \endcode
  *
  * `vertical_band` is an option beside the paper: for a 3DOF robot (fixed
@@ -125,6 +126,12 @@ struct TRectifierOptions : public mrpt::config::CLoadableOptions
      * cells of 2^L·l_d, then 2^(L-1)·l_d, ..., then l_d; 0: only l_d, the
      * paper (Default: 0) */
     int coarse_levels{0};
+    /** K ≥ 2: a rectification is kept only if it also lowers the energy
+     * averaged over K voxel grids shifted by k/K of a cell (k = 0..K-1);
+     * otherwise the trajectory goes back to where the rectification started.
+     * A gain that only one grid sees is the grid's, not the map's. 0: off,
+     * the paper (Default: 0) */
+    int validate_phases{0};
 
     /** The prior these options describe. */
     OdometryPrior odometryPrior() const

@@ -56,7 +56,8 @@ public:
     /** After NC_max failures on a coarse level: keeps its best state and goes
      * on one level finer (failure count 0); false at l_d (the run is over). */
     bool refine(Trajectory& t);
-    /** Restores the best state seen, returns to l_d and fills `s.energy_after`. */
+    /** Restores the best state seen, returns to l_d, applies
+     * `validate_phases` and fills `s.energy_after`. */
     void finish(Trajectory& t, RectificationStats& s);
     /** Consecutive failed attempts (INC): ≥ NC_max means "map stable". */
     int consecutiveFailures() const { return m_consecutive_failures; }
@@ -83,7 +84,12 @@ private:
     bool m_coherent{false};                 //!< the last draw was a coherent run (they alternate)
     std::vector<std::size_t> m_candidates;  //!< scratch: the selection's pool
     std::vector<Trajectory::ActionChange> m_changes;  //!< scratch
+    /** True if the phase-averaged energy (entropy over `validate_phases`
+     * grids plus the prior) of `t` is below that at m_start. */
+    bool shiftedGridsConfirm(const Trajectory& t) const;
+
     std::vector<mrpt::poses::CPose3D> m_best;
+    std::vector<mrpt::poses::CPose3D> m_start;  //!< the actions at begin()
     double m_best_energy{0.0};
     double m_energy{0.0};
     int m_consecutive_failures{0};
