@@ -81,14 +81,20 @@ void TrajectoryRectifier::begin(Trajectory& t, RectificationStats& s)
     }
 }
 
-void TrajectoryRectifier::startLevel(Trajectory& t, int level)
+void TrajectoryRectifier::restoreBestState(Trajectory& t)
 {
+    // Only the paper's rule keeps worse states; greedy is always at its best.
     if (m_p.acceptance != Acceptance::Greedy && m_energy > m_best_energy &&
         m_best.size() == t.size())
     {
-        t.setActions(m_best);
+        m_energy = t.setActions(m_best);
         t.commitChange();
     }
+}
+
+void TrajectoryRectifier::startLevel(Trajectory& t, int level)
+{
+    restoreBestState(t);
     t.setResolutionLevel(level);
     m_energy = t.recomputeEnergy();
     m_best = t.actions();
@@ -258,12 +264,7 @@ void TrajectoryRectifier::finish(Trajectory& t, RectificationStats& s)
     {
         startLevel(t, 0);  // stopped or capped on a coarse level
     }
-    if (m_p.acceptance != Acceptance::Greedy && m_energy > m_best_energy &&
-        m_best.size() == t.size())
-    {
-        m_energy = t.setActions(m_best);
-        t.commitChange();
-    }
+    restoreBestState(t);
     if (m_p.validate_phases >= 2 && m_start.size() == t.size() && t.actions() != m_start &&
         !shiftedGridsConfirm(t))
     {

@@ -72,6 +72,9 @@ private:
         ActionDelta delta{};
     };
     void drawPerturbation(const Trajectory& t);
+    /** Puts `t` back to the best state seen since the level started
+     * (non-greedy acceptance only). */
+    void restoreBestState(Trajectory& t);
     /** Keeps the best state seen (non-greedy acceptance) and moves `t` to
      * `level`; the energy, best state and failure count start afresh there. */
     void startLevel(Trajectory& t, int level);
