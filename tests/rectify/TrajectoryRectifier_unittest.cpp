@@ -82,6 +82,49 @@ TEST(TrajectoryRectifier, bestEnergyNeverIncreasesAndStopsAfterNcMaxFailures)
     EXPECT_NEAR(t.recomputeEnergy(), s.energy_after, 1e-9);
 }
 
+// With an energy that sees the global alignment a_0 is always perturbed,
+// on top of S_sel: with S_sel = 1 (a tiny select_fraction) each attempt must
+// still bend the trajectory at one other action, not move a_0 alone.
+TEST(TrajectoryRectifier, anchoredEnergyPerturbsAZeroAndAtLeastOneOtherAction)
+{
+    CEntropyVoxelMap::TCreationOptions map = planarMap();
+    map.energy = maps::EnergyType::PlanarStructured;  // Exp. 12: depends on a_0
+    Trajectory t(map);
+    for (const auto& f : hallStart())
+    {
+        t.append(
+            f.action_drifted, keepVerticalBand(f.cloud, -1.5, 0.8), f.timestamp, f.frame_index);
+        if (t.size() > 60)
+            t.compress();
+    }
+    ASSERT_TRUE(t.dependsOnGlobalAlignment());
+    TRectifierOptions opt;
+    opt.select_fraction = 0.001;         // S_sel = 1
+    opt.acceptance = Acceptance::Ratio;  // nearly every change is kept: each one is visible
+    TrajectoryRectifier r(opt);
+    RectificationStats s;
+    r.begin(t, s);
+    std::size_t kept = 0;
+    for (int k = 0; k < 40; ++k)
+    {
+        const auto before = t.actions();
+        r.attempt(t, s);
+        std::vector<std::size_t> changed;
+        for (std::size_t i = 0; i < before.size(); ++i)
+        {
+            if (!(t.action(i) == before[i]))
+                changed.push_back(i);
+        }
+        if (changed.empty())
+            continue;  // undone
+        ++kept;
+        ASSERT_EQ(changed.size(), 2U);
+        EXPECT_EQ(changed[0], 0U);
+    }
+    r.finish(t, s);
+    EXPECT_GT(kept, 20U);
+}
+
 TEST(TrajectoryRectifier, coarseToFineEndsOnTheFineGridBelowItsStart)
 {
     Trajectory t = drifted(hallStart());

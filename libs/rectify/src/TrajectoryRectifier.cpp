@@ -140,8 +140,10 @@ void TrajectoryRectifier::drawPerturbation(const Trajectory& t)
     }
     else if (anchor_first)
     {
+        // a_0 comes on top of at least one other action: with S_sel = 1
+        // alone the trajectory itself would never bend.
         m_indices.push_back(0);
-        count = std::min(count, n) - 1;
+        count = std::max<std::size_t>(std::min(count, n) - 1, 1);
     }
     count = std::min(count, pool);
     // Partial Fisher-Yates over [first_free, n).
