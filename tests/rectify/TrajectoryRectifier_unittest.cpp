@@ -41,9 +41,11 @@ const std::vector<test::DrivenFrame>& hallStart()
     return frames;
 }
 
-Trajectory drifted(const std::vector<test::DrivenFrame>& frames)
+Trajectory drifted(
+    const std::vector<test::DrivenFrame>& frames,
+    const CEntropyVoxelMap::TCreationOptions& map = planarMap())
 {
-    Trajectory t(planarMap());
+    Trajectory t(map);
     for (const auto& f : frames)
     {
         t.append(
@@ -89,14 +91,7 @@ TEST(TrajectoryRectifier, anchoredEnergyPerturbsAZeroAndAtLeastOneOtherAction)
 {
     CEntropyVoxelMap::TCreationOptions map = planarMap();
     map.energy = maps::EnergyType::PlanarStructured;  // Exp. 12: depends on a_0
-    Trajectory t(map);
-    for (const auto& f : hallStart())
-    {
-        t.append(
-            f.action_drifted, keepVerticalBand(f.cloud, -1.5, 0.8), f.timestamp, f.frame_index);
-        if (t.size() > 60)
-            t.compress();
-    }
+    Trajectory t = drifted(hallStart(), map);
     ASSERT_TRUE(t.dependsOnGlobalAlignment());
     TRectifierOptions opt;
     opt.select_fraction = 0.001;         // S_sel = 1

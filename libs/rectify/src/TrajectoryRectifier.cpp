@@ -143,7 +143,7 @@ void TrajectoryRectifier::drawPerturbation(const Trajectory& t)
         // a_0 comes on top of at least one other action: with S_sel = 1
         // alone the trajectory itself would never bend.
         m_indices.push_back(0);
-        count = std::max<std::size_t>(std::min(count, n) - 1, 1);
+        count = std::max<std::size_t>(count, 2) - 1;  // count <= n: select_fraction <= 1
     }
     count = std::min(count, pool);
     // Partial Fisher-Yates over [first_free, n).
