@@ -395,3 +395,63 @@ TEST(TrajectoryRectifier, covarianceProposalsMoveOnlyWhatTheEgomotionLeftUncerta
     }
     EXPECT_GT(moved_x, 1e-4);
 }
+
+TEST(TrajectoryRectifier, alignmentTurnMovesNoPointByMoreThanACell)
+{
+    // An anchored energy perturbs a_0, which turns the whole map about the
+    // first camera, in every attempt. With the egomotion's proposals that
+    // turn is capped so that no map point moves by more than a cell, whatever
+    // eps_rot_deg says.
+    TRectifierOptions opt;
+    opt.proposal = ProposalShape::Covariance;
+    opt.acceptance = Acceptance::Ratio;  // nearly every change is kept: each one is visible
+    opt.eps_rot_deg = 10;
+    CEntropyVoxelMap::TCreationOptions map;
+    map.energy = maps::EnergyType::Structured;  // Exp. 10: depends on a_0
+    map.dof = 6;
+    Trajectory t(map);
+    const auto& frames = hallStart();
+    for (std::size_t i = 0; i < 40 && i < frames.size(); ++i)
+    {
+        t.append(
+            frames[i].action_drifted, keepVerticalBand(frames[i].cloud, -1.5, 0.8),
+            frames[i].timestamp, frames[i].frame_index);
+    }
+    ASSERT_TRUE(t.dependsOnGlobalAlignment());
+    // The farthest map point from the first camera.
+    double reach = 0;
+    const auto origin = t.pose(0).translation();
+    for (std::size_t i = 0; i < t.size(); ++i)
+    {
+        for (const auto& p : t.map().observationCloud(i).points)
+        {
+            const auto w = t.pose(i).composePoint(mrpt::math::TPoint3D(p.x, p.y, p.z));
+            reach = std::max(reach, (w - origin).norm());
+        }
+    }
+    const double max_turn = map.cell_size / reach;
+    ASSERT_LT(max_turn, mrpt::DEG2RAD(opt.eps_rot_deg) / 4);  // the cap is what limits it
+
+    TrajectoryRectifier r(opt);
+    RectificationStats s;
+    r.begin(t, s);
+    std::size_t kept = 0;
+    double largest = 0;
+    for (int k = 0; k < 40; ++k)
+    {
+        const mrpt::poses::CPose3D before = t.action(0);
+        r.attempt(t, s);
+        if (t.action(0) == before)
+            continue;  // undone
+        ++kept;
+        const ActionDelta d = actionDifference(t.action(0), before);
+        for (std::size_t c = 3; c < 6; ++c)
+        {
+            EXPECT_LE(std::abs(d[c]), max_turn) << "a_0 rotation component " << c;
+            largest = std::max(largest, std::abs(d[c]));
+        }
+    }
+    r.finish(t, s);
+    EXPECT_GT(kept, 20U);
+    EXPECT_GT(largest, max_turn / 4);  // it does turn
+}

@@ -56,6 +56,29 @@ ActionDelta gaussianDelta(const ActionCovariance& c, int dof, double scale, Rng&
 }
 }  // namespace
 
+double TrajectoryRectifier::mapReach(const Trajectory& t)
+{
+    const auto& map = t.map();
+    if (t.empty())
+    {
+        return 0.0;
+    }
+    const auto origin = map.observationPose(0).translation();
+    double reach = 0.0;
+    for (std::size_t i = 0; i < t.size(); ++i)
+    {
+        double farthest_sq = 0.0;
+        for (const auto& p : map.observationCloud(i).points)
+        {
+            farthest_sq =
+                std::max(farthest_sq, double(p.x) * p.x + double(p.y) * p.y + double(p.z) * p.z);
+        }
+        const double to_origin = (map.observationPose(i).translation() - origin).norm();
+        reach = std::max(reach, to_origin + std::sqrt(farthest_sq));
+    }
+    return reach;
+}
+
 TrajectoryRectifier::TrajectoryRectifier(const TRectifierOptions& p) : m_p(p), m_rng(p.seed)
 {
     m_p.validate();
@@ -72,6 +95,7 @@ void TrajectoryRectifier::begin(Trajectory& t, RectificationStats& s)
     s.energy_after = m_energy;
     m_best = t.actions();
     m_start = t.actions();
+    m_map_reach = mapReach(t);
     m_best_energy = m_energy;
     m_consecutive_failures = 0;
     m_reuse = false;
@@ -159,6 +183,14 @@ void TrajectoryRectifier::drawPerturbation(const Trajectory& t)
 
     const double eps_t = m_p.eps_xyz;
     const double eps_r = mrpt::DEG2RAD(m_p.eps_rot_deg);
+    // a_0 turns the whole map about the first camera. Beside the paper
+    // (with the egomotion's proposals) its turn is kept to what moves no
+    // point by more than a cell: a larger one changes a Manhattan energy
+    // more than the bends of the other actions can, and almost every
+    // attempt fails (doc/rectify.md, "The global alignment's step").
+    const double eps_r0 = m_p.proposal != ProposalShape::Box && m_map_reach > 0
+                              ? std::min(eps_r, t.map().creationOptions().cell_size / m_map_reach)
+                              : eps_r;
     std::uniform_real_distribution<double> unit(-1.0, 1.0);
     const bool planar = t.dof() == 3;
     m_change.clear();
@@ -178,15 +210,20 @@ void TrajectoryRectifier::drawPerturbation(const Trajectory& t)
         }
         else if (planar)
         {
-            p.delta = {eps_t * unit(m_rng), 0.0, eps_t * unit(m_rng), 0.0,
-                       eps_r * unit(m_rng), 0.0};
+            p.delta = {
+                eps_t * unit(m_rng),
+                0.0,
+                eps_t * unit(m_rng),
+                0.0,
+                (index == 0 ? eps_r0 : eps_r) * unit(m_rng),
+                0.0};
         }
         else
         {
             for (int c = 0; c < 3; ++c)
                 p.delta[c] = eps_t * unit(m_rng);
             for (int c = 3; c < 6; ++c)
-                p.delta[c] = eps_r * unit(m_rng);
+                p.delta[c] = (index == 0 ? eps_r0 : eps_r) * unit(m_rng);
         }
         m_change.push_back(p);
     }

@@ -20,12 +20,16 @@ namespace emslam::rectify
  * actions chosen at random — a_0 always when the energy depends on the
  * global alignment (Manhattan / flat-floor terms), never otherwise (the
  * energy is then blind to it, and the world stays the first camera frame) —
- * each component by U(−ε, +ε) (see perturbAction()). An attempt that lowers
- * the energy is a success and is kept; otherwise it is a failure, kept with
- * probability p = E_old / E_try (`acceptance = ratio`, the paper's rule) or
- * never (`greedy`). After a success the same change is tried again, since it
- * usually points down a slope. The run ends after NC_max consecutive failures
- * (or `max_attempts`), and leaves the trajectory at the lowest energy seen.
+ * each component by U(−ε, +ε) (see perturbAction()); with the egomotion's
+ * proposals (`proposal` ≠ box) the actions are drawn from their covariances
+ * instead, and a_0's turn is capped at l_d / (distance from the first camera
+ * to the farthest map point), so that it moves no point by more than a cell.
+ * An attempt that lowers the energy is a success and is kept; otherwise it
+ * is a failure, kept with probability p = E_old / E_try (`acceptance =
+ * ratio`, the paper's rule) or never (`greedy`). After a success the same
+ * change is tried again, since it usually points down a slope. The run ends
+ * after NC_max consecutive failures (or `max_attempts`), and leaves the
+ * trajectory at the lowest energy seen.
  *
  * With `coarse_levels` L > 0 a run starts on cells of 2^L·l_d and, each time
  * NC_max consecutive failures end a level, goes on one level finer
@@ -72,6 +76,9 @@ private:
         ActionDelta delta{};
     };
     void drawPerturbation(const Trajectory& t);
+    /** An upper bound of the distance from the first camera to any map
+     * point (the lever arm of a turn of a_0). */
+    static double mapReach(const Trajectory& t);
     /** Puts `t` back to the best state seen since the level started
      * (non-greedy acceptance only). */
     void restoreBestState(Trajectory& t);
@@ -93,6 +100,7 @@ private:
 
     std::vector<mrpt::poses::CPose3D> m_best;
     std::vector<mrpt::poses::CPose3D> m_start;  //!< the actions at begin()
+    double m_map_reach{0.0};                    //!< mapReach() at begin()
     double m_best_energy{0.0};
     double m_energy{0.0};
     int m_consecutive_failures{0};
