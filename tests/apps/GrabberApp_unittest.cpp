@@ -379,6 +379,8 @@ namespace
 void signalTest(int signum, const std::string& tag)
 {
 #ifndef EMSLAM_GRABBER_EXE
+    (void)signum;
+    (void)tag;
     GTEST_SKIP() << "emslam-grabber is not built";
 #else
     const std::string dir = emslam::test::makeTempDir(tag);
