@@ -95,7 +95,9 @@ void TrajectoryRectifier::begin(Trajectory& t, RectificationStats& s)
     s.energy_after = m_energy;
     m_best = t.actions();
     m_start = t.actions();
-    m_map_reach = mapReach(t);
+    // Only a_0's capped turn (below) needs it: an O(points) pass.
+    m_map_reach =
+        t.dependsOnGlobalAlignment() && m_p.proposal != ProposalShape::Box ? mapReach(t) : 0.0;
     m_best_energy = m_energy;
     m_consecutive_failures = 0;
     m_reuse = false;
@@ -187,7 +189,7 @@ void TrajectoryRectifier::drawPerturbation(const Trajectory& t)
     // (with the egomotion's proposals) its turn is kept to what moves no
     // point by more than a cell: a larger one changes a Manhattan energy
     // more than the bends of the other actions can, and almost every
-    // attempt fails (doc/rectify.md, "The global alignment's step").
+    // attempt fails (doc/rectify.md, "The global alignment's turn").
     const double eps_r0 = m_p.proposal != ProposalShape::Box && m_map_reach > 0
                               ? std::min(eps_r, t.map().creationOptions().cell_size / m_map_reach)
                               : eps_r;
@@ -199,6 +201,7 @@ void TrajectoryRectifier::drawPerturbation(const Trajectory& t)
     {
         Perturbation p;
         p.index = index;
+        const double eps_rot = index == 0 ? eps_r0 : eps_r;
         if (m_coherent && !m_change.empty())
         {
             p.delta = m_change.front().delta;
@@ -210,20 +213,15 @@ void TrajectoryRectifier::drawPerturbation(const Trajectory& t)
         }
         else if (planar)
         {
-            p.delta = {
-                eps_t * unit(m_rng),
-                0.0,
-                eps_t * unit(m_rng),
-                0.0,
-                (index == 0 ? eps_r0 : eps_r) * unit(m_rng),
-                0.0};
+            p.delta = {eps_t * unit(m_rng),   0.0, eps_t * unit(m_rng), 0.0,
+                       eps_rot * unit(m_rng), 0.0};
         }
         else
         {
             for (int c = 0; c < 3; ++c)
                 p.delta[c] = eps_t * unit(m_rng);
             for (int c = 3; c < 6; ++c)
-                p.delta[c] = (index == 0 ? eps_r0 : eps_r) * unit(m_rng);
+                p.delta[c] = eps_rot * unit(m_rng);
         }
         m_change.push_back(p);
     }
