@@ -878,8 +878,8 @@ TEST(MapperApp, hallDoubleLoopRectificationShrinksGapAndAte)
 // A 6DOF loop: a walker through the simulated Chancellor building with
 // Exp. 10 (6dof-structured, serial mode so that the run repeats exactly, sim
 // seed 1). The loop gap must fall to 1/5 of the egomotion's and to 0.5 % of
-// the path, and the ATE must halve. Measured: gap 2.31 -> 0.21 m, ATE 0.55 ->
-// 0.17 m; other seeds in doc/rectify.md ("The global alignment's turn").
+// the path, and the ATE must halve. Measured: gap 2.31 -> 0.25 m, ATE 0.55 ->
+// 0.10 m; other seeds in doc/rectify.md ("Confirming long moves").
 TEST(MapperApp, chancellorLoop6dofRectificationShrinksGapAndAte)
 {
     const std::string dir = emslam::test::makeTempDir("mapper_chancellor");

@@ -159,22 +159,44 @@ TEST(TrajectoryRectifier, coarseToFineEndsOnTheFineGridBelowItsStart)
     EXPECT_NEAR(u.recomputeEnergy(), su.energy_after, 1e-9);
 }
 
+/** The hall's first 150 frames with noiseless depth at their true poses,
+ * compressed twice: nothing real to gain there. */
+const Trajectory& hallTruth()
+{
+    static const Trajectory truth = []
+    {
+        test::DriveOptions o;
+        o.max_frames = 150;
+        o.depth_noise = 0.0;
+        const auto frames = test::driveWorld("config/sim/hall_double_loop.ini", o);
+        Trajectory t(planarMap());
+        for (std::size_t i = 0; i < frames.size(); ++i)
+        {
+            const auto action = i == 0 ? frames[0].T_world_true
+                                       : frames[i].T_world_true - frames[i - 1].T_world_true;
+            t.append(action, keepVerticalBand(frames[i].cloud, -1.5, 0.8), frames[i].timestamp, i);
+        }
+        t.compress();
+        t.compress();
+        return t;
+    }();
+    return truth;
+}
+
+/** The energy averaged over 4 shifted grids of `t` with `actions`. */
+double fourGridEntropy(const Trajectory& t, const std::vector<mrpt::poses::CPose3D>& actions)
+{
+    std::vector<mrpt::poses::CPose3D> poses;
+    for (const auto& a : actions)
+    {
+        poses.push_back(poses.empty() ? a : poses.back() + a);
+    }
+    return entropyAtElementPoses(t, poses, 4);
+}
+
 TEST(TrajectoryRectifier, shiftedGridsKeepARealGainAndUndoAGridOne)
 {
-    // Noiseless depth at the true poses: nothing real to gain there.
-    test::DriveOptions o;
-    o.max_frames = 150;
-    o.depth_noise = 0.0;
-    const auto frames = test::driveWorld("config/sim/hall_double_loop.ini", o);
-    Trajectory truth(planarMap());
-    for (std::size_t i = 0; i < frames.size(); ++i)
-    {
-        const auto action =
-            i == 0 ? frames[0].T_world_true : frames[i].T_world_true - frames[i - 1].T_world_true;
-        truth.append(action, keepVerticalBand(frames[i].cloud, -1.5, 0.8), frames[i].timestamp, i);
-    }
-    truth.compress();
-    truth.compress();
+    const Trajectory& truth = hallTruth();
     TRectifierOptions opt;  // one action per attempt, so the search finds the kink below
     opt.select_fraction = 0.03;
     opt.eps_xyz = 0.1;
@@ -211,15 +233,61 @@ TEST(TrajectoryRectifier, shiftedGridsKeepARealGainAndUndoAGridOne)
         EXPECT_FALSE(s.rejected_by_validation);
         EXPECT_GT(s.successes, 0u);
         EXPECT_LT(s.energy_after, s.energy_before);
-        const auto shiftedEnergy = [&](const std::vector<mrpt::poses::CPose3D>& actions)
-        {
-            std::vector<mrpt::poses::CPose3D> poses;
-            for (const auto& a : actions)
-                poses.push_back(poses.empty() ? a : poses.back() + a);
-            return entropyAtElementPoses(t, poses, 4);
-        };
-        EXPECT_LT(shiftedEnergy(t.actions()), shiftedEnergy(start));
+        EXPECT_LT(fourGridEntropy(t, t.actions()), fourGridEntropy(t, start));
     }
+}
+
+TEST(TrajectoryRectifier, confirmPhasesRefuseLongMovesTheShiftedGridsDoNotSee)
+{
+    TRectifierOptions paper;  // one action by up to 0.6 m and 4 degrees
+    paper.select_fraction = 0.03;
+    paper.eps_xyz = 0.6;
+    paper.eps_rot_deg = 4.0;
+    TRectifierOptions confirm = paper;
+    confirm.confirm_phases = 4;
+    struct Step
+    {
+        bool success;
+        std::size_t unconfirmed;
+        double before, after;  // four-grid entropy (the prior is off)
+    };
+    const auto run = [](const TRectifierOptions& opt)
+    {
+        Trajectory t = hallTruth();
+        TrajectoryRectifier r(opt);
+        RectificationStats s;
+        r.begin(t, s);
+        std::vector<Step> steps;
+        double before = fourGridEntropy(t, t.actions());
+        for (int k = 0; k < 300; ++k)
+        {
+            const bool success = r.attempt(t, s);
+            const double after = fourGridEntropy(t, t.actions());
+            steps.push_back({success, s.unconfirmed, before, after});
+            before = after;
+        }
+        EXPECT_EQ(s.attempts, s.successes + s.failures);
+        EXPECT_LE(s.unconfirmed, s.failures);
+        return steps;
+    };
+    // The same seed draws the same changes until the check first refuses
+    // one: there, one grid alone took a step the shifted grids see as worse.
+    const std::vector<Step> one = run(paper);
+    const std::vector<Step> four = run(confirm);
+    std::size_t k = 0;
+    while (k < one.size() && one[k].success == four[k].success)
+    {
+        EXPECT_NEAR(one[k].after, four[k].after, 1e-12);
+        EXPECT_EQ(four[k].unconfirmed, 0u);
+        ++k;
+    }
+    ASSERT_LT(k, one.size()) << "the check never refused a change";
+    EXPECT_TRUE(one[k].success);
+    EXPECT_FALSE(four[k].success);
+    EXPECT_EQ(four[k].unconfirmed, 1u);
+    EXPECT_GE(one[k].after, one[k].before);             // what the paper's grid kept
+    EXPECT_NEAR(four[k].after, four[k].before, 1e-12);  // refused: nothing moved
+    EXPECT_GT(std::count_if(four.begin(), four.end(), [](const Step& s) { return s.success; }), 0);
 }
 
 TEST(TrajectoryRectifier, paperRatioRuleKeepsTheBestStateSeen)
@@ -287,6 +355,7 @@ TEST(TrajectoryRectifier, optionsRoundTripAndRejectBadValues)
     o.proposal_scale = 0.5;
     o.coarse_levels = 2;
     o.validate_phases = 4;
+    o.confirm_phases = 3;
     mrpt::config::CConfigFileMemory out;
     o.saveToConfigFile(out, "Rectifier");
     mrpt::config::CConfigFileMemory in(out.getContent());
@@ -306,6 +375,7 @@ TEST(TrajectoryRectifier, optionsRoundTripAndRejectBadValues)
     EXPECT_DOUBLE_EQ(back.proposal_scale, 0.5);
     EXPECT_EQ(back.coarse_levels, 2);
     EXPECT_EQ(back.validate_phases, 4);
+    EXPECT_EQ(back.confirm_phases, 3);
 
     const auto load = [](const std::string& kv)
     {
@@ -330,6 +400,8 @@ TEST(TrajectoryRectifier, optionsRoundTripAndRejectBadValues)
     test::expectThrowContaining([&] { load("coarse_levels = 5"); }, {"coarse_levels", "0..4"});
     test::expectThrowContaining([&] { load("validate_phases = 1"); }, {"validate_phases", "2..8"});
     test::expectThrowContaining([&] { load("validate_phases = 9"); }, {"validate_phases", "2..8"});
+    test::expectThrowContaining([&] { load("confirm_phases = 1"); }, {"confirm_phases", "2..8"});
+    test::expectThrowContaining([&] { load("confirm_phases = 9"); }, {"confirm_phases", "2..8"});
     test::expectThrowContaining(
         [&] { load("prior_covariance = hessian"); }, {"prior_covariance", "fixed, egomotion"});
     test::expectThrowContaining([&] { load("proposal = gauss"); }, {"proposal", "coherent"});

@@ -49,16 +49,28 @@ double entropyAtElementPoses(
     double sum = 0;
     for (int k = 0; k < grid_phases; ++k)
     {
-        const mrpt::poses::CPose3D shift =
-            Trajectory::gridPhaseShift(k, grid_phases, t.map().creationOptions().cell_size);
-        emslam::CEntropyVoxelMap map(t.map().creationOptions(), t.map().insertionOptions);
-        for (std::size_t i = 0; i < t.size(); ++i)
-        {
-            map.insertWeightedCloud(t.map().observationCloud(i), shift + element_poses[i], true);
-        }
-        sum += map.energy();
+        sum += entropyOnShiftedGrid(t, element_poses, k, grid_phases);
     }
     return sum / grid_phases;
+}
+
+double entropyOnShiftedGrid(
+    const Trajectory& t, const std::vector<mrpt::poses::CPose3D>& element_poses, int k, int phases)
+{
+    if (element_poses.size() != t.size())
+    {
+        throw std::invalid_argument(
+            "entropyOnShiftedGrid: " + std::to_string(element_poses.size()) + " poses for " +
+            std::to_string(t.size()) + " elements");
+    }
+    const mrpt::poses::CPose3D shift =
+        Trajectory::gridPhaseShift(k, phases, t.map().creationOptions().cell_size);
+    emslam::CEntropyVoxelMap map(t.map().creationOptions(), t.map().insertionOptions);
+    for (std::size_t i = 0; i < t.size(); ++i)
+    {
+        map.insertWeightedCloud(t.map().observationCloud(i), shift + element_poses[i], true);
+    }
+    return map.energy();
 }
 
 double priorAtElementPoses(

@@ -99,6 +99,7 @@ void TRectifierOptions::loadFromConfigFile(
     MRPT_LOAD_CONFIG_VAR(grid_phases, int, c, s);
     MRPT_LOAD_CONFIG_VAR(coarse_levels, int, c, s);
     MRPT_LOAD_CONFIG_VAR(validate_phases, int, c, s);
+    MRPT_LOAD_CONFIG_VAR(confirm_phases, int, c, s);
     prior_covariance = readChoice(
         c, s, "prior_covariance", prior_covariance,
         {PriorCovariance::Fixed, PriorCovariance::Egomotion});
@@ -141,6 +142,8 @@ void TRectifierOptions::saveToConfigFile(
         coarse_levels, "each rectification first runs on cells 2^L..2 l_d (0: the paper)");
     MRPT_SAVE_CONFIG_VAR_COMMENT(
         validate_phases, "keep a rectification only if K shifted grids agree (0: the paper)");
+    MRPT_SAVE_CONFIG_VAR_COMMENT(
+        confirm_phases, "a success moving a point > a cell needs K shifted grids (0: off)");
     c.write(
         s, "prior_covariance", toString(prior_covariance), -1, -1,
         "fixed (prior_sigma_*) | egomotion (Dpp curvature)");
@@ -206,6 +209,9 @@ void TRectifierOptions::validate() const
     require(coarse_levels >= 0 && coarse_levels <= 4, "coarse_levels", "must be in 0..4");
     require(
         validate_phases == 0 || (validate_phases >= 2 && validate_phases <= 8), "validate_phases",
+        "must be 0 (off) or in 2..8");
+    require(
+        confirm_phases == 0 || (confirm_phases >= 2 && confirm_phases <= 8), "confirm_phases",
         "must be 0 (off) or in 2..8");
     require(
         std::isfinite(proposal_scale) && proposal_scale > 0 && proposal_scale <= 100,

@@ -56,27 +56,46 @@ ActionDelta gaussianDelta(const ActionCovariance& c, int dof, double scale, Rng&
 }
 }  // namespace
 
-double TrajectoryRectifier::mapReach(const Trajectory& t)
+std::vector<double> TrajectoryRectifier::downstreamReach(const Trajectory& t)
 {
     const auto& map = t.map();
-    if (t.empty())
-    {
-        return 0.0;
-    }
-    const auto origin = map.observationPose(0).translation();
-    double reach = 0.0;
-    for (std::size_t i = 0; i < t.size(); ++i)
+    const std::size_t n = t.size();
+    std::vector<double> farthest(n, 0.0);
+    for (std::size_t j = 0; j < n; ++j)
     {
         double farthest_sq = 0.0;
-        for (const auto& p : map.observationCloud(i).points)
+        for (const auto& p : map.observationCloud(j).points)
         {
             farthest_sq =
                 std::max(farthest_sq, double(p.x) * p.x + double(p.y) * p.y + double(p.z) * p.z);
         }
-        const double to_origin = (map.observationPose(i).translation() - origin).norm();
-        reach = std::max(reach, to_origin + std::sqrt(farthest_sq));
+        farthest[j] = std::sqrt(farthest_sq);
+    }
+    std::vector<double> reach(n, 0.0);
+    for (std::size_t i = 0; i < n; ++i)
+    {
+        const auto origin = map.observationPose(i).translation();
+        for (std::size_t j = i; j < n; ++j)
+        {
+            const double to_origin = (map.observationPose(j).translation() - origin).norm();
+            reach[i] = std::max(reach[i], to_origin + farthest[j]);
+        }
     }
     return reach;
+}
+
+double TrajectoryRectifier::largestMove() const
+{
+    double largest = 0.0;
+    for (const Perturbation& p : m_change)
+    {
+        const auto& d = p.delta;
+        const double shift = std::sqrt(d[0] * d[0] + d[1] * d[1] + d[2] * d[2]);
+        const double turn = std::sqrt(d[3] * d[3] + d[4] * d[4] + d[5] * d[5]);
+        largest =
+            std::max(largest, shift + turn * (p.index < m_reach.size() ? m_reach[p.index] : 0.0));
+    }
+    return largest;
 }
 
 TrajectoryRectifier::TrajectoryRectifier(const TRectifierOptions& p) : m_p(p), m_rng(p.seed)
@@ -95,9 +114,14 @@ void TrajectoryRectifier::begin(Trajectory& t, RectificationStats& s)
     s.energy_after = m_energy;
     m_best = t.actions();
     m_start = t.actions();
-    // Only a_0's capped turn (below) needs it: an O(points) pass.
-    m_map_reach =
-        t.dependsOnGlobalAlignment() && m_p.proposal != ProposalShape::Box ? mapReach(t) : 0.0;
+    // An O(points) pass: only a_0's capped turn and confirm_phases need it.
+    const bool capped_turn = t.dependsOnGlobalAlignment() && m_p.proposal != ProposalShape::Box;
+    m_reach.clear();
+    if (capped_turn || m_p.confirm_phases >= 2)
+    {
+        m_reach = downstreamReach(t);
+    }
+    m_shifted_known = false;
     m_best_energy = m_energy;
     m_consecutive_failures = 0;
     m_reuse = false;
@@ -127,6 +151,7 @@ void TrajectoryRectifier::startLevel(Trajectory& t, int level)
     m_best_energy = m_energy;
     m_consecutive_failures = 0;
     m_reuse = false;
+    m_shifted_known = false;  // another cell size, maybe another state
 }
 
 bool TrajectoryRectifier::refine(Trajectory& t)
@@ -190,8 +215,9 @@ void TrajectoryRectifier::drawPerturbation(const Trajectory& t)
     // point by more than a cell: a larger one changes a Manhattan energy
     // more than the bends of the other actions can, and almost every
     // attempt fails (doc/rectify.md, "The global alignment's turn").
-    const double eps_r0 = m_p.proposal != ProposalShape::Box && m_map_reach > 0
-                              ? std::min(eps_r, t.map().creationOptions().cell_size / m_map_reach)
+    const double eps_r0 = m_p.proposal != ProposalShape::Box && t.dependsOnGlobalAlignment() &&
+                                  !m_reach.empty() && m_reach[0] > 0
+                              ? std::min(eps_r, t.map().creationOptions().cell_size / m_reach[0])
                               : eps_r;
     std::uniform_real_distribution<double> unit(-1.0, 1.0);
     const bool planar = t.dof() == 3;
@@ -243,6 +269,15 @@ bool TrajectoryRectifier::attempt(Trajectory& t, RectificationStats& s)
     {
         m_changes.push_back({p.index, perturbAction(t.action(p.index), p.delta)});
     }
+    // A move beyond a cell can land on a look-alike place that only this
+    // grid's binning favours (doc/rectify.md, "Confirming long moves").
+    const bool check =
+        m_p.confirm_phases >= 2 && largestMove() > t.map().creationOptions().cell_size;
+    const double entropy_before = check ? t.entropy() : 0.0;
+    if (check)
+    {
+        m_before = t.actions();
+    }
     const double e_try = t.changeActions(m_changes);
     ++s.attempts;
     if (t.resolutionLevel() > 0)
@@ -250,7 +285,27 @@ bool TrajectoryRectifier::attempt(Trajectory& t, RectificationStats& s)
         ++s.coarse_attempts;
     }
 
-    const bool success = e_try < m_energy - m_p.min_improvement * std::abs(m_energy);
+    bool success = e_try < m_energy - m_p.min_improvement * std::abs(m_energy);
+    bool unconfirmed = false;
+    if (success && check)
+    {
+        if (!m_shifted_known)
+        {
+            m_shifted_energy = confirmationEnergy(t, m_before, entropy_before);
+        }
+        const double shifted_try = confirmationEnergy(t, t.actions(), t.entropy());
+        m_shifted_known = true;
+        unconfirmed = !(shifted_try < m_shifted_energy);
+        success = !unconfirmed;
+        if (success)
+        {
+            m_shifted_energy = shifted_try;
+        }
+    }
+    else if (success)
+    {
+        m_shifted_known = false;  // the state moved unchecked
+    }
     if (success)
     {
         ++s.successes;
@@ -270,10 +325,12 @@ bool TrajectoryRectifier::attempt(Trajectory& t, RectificationStats& s)
     else
     {
         ++s.failures;
+        s.unconfirmed += unconfirmed ? 1 : 0;
         ++m_consecutive_failures;
         m_reuse = false;
         bool keep = false;
-        if (m_p.acceptance == Acceptance::Ratio && e_try > 0 && std::isfinite(e_try))
+        if (m_p.acceptance == Acceptance::Ratio && !unconfirmed && e_try > 0 &&
+            std::isfinite(e_try))
         {
             std::uniform_real_distribution<double> u(0.0, 1.0);
             keep = u(m_rng) < m_energy / e_try;
@@ -283,6 +340,7 @@ bool TrajectoryRectifier::attempt(Trajectory& t, RectificationStats& s)
             ++s.accepted_worse;
             m_energy = e_try;
             t.commitChange();
+            m_shifted_known = false;
         }
         else
         {
@@ -313,24 +371,47 @@ void TrajectoryRectifier::finish(Trajectory& t, RectificationStats& s)
     s.converged = m_consecutive_failures >= m_p.nc_max;
 }
 
+double TrajectoryRectifier::shiftedGridsEnergy(
+    const Trajectory& t, const std::vector<mrpt::poses::CPose3D>& actions, int phases)
+{
+    std::vector<mrpt::poses::CPose3D> poses;
+    poses.reserve(actions.size());
+    for (const auto& a : actions)
+    {
+        poses.push_back(poses.empty() ? a : poses.back() + a);
+    }
+    return entropyAtElementPoses(t, poses, phases) + t.priorEnergyOf(actions);
+}
+
+double TrajectoryRectifier::confirmationEnergy(
+    const Trajectory& t,
+    const std::vector<mrpt::poses::CPose3D>& actions,
+    double grid_entropy) const
+{
+    const int phases = m_p.confirm_phases;
+    if (t.gridPhases() != 1)
+    {
+        return shiftedGridsEnergy(t, actions, phases);
+    }
+    // Grid 0 is the trajectory's own: its entropy is known.
+    std::vector<mrpt::poses::CPose3D> poses;
+    poses.reserve(actions.size());
+    for (const auto& a : actions)
+    {
+        poses.push_back(poses.empty() ? a : poses.back() + a);
+    }
+    double sum = grid_entropy;
+    for (int k = 1; k < phases; ++k)
+    {
+        sum += entropyOnShiftedGrid(t, poses, k, phases);
+    }
+    return sum / phases + t.priorEnergyOf(actions);
+}
+
 bool TrajectoryRectifier::shiftedGridsConfirm(const Trajectory& t) const
 {
-    const auto posesOf = [](const std::vector<mrpt::poses::CPose3D>& actions)
-    {
-        std::vector<mrpt::poses::CPose3D> poses;
-        poses.reserve(actions.size());
-        for (const auto& a : actions)
-        {
-            poses.push_back(poses.empty() ? a : poses.back() + a);
-        }
-        return poses;
-    };
-    const auto energyOf = [&](const std::vector<mrpt::poses::CPose3D>& actions)
-    {
-        return entropyAtElementPoses(t, posesOf(actions), m_p.validate_phases) +
-               t.priorEnergyOf(actions);
-    };
-    return energyOf(t.actions()) < energyOf(m_start);
+    return shiftedGridsEnergy(t, t.actions(), m_p.validate_phases) <
+           shiftedGridsEnergy(t, m_start, m_p.validate_phases);
 }
 
 RectificationStats TrajectoryRectifier::rectify(Trajectory& t, const std::atomic<bool>* stop)

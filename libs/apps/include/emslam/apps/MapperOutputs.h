@@ -61,6 +61,8 @@ struct RectificationTotals
     std::size_t attempts{0}, successes{0}, failures{0}, accepted_worse{0};
     /** Calls whose changes `validate_phases` undid. */
     std::size_t rejected_by_validation{0};
+    /** Of `failures`, grid successes that `confirm_phases` refused. */
+    std::size_t unconfirmed{0};
     double seconds{0}, median_ms{0}, max_ms{0};
 };
 RectificationTotals rectificationTotals(const std::vector<emslam::rectify::RectificationStats>& r);

@@ -34,6 +34,11 @@ double entropyAtElementPoses(
     const std::vector<mrpt::poses::CPose3D>& element_poses,
     int grid_phases = 1);
 
+/** The entropy of that map on the k-th of `phases` voxel grids, shifted by
+ * k/phases of a cell along each axis (k = 0: `t`'s own grid). */
+double entropyOnShiftedGrid(
+    const Trajectory& t, const std::vector<mrpt::poses::CPose3D>& element_poses, int k, int phases);
+
 /** The odometry prior's part of `t`'s energy (Trajectory::priorEnergyOf())
  * with its elements at `element_poses`: beside entropyAtElementPoses(), does
  * the prior let the rectifier reach those poses? 0 when the prior is off.

@@ -26,6 +26,9 @@ struct RectificationStats
     /** `validate_phases`: the shifted grids did not confirm the gain, so the
      * trajectory went back to where this rectification started. */
     bool rejected_by_validation{false};
+    /** Of `failures`, attempts that lowered the energy on the grid but that
+     * `confirm_phases`' shifted grids did not confirm. */
+    std::size_t unconfirmed{0};
     /** Energy of the trajectory after each attempt (kept or reverted), for
      * plots; 4 bytes per attempt. */
     std::vector<float> energy_trace;

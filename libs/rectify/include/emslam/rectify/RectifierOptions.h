@@ -75,6 +75,7 @@ enum class ProposalShape : std::uint8_t
  * grid_phases      = 1       ; entropy averaged over shifted voxel grids (1: the paper)
  * coarse_levels    = 0       ; each rectification first runs on cells 2^L..2 l_d (0: the paper)
  * validate_phases  = 0       ; keep a rectification only if K shifted grids agree (0: the paper)
+ * confirm_phases   = 0       ; a success that moves a point > a cell needs K shifted grids (0: off)
  * \endcode
  *
  * `vertical_band` is an option beside the paper: for a 3DOF robot (fixed
@@ -132,6 +133,13 @@ struct TRectifierOptions : public mrpt::config::CLoadableOptions
      * A gain that only one grid sees is the grid's, not the map's. 0: off,
      * the paper (Default: 0) */
     int validate_phases{0};
+    /** K ≥ 2: a success whose draw moves some map point by more than a cell
+     * (a long element's composed covariance can draw metres) is kept only if
+     * it also lowers the energy averaged over K shifted grids; otherwise it
+     * counts as a failure. A jump onto a look-alike place that one grid
+     * favours is refused; moves within a cell are not checked. 0: off, the
+     * paper (Default: 0) */
+    int confirm_phases{0};
 
     /** The prior these options describe. */
     OdometryPrior odometryPrior() const

@@ -23,7 +23,9 @@ namespace emslam::rectify
  * each component by U(−ε, +ε) (see perturbAction()); with the egomotion's
  * proposals (`proposal` ≠ box) the actions are drawn from their covariances
  * instead, and a_0's turn is capped at l_d / (distance from the first camera
- * to the farthest map point), so that it moves no point by more than a cell.
+ * to the farthest map point), so that it moves no point by more than a cell;
+ * with `confirm_phases`, a success whose draw moves some point by more than
+ * a cell must also lower the energy averaged over shifted grids.
  * An attempt that lowers the energy is a success and is kept; otherwise it
  * is a failure, kept with probability p = E_old / E_try (`acceptance =
  * ratio`, the paper's rule) or never (`greedy`). After a success the same
@@ -76,9 +78,22 @@ private:
         ActionDelta delta{};
     };
     void drawPerturbation(const Trajectory& t);
-    /** An upper bound of the distance from the first camera to any map
-     * point (the lever arm of a turn of a_0). */
-    static double mapReach(const Trajectory& t);
+    /** For each action a_i, a bound on the distance from element i's origin
+     * to any point of elements i..N-1: the lever arm of a turn of a_i. */
+    static std::vector<double> downstreamReach(const Trajectory& t);
+    /** A bound on how far the drawn change (m_change) moves any map point:
+     * the largest |δt| + |δθ| · reach of its actions (0 without m_reach). */
+    double largestMove() const;
+    /** The energy averaged over `phases` shifted grids, plus the prior, of
+     * `t` with `actions`. */
+    static double shiftedGridsEnergy(
+        const Trajectory& t, const std::vector<mrpt::poses::CPose3D>& actions, int phases);
+    /** shiftedGridsEnergy() over `confirm_phases` grids, with grid 0's
+     * entropy (`grid_entropy`, the trajectory's own) given. */
+    double confirmationEnergy(
+        const Trajectory& t,
+        const std::vector<mrpt::poses::CPose3D>& actions,
+        double grid_entropy) const;
     /** Puts `t` back to the best state seen since the level started
      * (non-greedy acceptance only). */
     void restoreBestState(Trajectory& t);
@@ -100,7 +115,12 @@ private:
 
     std::vector<mrpt::poses::CPose3D> m_best;
     std::vector<mrpt::poses::CPose3D> m_start;  //!< the actions at begin()
-    double m_map_reach{0.0};                    //!< mapReach() at begin()
+    std::vector<double> m_reach;  //!< downstreamReach() at begin(), when a cap or check needs it
+    /** confirm_phases: the actions before the attempt being checked, and
+     * the shifted-grids energy of the current state while it is known. */
+    std::vector<mrpt::poses::CPose3D> m_before;
+    double m_shifted_energy{0.0};
+    bool m_shifted_known{false};
     double m_best_energy{0.0};
     double m_energy{0.0};
     int m_consecutive_failures{0};
