@@ -812,6 +812,21 @@ TEST(MapperApp, sigintStopsAndWritesTheOutputs)
 
 namespace
 {
+/** Runs `app` with `args` (which hold `--gt`) and returns the egomotion's
+ * and SLAM's metrics against the ground truth. */
+std::pair<emslam::eval::TrajectoryMetrics, emslam::eval::TrajectoryMetrics> mapWithGroundTruth(
+    MapperApp& app, const std::vector<std::string>& args)
+{
+    initApp(app, args);
+    app.run();
+    const auto& info = app.runInfo();
+    if (!info.egomotion_vs_gt || !info.slam_vs_gt)
+    {
+        throw std::runtime_error("the mapper gave no metrics against the ground truth");
+    }
+    return {*info.egomotion_vs_gt, *info.slam_vs_gt};
+}
+
 /** Renders config/sim/`world`.ini with `seed` into `dir`, maps it with
  * config/mapper/`mapper_config`.ini (plus `extra` arguments) and prints and
  * returns the egomotion's and SLAM's metrics against the ground truth. */
@@ -842,15 +857,7 @@ std::pair<emslam::eval::TrajectoryMetrics, emslam::eval::TrajectoryMetrics> mapS
         dir + "/world.tum",
         "-q"};
     args.insert(args.end(), extra.begin(), extra.end());
-    initApp(app, args);
-    app.run();
-    const auto& info = app.runInfo();
-    if (!info.egomotion_vs_gt || !info.slam_vs_gt)
-    {
-        throw std::runtime_error("the mapper gave no metrics against the ground truth");
-    }
-    const auto& ego = *info.egomotion_vs_gt;
-    const auto& slam = *info.slam_vs_gt;
+    const auto [ego, slam] = mapWithGroundTruth(app, args);
     std::printf(
         "%s seed %d (%s): loop gap egomotion %.3f m, SLAM %.3f m; ATE egomotion %.3f m, SLAM "
         "%.3f m\n",
@@ -915,17 +922,9 @@ std::pair<emslam::eval::TrajectoryMetrics, emslam::eval::TrajectoryMetrics> mapK
     auto argv = argvOf(args);
     import.initialize(static_cast<int>(argv.size()), argv.data());
     import.run();
-    initApp(
+    const auto [ego, slam] = mapWithGroundTruth(
         app, {config("kitti"), dir + "/k06.rawlog", "--out", dir + "/map", "--gt", dir + "/k06.tum",
               "-q"});
-    app.run();
-    const auto& info = app.runInfo();
-    if (!info.egomotion_vs_gt || !info.slam_vs_gt)
-    {
-        throw std::runtime_error("the mapper gave no metrics against the ground truth");
-    }
-    const auto& ego = *info.egomotion_vs_gt;
-    const auto& slam = *info.slam_vs_gt;
     std::printf(
         "KITTI 06 (frames '%s'): ATE egomotion %.3f m, SLAM %.3f m; end error egomotion %.3f m, "
         "SLAM %.3f m\n",
