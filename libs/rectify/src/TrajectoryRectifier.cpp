@@ -54,6 +54,17 @@ ActionDelta gaussianDelta(const ActionCovariance& c, int dof, double scale, Rng&
     }
     return delta;
 }
+/** pose_i = a_0 ⊕ … ⊕ a_i. */
+std::vector<mrpt::poses::CPose3D> composedPoses(const std::vector<mrpt::poses::CPose3D>& actions)
+{
+    std::vector<mrpt::poses::CPose3D> poses;
+    poses.reserve(actions.size());
+    for (const auto& a : actions)
+    {
+        poses.push_back(poses.empty() ? a : poses.back() + a);
+    }
+    return poses;
+}
 }  // namespace
 
 std::vector<double> TrajectoryRectifier::downstreamReach(const Trajectory& t)
@@ -374,13 +385,7 @@ void TrajectoryRectifier::finish(Trajectory& t, RectificationStats& s)
 double TrajectoryRectifier::shiftedGridsEnergy(
     const Trajectory& t, const std::vector<mrpt::poses::CPose3D>& actions, int phases)
 {
-    std::vector<mrpt::poses::CPose3D> poses;
-    poses.reserve(actions.size());
-    for (const auto& a : actions)
-    {
-        poses.push_back(poses.empty() ? a : poses.back() + a);
-    }
-    return entropyAtElementPoses(t, poses, phases) + t.priorEnergyOf(actions);
+    return entropyAtElementPoses(t, composedPoses(actions), phases) + t.priorEnergyOf(actions);
 }
 
 double TrajectoryRectifier::confirmationEnergy(
@@ -394,12 +399,7 @@ double TrajectoryRectifier::confirmationEnergy(
         return shiftedGridsEnergy(t, actions, phases);
     }
     // Grid 0 is the trajectory's own: its entropy is known.
-    std::vector<mrpt::poses::CPose3D> poses;
-    poses.reserve(actions.size());
-    for (const auto& a : actions)
-    {
-        poses.push_back(poses.empty() ? a : poses.back() + a);
-    }
+    const std::vector<mrpt::poses::CPose3D> poses = composedPoses(actions);
     double sum = grid_entropy;
     for (int k = 1; k < phases; ++k)
     {
