@@ -870,8 +870,8 @@ std::pair<emslam::eval::TrajectoryMetrics, emslam::eval::TrajectoryMetrics> mapS
 // The simulator's whole 3DOF hall double loop (104 m) with the shipped
 // 3dof-low-structured configuration (rectifier seed 1, deterministic): the
 // loop gap must fall to 1/5 of the egomotion's and to 0.5 % of the path, and
-// the ATE must halve. Measured: gap 2.42 -> 0.44 m, ATE 0.55 -> 0.22 m. Other
-// rectifier seeds meet the gap target 23 times in 24 (doc/apps/emslam-mapper.md).
+// the ATE must halve. Measured: gap 2.42 -> 0.28 m, ATE 0.55 -> 0.19 m; other
+// sim seeds in doc/rectify.md ("Confirming every success before a revisit").
 TEST(MapperApp, hallDoubleLoopRectificationShrinksGapAndAte)
 {
     const std::string dir = emslam::test::makeTempDir("mapper_hall");

@@ -290,6 +290,44 @@ TEST(TrajectoryRectifier, confirmPhasesRefuseLongMovesTheShiftedGridsDoNotSee)
     EXPECT_GT(std::count_if(four.begin(), four.end(), [](const Step& s) { return s.success; }), 0);
 }
 
+TEST(TrajectoryRectifier, confirmMinMoveZeroChecksTheSmallMovesToo)
+{
+    // On the true trajectory every gain is the grid's. Moves of a few
+    // centimetres and a tenth of a degree move no map point by a cell, so
+    // only confirm_min_move = 0 checks them.
+    TRectifierOptions small;
+    small.select_fraction = 0.03;
+    small.eps_xyz = 0.03;
+    small.eps_rot_deg = 0.1;
+    small.confirm_phases = 4;
+    TRectifierOptions every = small;
+    every.confirm_min_move = 0;
+    const auto run = [](const TRectifierOptions& opt)
+    {
+        Trajectory t = hallTruth();
+        TrajectoryRectifier r(opt);
+        RectificationStats s;
+        r.begin(t, s);
+        double before = fourGridEntropy(t, t.actions());
+        std::size_t worse_kept = 0;  // successes that raised the four-grid entropy
+        for (int k = 0; k < 300; ++k)
+        {
+            const bool success = r.attempt(t, s);
+            const double after = fourGridEntropy(t, t.actions());
+            worse_kept += success && after > before ? 1 : 0;
+            before = after;
+        }
+        return std::make_pair(s, worse_kept);
+    };
+    const auto [s_small, worse_small] = run(small);
+    const auto [s_every, worse_every] = run(every);
+    EXPECT_EQ(s_small.unconfirmed, 0u);  // no move beyond a cell: never checked
+    EXPECT_GT(worse_small, 0u);          // ... so grid-only gains were kept
+    EXPECT_GT(s_every.unconfirmed, 0u);
+    EXPECT_EQ(worse_every, 0u);  // every kept success lowered the four grids' entropy
+    EXPECT_GT(s_every.successes, 0u);
+}
+
 TEST(TrajectoryRectifier, paperRatioRuleKeepsTheBestStateSeen)
 {
     Trajectory t = drifted(hallStart());
@@ -356,6 +394,7 @@ TEST(TrajectoryRectifier, optionsRoundTripAndRejectBadValues)
     o.coarse_levels = 2;
     o.validate_phases = 4;
     o.confirm_phases = 3;
+    o.confirm_min_move = 0.5;
     mrpt::config::CConfigFileMemory out;
     o.saveToConfigFile(out, "Rectifier");
     mrpt::config::CConfigFileMemory in(out.getContent());
@@ -376,6 +415,7 @@ TEST(TrajectoryRectifier, optionsRoundTripAndRejectBadValues)
     EXPECT_EQ(back.coarse_levels, 2);
     EXPECT_EQ(back.validate_phases, 4);
     EXPECT_EQ(back.confirm_phases, 3);
+    EXPECT_DOUBLE_EQ(back.confirm_min_move, 0.5);
 
     const auto load = [](const std::string& kv)
     {
@@ -402,6 +442,8 @@ TEST(TrajectoryRectifier, optionsRoundTripAndRejectBadValues)
     test::expectThrowContaining([&] { load("validate_phases = 9"); }, {"validate_phases", "2..8"});
     test::expectThrowContaining([&] { load("confirm_phases = 1"); }, {"confirm_phases", "2..8"});
     test::expectThrowContaining([&] { load("confirm_phases = 9"); }, {"confirm_phases", "2..8"});
+    test::expectThrowContaining([&] { load("confirm_min_move = -1"); }, {"confirm_min_move"});
+    test::expectThrowContaining([&] { load("confirm_min_move = nan"); }, {"confirm_min_move"});
     test::expectThrowContaining(
         [&] { load("prior_covariance = hessian"); }, {"prior_covariance", "fixed, egomotion"});
     test::expectThrowContaining([&] { load("proposal = gauss"); }, {"proposal", "coherent"});

@@ -100,6 +100,8 @@ void TRectifierOptions::loadFromConfigFile(
     MRPT_LOAD_CONFIG_VAR(coarse_levels, int, c, s);
     MRPT_LOAD_CONFIG_VAR(validate_phases, int, c, s);
     MRPT_LOAD_CONFIG_VAR(confirm_phases, int, c, s);
+    MRPT_LOAD_CONFIG_VAR(confirm_min_move, double, c, s);
+    MRPT_LOAD_CONFIG_VAR(confirm_all_before_revisit, bool, c, s);
     prior_covariance = readChoice(
         c, s, "prior_covariance", prior_covariance,
         {PriorCovariance::Fixed, PriorCovariance::Egomotion});
@@ -144,6 +146,10 @@ void TRectifierOptions::saveToConfigFile(
         validate_phases, "keep a rectification only if K shifted grids agree (0: the paper)");
     MRPT_SAVE_CONFIG_VAR_COMMENT(
         confirm_phases, "a success moving a point > a cell needs K shifted grids (0: off)");
+    MRPT_SAVE_CONFIG_VAR_COMMENT(
+        confirm_min_move, "[cells] moves confirm_phases checks beyond (0: every success)");
+    MRPT_SAVE_CONFIG_VAR_COMMENT(
+        confirm_all_before_revisit, "confirm_phases checks every success until a revisit");
     c.write(
         s, "prior_covariance", toString(prior_covariance), -1, -1,
         "fixed (prior_sigma_*) | egomotion (Dpp curvature)");
@@ -213,6 +219,9 @@ void TRectifierOptions::validate() const
     require(
         confirm_phases == 0 || (confirm_phases >= 2 && confirm_phases <= 8), "confirm_phases",
         "must be 0 (off) or in 2..8");
+    require(
+        std::isfinite(confirm_min_move) && confirm_min_move >= 0 && confirm_min_move <= 1000,
+        "confirm_min_move", "must be in [0, 1000] cells");
     require(
         std::isfinite(proposal_scale) && proposal_scale > 0 && proposal_scale <= 100,
         "proposal_scale", "must be in (0, 100]");

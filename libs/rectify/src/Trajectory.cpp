@@ -50,6 +50,11 @@ void Trajectory::append(
     }
     const mrpt::poses::CPose3D pose = m_actions.empty() ? a : this->pose(m_actions.size() - 1) + a;
     const std::size_t index = m_map.insertWeightedCloud(cloud, pose);
+    for (const auto& q : m_map.observationCloud(index).points)
+    {
+        m_view_range = std::max(
+            m_view_range, std::sqrt(double(q.x) * q.x + double(q.y) * q.y + double(q.z) * q.z));
+    }
     for (auto& ph : m_phase_maps)
     {
         ph.map.insertWeightedCloud(m_map.observationCloud(index), ph.shift + pose, true);

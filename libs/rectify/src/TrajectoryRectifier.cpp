@@ -1,5 +1,6 @@
 // SPDX-License-Identifier: BSD-3-Clause
 #include <emslam/rectify/EnergyAtPoses.h>
+#include <emslam/rectify/Revisit.h>
 #include <emslam/rectify/TrajectoryRectifier.h>
 
 #include <mrpt/core/bits_math.h>
@@ -133,6 +134,11 @@ void TrajectoryRectifier::begin(Trajectory& t, RectificationStats& s)
         m_reach = downstreamReach(t);
     }
     m_shifted_known = false;
+    // An energy that anchors a_0 (Manhattan, flat floor) measures the
+    // orientation against the world's structure from the first frame on:
+    // that the egomotion never measured, so it is not held back.
+    m_confirm_all = m_p.confirm_phases >= 2 && m_p.confirm_all_before_revisit && !t.empty() &&
+                    !t.dependsOnGlobalAlignment() && !revisitsAPlace(t);
     m_best_energy = m_energy;
     m_consecutive_failures = 0;
     m_reuse = false;
@@ -281,9 +287,12 @@ bool TrajectoryRectifier::attempt(Trajectory& t, RectificationStats& s)
         m_changes.push_back({p.index, perturbAction(t.action(p.index), p.delta)});
     }
     // A move beyond a cell can land on a look-alike place that only this
-    // grid's binning favours (doc/rectify.md, "Confirming long moves").
-    const bool check =
-        m_p.confirm_phases >= 2 && largestMove() > t.map().creationOptions().cell_size;
+    // grid's binning favours (doc/rectify.md, "Confirming long moves"); a
+    // smaller one can win by the grid's noise alone ("Confirming every
+    // success").
+    const bool check = m_p.confirm_phases >= 2 &&
+                       (m_confirm_all || m_p.confirm_min_move == 0 ||
+                        largestMove() > m_p.confirm_min_move * t.map().creationOptions().cell_size);
     const double entropy_before = check ? t.entropy() : 0.0;
     if (check)
     {

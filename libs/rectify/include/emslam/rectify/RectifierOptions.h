@@ -76,7 +76,9 @@ enum class ProposalShape : std::uint8_t
  * coarse_levels    = 0       ; each rectification first runs on cells 2^L..2 l_d (0: the paper)
  * validate_phases  = 0       ; keep a rectification only if K shifted grids agree (0: the paper)
  * confirm_phases   = 0       ; a success that moves a point > a cell needs K shifted grids (0: off)
- * \endcode
+ * confirm_min_move = 1       ; [cells] the move beyond which confirm_phases checks (0: every
+ * success) confirm_all_before_revisit = false ; confirm_phases checks every success until the path
+ * revisits a place \endcode
  *
  * `vertical_band` is an option beside the paper: for a 3DOF robot (fixed
  * camera height) it drops floor and ceiling points, whose projection on the
@@ -140,6 +142,22 @@ struct TRectifierOptions : public mrpt::config::CLoadableOptions
      * favours is refused; moves within a cell are not checked. 0: off, the
      * paper (Default: 0) */
     int confirm_phases{0};
+    /** [cells of l_d] confirm_phases checks the successes whose draw moves
+     * some map point by more than this; 0: every success. A noise-level
+     * gain of a small move is as much the grid's as that of a long one
+     * (doc/rectify.md, "Confirming every success"). (Default: 1) */
+    double confirm_min_move{1.0};
+    /** With an energy blind to the global alignment (Exp. 8, 11): until the
+     * trajectory comes back to a place it saw (revisitsAPlace(), at the
+     * start of each rectification), confirm_phases checks every success,
+     * whatever its move. Before a revisit such an energy only re-measures
+     * what the egomotion measured between neighbouring frames, and a gain
+     * that the shifted grids do not share is noise. After it, only moves
+     * beyond confirm_min_move. Energies that anchor a_0 (Exp. 9, 10, 12)
+     * measure the orientation against the world's structure from the first
+     * frame on and are not held back (doc/rectify.md, "Confirming every
+     * success before a revisit"). (Default: false) */
+    bool confirm_all_before_revisit{false};
 
     /** The prior these options describe. */
     OdometryPrior odometryPrior() const

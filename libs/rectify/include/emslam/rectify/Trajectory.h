@@ -148,6 +148,9 @@ public:
 
     /** Original frames of element i. */
     const std::vector<ElementFrame>& framesOf(std::size_t i) const { return m_frames.at(i); }
+    /** The farthest point any appended frame put in the map, from that
+     * frame [m]: how far one view reaches (compression keeps it). */
+    double viewRange() const { return m_view_range; }
     /** Number of original frames in all elements. */
     std::size_t frameCount() const;
     /** World pose of every original frame, in order. */
@@ -189,6 +192,7 @@ private:
     std::vector<PhaseMap> m_phase_maps;  //!< grid phases 1..K-1 (empty: the paper's energy)
     std::vector<mrpt::poses::CPose3D> m_actions;
     std::vector<std::vector<ElementFrame>> m_frames;
+    double m_view_range{0.0};  //!< viewRange()
     OdometryPrior m_prior;
     std::vector<mrpt::poses::CPose3D> m_reference;   //!< egomotion actions (prior references)
     std::vector<ActionCovariance> m_reference_cov;   //!< their covariances

@@ -25,7 +25,9 @@ namespace emslam::rectify
  * instead, and a_0's turn is capped at l_d / (distance from the first camera
  * to the farthest map point), so that it moves no point by more than a cell;
  * with `confirm_phases`, a success whose draw moves some point by more than
- * a cell must also lower the energy averaged over shifted grids.
+ * `confirm_min_move` cells (with `confirm_all_before_revisit`: any success
+ * until the trajectory revisits a place, revisitsAPlace()) must also lower
+ * the energy averaged over shifted grids.
  * An attempt that lowers the energy is a success and is kept; otherwise it
  * is a failure, kept with probability p = E_old / E_try (`acceptance =
  * ratio`, the paper's rule) or never (`greedy`). After a success the same
@@ -121,6 +123,9 @@ private:
     std::vector<mrpt::poses::CPose3D> m_before;
     double m_shifted_energy{0.0};
     bool m_shifted_known{false};
+    /** confirm_all_before_revisit: the trajectory has not come back to a
+     * place yet (revisitsAPlace() at begin()), so every success is checked. */
+    bool m_confirm_all{false};
     double m_best_energy{0.0};
     double m_energy{0.0};
     int m_consecutive_failures{0};
