@@ -50,11 +50,13 @@ void Trajectory::append(
     }
     const mrpt::poses::CPose3D pose = m_actions.empty() ? a : this->pose(m_actions.size() - 1) + a;
     const std::size_t index = m_map.insertWeightedCloud(cloud, pose);
+    double farthest_sq = m_view_range * m_view_range;  // one square root per frame
     for (const auto& q : m_map.observationCloud(index).points)
     {
-        m_view_range = std::max(
-            m_view_range, std::sqrt(double(q.x) * q.x + double(q.y) * q.y + double(q.z) * q.z));
+        farthest_sq =
+            std::max(farthest_sq, double(q.x) * q.x + double(q.y) * q.y + double(q.z) * q.z);
     }
+    m_view_range = std::sqrt(farthest_sq);
     for (auto& ph : m_phase_maps)
     {
         ph.map.insertWeightedCloud(m_map.observationCloud(index), ph.shift + pose, true);
