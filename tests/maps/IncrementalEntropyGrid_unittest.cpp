@@ -252,6 +252,84 @@ TEST(IncrementalEntropyGrid, incrementalEnergyEqualsRecomputationFromScratch)
     }
 }
 
+// Two threads per move update the same histograms in the same order as one:
+// bit-identical energies after moves of every observation (dense marginal
+// grids), a move far away (hashed marginal updates), and undos.
+TEST(IncrementalEntropyGrid, twoThreadsGiveTheSameEnergiesAsOne)
+{
+    for (int e = 0; e <= static_cast<int>(EnergyType::PlanarStructured); e++)
+    {
+        const auto energy = static_cast<EnergyType>(e);
+        IncrementalEntropyGrid one = makeScene(energy, 60 + e, 16);
+        std::size_t points = 0;
+        for (std::size_t i = 0; i < one.observationCount(); i++)
+        {
+            points += one.observationCloud(i).size();
+        }
+        ASSERT_GE(points, IncrementalEntropyGrid::PARALLEL_MIN_POINTS);  // the split is used
+        IncrementalEntropyGrid two = one;
+        two.setThreads(2);
+        EXPECT_EQ(two.threads(), 2);
+        std::mt19937 rng(70 + e);
+        for (int it = 0; it < 12; it++)
+        {
+            std::vector<IncrementalEntropyGrid::ObservationMove> moves;
+            for (std::size_t i = 0; i < one.observationCount(); i++)
+            {
+                moves.push_back({i, perturbed(one, i, rng)});
+            }
+            if (it == 5)
+            {
+                moves[3].pose = CPose3D(40, -30, 25, 0, 0, 0);
+            }
+            const double e1 = one.moveObservations(moves);
+            EXPECT_EQ(two.moveObservations(moves), e1) << emslam::maps::toString(energy);
+            if (it % 2 == 0)
+            {
+                const double r1 = one.revertLastMove();
+                EXPECT_EQ(two.revertLastMove(), r1) << emslam::maps::toString(energy);
+            }
+        }
+        EXPECT_NEAR(two.recomputeFromScratch(), two.energy(), 1e-9);
+    }
+    IncrementalEntropyGrid g;
+    EXPECT_THROW(g.setThreads(0), std::exception);
+    EXPECT_THROW(g.setThreads(3), std::exception);
+    EXPECT_EQ(g.threads(), 1);
+}
+
+// The energy at other poses equals the energy after moving there, and the
+// grid stays where it was.
+TEST(IncrementalEntropyGrid, energyAtPosesEqualsTheEnergyThereWithoutMoving)
+{
+    for (int threads = 1; threads <= 2; threads++)
+    {
+        for (int e = 0; e <= static_cast<int>(EnergyType::PlanarStructured); e++)
+        {
+            const auto energy = static_cast<EnergyType>(e);
+            IncrementalEntropyGrid g = makeScene(energy, 80 + e, 16);
+            g.setThreads(threads);
+            std::mt19937 rng(90 + e);
+            std::vector<CPose3D> poses;
+            std::vector<IncrementalEntropyGrid::ObservationMove> moves;
+            for (std::size_t i = 0; i < g.observationCount(); i++)
+            {
+                poses.push_back(perturbed(g, i, rng));
+                moves.push_back({i, poses.back()});
+            }
+            const double here = g.energy();
+            const CPose3D first = g.observationPose(0);
+            const double there = g.energyAtPoses(poses);
+            EXPECT_EQ(g.energy(), here);
+            EXPECT_EQ(g.observationPose(0).x(), first.x());
+            EXPECT_NE(there, here);
+            EXPECT_NEAR(g.moveObservations(moves), there, 1e-9) << emslam::maps::toString(energy);
+            poses.pop_back();
+            EXPECT_THROW(g.energyAtPoses(poses), std::exception);
+        }
+    }
+}
+
 // Observations assigned at once are kept as given and binned from scratch:
 // same entropies as the same clouds added one by one.
 TEST(IncrementalEntropyGrid, assignedObservationsMatchAddedOnes)

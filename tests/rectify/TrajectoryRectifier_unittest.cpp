@@ -395,6 +395,7 @@ TEST(TrajectoryRectifier, optionsRoundTripAndRejectBadValues)
     o.validate_phases = 4;
     o.confirm_phases = 3;
     o.confirm_min_move = 0.5;
+    o.threads = 1;
     mrpt::config::CConfigFileMemory out;
     o.saveToConfigFile(out, "Rectifier");
     mrpt::config::CConfigFileMemory in(out.getContent());
@@ -416,6 +417,8 @@ TEST(TrajectoryRectifier, optionsRoundTripAndRejectBadValues)
     EXPECT_EQ(back.validate_phases, 4);
     EXPECT_EQ(back.confirm_phases, 3);
     EXPECT_DOUBLE_EQ(back.confirm_min_move, 0.5);
+    EXPECT_EQ(back.threads, 1);
+    EXPECT_EQ(TRectifierOptions{}.threads, 2);
 
     const auto load = [](const std::string& kv)
     {
@@ -449,6 +452,8 @@ TEST(TrajectoryRectifier, optionsRoundTripAndRejectBadValues)
     test::expectThrowContaining([&] { load("proposal = gauss"); }, {"proposal", "coherent"});
     test::expectThrowContaining([&] { load("proposal_scale = 0"); }, {"proposal_scale"});
     test::expectThrowContaining([&] { load("proposal_scale = inf"); }, {"proposal_scale"});
+    test::expectThrowContaining([&] { load("threads = 3"); }, {"threads", "1 or 2"});
+    test::expectThrowContaining([&] { load("threads = 0"); }, {"threads", "1 or 2"});
 }
 
 TEST(TrajectoryRectifier, shippedConfigLoadsWithThePaperDefaults)

@@ -213,3 +213,33 @@ TEST(Trajectory, egomotionCovariancePriorIsMahalanobisAndComposesOnCompression)
     EXPECT_NEAR(t.referenceCovariance(2)(0, 0), carried(0, 0), 1e-15);
     EXPECT_NEAR(t.referenceCovariance(2)(1, 1), carried(1, 1), 1e-15);
 }
+
+TEST(Trajectory, twoThreadsKeepTheirSettingAndGiveTheSameEnergies)
+{
+    // 40 blobs of ~3,000 simplified points: every change is split.
+    Trajectory one(mapOptions(maps::EnergyType::Structured));
+    Trajectory two(mapOptions(maps::EnergyType::Structured));
+    one.setGridPhases(2);
+    two.setGridPhases(2);
+    two.setThreads(2);
+    const CPose3D step(0.1, 0.0, 0.2, mrpt::DEG2RAD(2.0), 0, 0);
+    for (std::size_t i = 0; i < 40; ++i)
+    {
+        one.append(i == 0 ? CPose3D() : step, blob(10 + i, 4000), 0.1 * i, i);
+        two.append(i == 0 ? CPose3D() : step, blob(10 + i, 4000), 0.1 * i, i);
+    }
+    one.compress();
+    two.compress();
+    one.setGridPhases(3);
+    two.setGridPhases(3);
+    EXPECT_EQ(two.threads(), 2);
+    EXPECT_EQ(one.threads(), 1);
+    EXPECT_EQ(two.recomputeEnergy(), one.recomputeEnergy());
+    const std::vector<Trajectory::ActionChange> changes{
+        {0, CPose3D(0.01, 0, 0, 0.01, 0, 0)}, {3, step + CPose3D(0.05, 0, 0, 0, 0.02, 0)}};
+    const double e1 = one.changeActions(changes);
+    EXPECT_EQ(two.changeActions(changes), e1);
+    const double r1 = one.revertLastChange();
+    EXPECT_EQ(two.revertLastChange(), r1);
+    EXPECT_THROW(two.setThreads(3), std::exception);
+}

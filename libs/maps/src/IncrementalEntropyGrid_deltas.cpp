@@ -6,6 +6,7 @@
 #include <emslam/maps/IncrementalEntropyGrid.h>
 
 #include <algorithm>
+#include <future>
 
 namespace emslam::maps
 {
@@ -283,25 +284,8 @@ bool IncrementalEntropyGrid::applyMarginalDeltasDense(
     return true;
 }
 
-void IncrementalEntropyGrid::flushPending3d()
-{
-    if (m_pending3d_count > 0)
-    {
-        // 3D cells are mostly touched once and hold small integer weights:
-        // immediate updates (table look-ups) beat deferral. All moved
-        // observations at once: one call, one prefetching loop.
-        addNetUpdates(
-            static_cast<std::size_t>(EntropyTerm::H3D), m_pending3d.data(), m_pending3d_count);
-        m_pending3d_count = 0;
-    }
-}
-
 void IncrementalEntropyGrid::applyCellDeltas(const CellChange* changes, std::size_t count)
 {
-    // Marginal cells are shared by many observations: when one set of dense
-    // grids covers every change, the net change of each cell is taken over
-    // all of them (one sweep, and the updates of overlapping observations
-    // cancel before reaching the histogram).
     CellBox box;
     std::size_t points = 0;
     for (std::size_t c = 0; c < count; c++)
@@ -314,12 +298,114 @@ void IncrementalEntropyGrid::applyCellDeltas(const CellChange* changes, std::siz
         box = points == 0 ? b : unionOf(box, b);
         points += changes[c].cloud->size();
     }
-    const bool marginals_done = points > 0 && applyMarginalDeltasDense(changes, count, box);
+    if (points == 0)
+    {
+        return;
+    }
+    const TermMask h3d = termBit(EntropyTerm::H3D);
+    const bool has3d = (m_tracked & h3d) != 0;
+    const bool has_marginals = (m_tracked & ~h3d) != 0;
+    const auto marginals = [&]
+    {
+        if (has_marginals)
+        {
+            applyMarginalDeltas(changes, count, box);
+        }
+    };
+    const auto cells3d = [&]
+    {
+        if (has3d)
+        {
+            apply3dDeltas(changes, count);
+        }
+    };
+    // The 3D histogram and the marginal ones share nothing (each side has
+    // its own histograms and scratch buffers): on two threads they are
+    // updated side by side, with the same result as one after the other.
+    if (splitsWork(points))
+    {
+        auto side = std::async(std::launch::async, marginals);
+        cells3d();
+        side.get();
+    }
+    else
+    {
+        marginals();
+        cells3d();
+    }
+}
+
+void IncrementalEntropyGrid::applyMarginalDeltas(
+    const CellChange* changes, std::size_t count, const CellBox& box)
+{
+    // Marginal cells are shared by many observations: when one set of dense
+    // grids covers every change, the net change of each cell is taken over
+    // all of them (one sweep, and the updates of overlapping observations
+    // cancel before reaching the histogram). Otherwise each observation on
+    // its own: dense grids over its box, or hashed updates.
+    if (applyMarginalDeltasDense(changes, count, box))
+    {
+        return;
+    }
+    const TermList terms(m_tracked);
     for (std::size_t c = 0; c < count; c++)
     {
-        applyCellDelta(changes[c], marginals_done);
+        const CellChange& change = changes[c];
+        const std::size_t n = change.cloud->size();
+        if (n == 0 || applyMarginalDeltasDense(&change, 1, unionOf(change.from_box, change.to_box)))
+        {
+            continue;
+        }
+        packCells(change, m_marginal_keys);
+        for (std::size_t k = 0; k < terms.n; k++)
+        {
+            const std::size_t t = terms.idx[k];
+            if (t == static_cast<std::size_t>(EntropyTerm::H3D))
+            {
+                continue;
+            }
+            if (m_updates.size() < 2 * n)
+            {  // grow only: shrinking and regrowing value-initialised it every time
+                m_updates.resize(std::max(2 * n, 2 * m_updates.size()));
+            }
+            const std::size_t updates =
+                collectChangedCells(t, change, m_marginal_keys.data(), m_updates.data());
+            // Marginal cells collect many updates with large weights:
+            // deferral evaluates w log w once per touched cell.
+            m_hist[t].beginBatch(updates);
+            m_hist[t].addDeferredMany(m_updates.data(), updates);
+            m_hist[t].endBatch();
+        }
     }
-    flushPending3d();
+}
+
+void IncrementalEntropyGrid::apply3dDeltas(const CellChange* changes, std::size_t count)
+{
+    const std::size_t t = static_cast<std::size_t>(EntropyTerm::H3D);
+    std::size_t total = 0;
+    for (std::size_t c = 0; c < count; c++)
+    {
+        total += 2 * changes[c].cloud->size();
+    }
+    if (m_pending3d.size() < total)
+    {  // grow only (see above)
+        m_pending3d.resize(std::max(total, 2 * m_pending3d.size()));
+    }
+    std::size_t pending = 0;
+    for (std::size_t c = 0; c < count; c++)
+    {
+        if (changes[c].cloud->size() == 0)
+        {
+            continue;
+        }
+        packCells(changes[c], m_keys3d);
+        pending +=
+            collectChangedCells(t, changes[c], m_keys3d.data(), m_pending3d.data() + pending);
+    }
+    // 3D cells are mostly touched once and hold small integer weights:
+    // immediate updates (table look-ups) beat deferral. All moved
+    // observations at once: one call, one prefetching loop.
+    addNetUpdates(t, m_pending3d.data(), pending);
 }
 
 IncrementalEntropyGrid::CellBox IncrementalEntropyGrid::unionOf(const CellBox& a, const CellBox& b)
@@ -333,100 +419,54 @@ IncrementalEntropyGrid::CellBox IncrementalEntropyGrid::unionOf(const CellBox& a
     return u;
 }
 
-void IncrementalEntropyGrid::applyCellDelta(const CellChange& change, bool marginals_applied)
+void IncrementalEntropyGrid::packCells(const CellChange& change, std::vector<std::uint64_t>& keys)
 {
-    const TermList terms(m_tracked);
-    const WeightedPointCloud& cloud = *change.cloud;
     const std::vector<CellIndex>& from = *change.from;
     const std::vector<CellIndex>& to = *change.to;
-    const std::size_t n = cloud.size();
-    if (n == 0)
+    const std::size_t n = change.cloud->size();
+    keys.resize(2 * n);
+    std::uint64_t* const kf = keys.data();
+    std::uint64_t* const kt = kf + n;
+    for (std::size_t j = 0; j < n; j++)
     {
-        return;
+        kf[j] = packCellKey(from[j].x, from[j].y, from[j].z);
+        kt[j] = packCellKey(to[j].x, to[j].y, to[j].z);
     }
-    // Pack each point's from/to 3D cell once (lazily: only the 3D term and
-    // the hash path of large marginals use them); a term's key is then the
-    // 3D key with the dropped axes' fields replaced by the packed 0 (same
-    // bits as packCellKey() with those axes set to 0).
-    bool packed = false;
-    std::uint64_t* kf = nullptr;
-    std::uint64_t* kt = nullptr;
-    const auto pack = [&]()
+}
+
+std::size_t IncrementalEntropyGrid::collectChangedCells(
+    std::size_t t,
+    const CellChange& change,
+    const std::uint64_t* keys,
+    WeightedHistogram::Update* u)
+{
+    // A term's key is the 3D key with the dropped axes' fields replaced by
+    // the packed 0 (same bits as packCellKey() with those axes set to 0).
+    constexpr std::uint64_t FIELD = (std::uint64_t{1} << 21) - 1;
+    const std::uint64_t keep =  // all-ones fields for the kept axes
+        (TERM_AXES[t][0] ? FIELD << 42 : 0) | (TERM_AXES[t][1] ? FIELD << 21 : 0) |
+        (TERM_AXES[t][2] ? FIELD : 0);
+    const std::uint64_t fill = packCellKey(0, 0, 0) & ~keep;
+    const std::size_t n = change.cloud->size();
+    const std::uint64_t* const kf = keys;
+    const std::uint64_t* const kt = keys + n;
+    const float* const wts = change.cloud->weights.data();
+    // Branch-free: both updates are always written and kept only if the
+    // projected cell changes (a data-dependent branch here mispredicts about
+    // half of the time).
+    std::size_t count = 0;
+    for (std::size_t j = 0; j < n; j++)
     {
-        m_keys3d.resize(2 * n);
-        kf = m_keys3d.data();
-        kt = kf + n;
-        for (std::size_t j = 0; j < n; j++)
-        {
-            kf[j] = packCellKey(from[j].x, from[j].y, from[j].z);
-            kt[j] = packCellKey(to[j].x, to[j].y, to[j].z);
-        }
-        packed = true;
-    };
-    const std::uint64_t zero_key = packCellKey(0, 0, 0);
-    // Marginal cells collect many updates each: accumulate the net change
-    // per cell in dense grids over the observation's box (no hashing per
-    // update), then touch each changed cell once.
-    const bool marginals_done =
-        marginals_applied ||
-        applyMarginalDeltasDense(&change, 1, unionOf(change.from_box, change.to_box));
-    for (std::size_t k = 0; k < terms.n; k++)
-    {
-        const std::size_t t = terms.idx[k];
-        const bool is3d = t == static_cast<std::size_t>(EntropyTerm::H3D);
-        if (!is3d && marginals_done)
-        {
-            continue;
-        }
-        if (!packed)
-        {
-            pack();
-        }
-        // Hash path: collect the (cell, ±w) updates of the points whose
-        // projected cell changes, then hand them to the histogram in bulk.
-        constexpr std::uint64_t FIELD = (std::uint64_t{1} << 21) - 1;
-        const std::uint64_t keep =  // all-ones fields for the kept axes
-            (TERM_AXES[t][0] ? FIELD << 42 : 0) | (TERM_AXES[t][1] ? FIELD << 21 : 0) |
-            (TERM_AXES[t][2] ? FIELD : 0);
-        const std::uint64_t fill = zero_key & ~keep;
-        // Branch-free collection: both updates are always written and kept
-        // only if the projected cell changes (a data-dependent branch here
-        // mispredicts about half of the time). The 3D updates are only
-        // collected: flushPending3d() applies those of every moved
-        // observation together.
-        std::vector<WeightedHistogram::Update>& buffer = is3d ? m_pending3d : m_updates;
-        const std::size_t base = is3d ? m_pending3d_count : 0;
-        if (buffer.size() < base + 2 * n)
-        {  // grow only: shrinking and regrowing value-initialised it every time
-            buffer.resize(std::max(base + 2 * n, 2 * buffer.size()));
-        }
-        WeightedHistogram::Update* u = buffer.data() + base;
-        const float* const wts = cloud.weights.data();
-        std::size_t count = 0;
-        for (std::size_t j = 0; j < n; j++)
-        {
-            const std::uint64_t ka = (kf[j] & keep) | fill;
-            const std::uint64_t kb = (kt[j] & keep) | fill;
-            const double w = wts[j];
-            u[count].key = ka;
-            u[count].w = -w;
-            u[count + 1].key = kb;
-            u[count + 1].w = w;
-            count += (ka != kb) ? 2 : 0;
-        }
-        if (is3d)
-        {
-            m_pending3d_count += count;
-        }
-        else
-        {
-            // Marginal cells collect many updates with large weights:
-            // deferral evaluates w log w once per touched cell.
-            m_hist[t].beginBatch(count);
-            m_hist[t].addDeferredMany(u, count);
-            m_hist[t].endBatch();
-        }
+        const std::uint64_t ka = (kf[j] & keep) | fill;
+        const std::uint64_t kb = (kt[j] & keep) | fill;
+        const double w = wts[j];
+        u[count].key = ka;
+        u[count].w = -w;
+        u[count + 1].key = kb;
+        u[count + 1].w = w;
+        count += (ka != kb) ? 2 : 0;
     }
+    return count;
 }
 
 }  // namespace emslam::maps

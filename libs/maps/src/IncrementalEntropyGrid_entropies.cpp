@@ -4,6 +4,8 @@
 
 #include <emslam/maps/IncrementalEntropyGrid.h>
 
+#include <future>
+
 namespace emslam::maps
 {
 using detail::TERM_AXES;
@@ -96,40 +98,105 @@ double IncrementalEntropyGrid::recomputeFromScratch()
 {
     commitMove();
     resetTracked();
-    for (auto& o : m_obs)
+    std::vector<const std::vector<CellIndex>*> cells(m_obs.size());
+    for (std::size_t i = 0; i < m_obs.size(); i++)
     {
+        Observation& o = m_obs[i];
         computeCells(o.cloud, o.pose, o.cells, &o.box);
         m_total_weight += o.weight_sum;
         m_integral_weights = m_integral_weights && o.integral_weights;
+        cells[i] = &o.cells;
     }
+    fillTracked(cells, m_hist, m_updates);
+    return energy();
+}
+
+double IncrementalEntropyGrid::energyAtPoses(const std::vector<mrpt::poses::CPose3D>& poses) const
+{
+    if (poses.size() != m_obs.size())
+    {
+        THROW_EXCEPTION_FMT(
+            "IncrementalEntropyGrid::energyAtPoses(): %zu poses for %zu observations", poses.size(),
+            m_obs.size());
+    }
+    std::vector<std::vector<CellIndex>> cells(m_obs.size());
+    const auto binned = [&](std::size_t first, std::size_t last)
+    {
+        for (std::size_t i = first; i < last; i++)
+        {
+            computeCells(m_obs[i].cloud, poses[i], cells[i]);
+        }
+    };
+    std::size_t points = 0;
+    for (const auto& o : m_obs)
+    {
+        points += o.cloud.size();
+    }
+    if (splitsWork(points))
+    {
+        const std::size_t half = m_obs.size() / 2;
+        auto side = std::async(std::launch::async, binned, 0, half);
+        binned(half, m_obs.size());
+        side.get();
+    }
+    else
+    {
+        binned(0, m_obs.size());
+    }
+    std::vector<const std::vector<CellIndex>*> cell_lists(m_obs.size());
+    for (std::size_t i = 0; i < m_obs.size(); i++)
+    {
+        cell_lists[i] = &cells[i];
+    }
+    std::array<WeightedHistogram, NUM_ENTROPY_TERMS> hist;
+    const TermList terms(m_tracked);
+    for (std::size_t k = 0; k < terms.n; k++)
+    {
+        // About as many cells as at the current poses: no growth on the way.
+        const std::size_t t = terms.idx[k];
+        hist[t].reserve(m_hist[t].occupiedCells() + m_hist[t].occupiedCells() / 4);
+    }
+    std::vector<WeightedHistogram::Update> scratch;
+    fillTracked(cell_lists, hist, scratch);
+    double e = 0;
+    for (std::size_t k = 0; k < terms.n; k++)
+    {
+        e += hist[terms.idx[k]].entropy();
+    }
+    return e;
+}
+
+void IncrementalEntropyGrid::fillTracked(
+    const std::vector<const std::vector<CellIndex>*>& cells,
+    std::array<WeightedHistogram, NUM_ENTROPY_TERMS>& hist,
+    std::vector<WeightedHistogram::Update>& scratch) const
+{
     const TermList terms(m_tracked);
     const bool has3d = (m_tracked & termBit(EntropyTerm::H3D)) != 0;
     // 3D first (from the points), then the marginals from the occupied 3D
     // cells, which are fewer than the points when observations overlap.
     // Histograms are empty here: accumulate weights, then one w log w per
     // cell (recomputeSums()) instead of one per point.
-    if (has3d)
-    {
-        WeightedHistogram& h3 = m_hist[static_cast<std::size_t>(EntropyTerm::H3D)];
-        for (const auto& o : m_obs)
-        {
-            m_updates.resize(o.cloud.size());
-            for (std::size_t j = 0; j < o.cloud.size(); j++)
-            {
-                const CellIndex& c = o.cells[j];
-                m_updates[j] = {packCellKey(c.x, c.y, c.z), o.cloud.weights[j]};
-            }
-            h3.accumulateMany(m_updates.data(), m_updates.size());
-        }
-    }
-    // Occupied 3D cells, compacted by the same sweep that sums w log w: the
-    // marginals then read n_cells3d entries (L2) instead of sweeping the table.
     std::size_t n_cells3d = 0;
     if (has3d)
     {
-        WeightedHistogram& h3 = m_hist[static_cast<std::size_t>(EntropyTerm::H3D)];
-        m_updates.resize(2 * h3.usedSlots());  // [0, n): 3D cells, [n, 2n): projected
-        n_cells3d = h3.recomputeSums(m_updates.data());
+        WeightedHistogram& h3 = hist[static_cast<std::size_t>(EntropyTerm::H3D)];
+        for (std::size_t i = 0; i < m_obs.size(); i++)
+        {
+            const WeightedPointCloud& cloud = m_obs[i].cloud;
+            const std::vector<CellIndex>& c = *cells[i];
+            scratch.resize(cloud.size());
+            for (std::size_t j = 0; j < cloud.size(); j++)
+            {
+                scratch[j] = {packCellKey(c[j].x, c[j].y, c[j].z), cloud.weights[j]};
+            }
+            h3.accumulateMany(scratch.data(), scratch.size());
+        }
+        // Occupied 3D cells, compacted by the same sweep that sums w log w:
+        // the marginals then read n_cells3d entries (L2) instead of sweeping
+        // the table.
+        scratch.resize(2 * h3.usedSlots());  // [0, n): 3D cells, [n, 2n): projected
+        n_cells3d = h3.recomputeSums(scratch.data());
     }
     for (std::size_t k = 0; k < terms.n; k++)
     {
@@ -138,14 +205,14 @@ double IncrementalEntropyGrid::recomputeFromScratch()
         {
             continue;
         }
-        WeightedHistogram& h = m_hist[t];
+        WeightedHistogram& h = hist[t];
         if (has3d)
         {
             // Field stores into a pre-sized buffer: push_back of an Update
             // built on the stack stalled on store forwarding.
             const std::int32_t ax = TERM_AXES[t][0], ay = TERM_AXES[t][1], az = TERM_AXES[t][2];
-            const WeightedHistogram::Update* cells3d = m_updates.data();
-            WeightedHistogram::Update* u = m_updates.data() + n_cells3d;
+            const WeightedHistogram::Update* cells3d = scratch.data();
+            WeightedHistogram::Update* u = scratch.data() + n_cells3d;
             for (std::size_t j = 0; j < n_cells3d; j++)
             {
                 const CellIndex c = unpackCellKey(cells3d[j].key);
@@ -158,17 +225,18 @@ double IncrementalEntropyGrid::recomputeFromScratch()
         else
         {
             h.beginBatch(0);
-            for (const auto& o : m_obs)
+            for (std::size_t i = 0; i < m_obs.size(); i++)
             {
-                for (std::size_t j = 0; j < o.cloud.size(); j++)
+                const WeightedPointCloud& cloud = m_obs[i].cloud;
+                const std::vector<CellIndex>& c = *cells[i];
+                for (std::size_t j = 0; j < cloud.size(); j++)
                 {
-                    h.addDeferred(termKey(t, o.cells[j]), o.cloud.weights[j]);
+                    h.addDeferred(termKey(t, c[j]), cloud.weights[j]);
                 }
             }
             h.endBatch();
         }
     }
-    return energy();
 }
 
 IncrementalEntropyGrid::MemoryStats IncrementalEntropyGrid::memoryStats() const

@@ -14,6 +14,7 @@ AnyTimeRectification::AnyTimeRectification(
 {
     m_trajectory.setOdometryPrior(options.odometryPrior());
     m_trajectory.setGridPhases(options.grid_phases);
+    m_trajectory.setThreads(options.threads);
     m_thread = std::thread([this] { run(); });
 }
 

@@ -65,12 +65,13 @@ double entropyOnShiftedGrid(
     }
     const mrpt::poses::CPose3D shift =
         Trajectory::gridPhaseShift(k, phases, t.map().creationOptions().cell_size);
-    emslam::CEntropyVoxelMap map(t.map().creationOptions(), t.map().insertionOptions);
-    for (std::size_t i = 0; i < t.size(); ++i)
+    std::vector<mrpt::poses::CPose3D> shifted;
+    shifted.reserve(element_poses.size());
+    for (const auto& pose : element_poses)
     {
-        map.insertWeightedCloud(t.map().observationCloud(i), shift + element_poses[i], true);
+        shifted.push_back(shift + pose);
     }
-    return map.energy();
+    return t.map().energyAtPoses(shifted);
 }
 
 double priorAtElementPoses(

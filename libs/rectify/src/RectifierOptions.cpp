@@ -109,6 +109,7 @@ void TRectifierOptions::loadFromConfigFile(
         c, s, "proposal", proposal,
         {ProposalShape::Box, ProposalShape::Covariance, ProposalShape::Coherent});
     MRPT_LOAD_CONFIG_VAR(proposal_scale, double, c, s);
+    MRPT_LOAD_CONFIG_VAR(threads, int, c, s);
     validate();
 }
 
@@ -156,6 +157,8 @@ void TRectifierOptions::saveToConfigFile(
     c.write(
         s, "proposal", toString(proposal), -1, -1, "box (the paper's eps) | covariance | coherent");
     MRPT_SAVE_CONFIG_VAR_COMMENT(proposal_scale, "sigma multiplier of the covariance proposal");
+    MRPT_SAVE_CONFIG_VAR_COMMENT(
+        threads, "threads of one attempt's map update: 1 | 2 (same result)");
 }
 
 void TRectifierOptions::validate() const
@@ -225,6 +228,7 @@ void TRectifierOptions::validate() const
     require(
         std::isfinite(proposal_scale) && proposal_scale > 0 && proposal_scale <= 100,
         "proposal_scale", "must be in (0, 100]");
+    require(threads == 1 || threads == 2, "threads", "must be 1 or 2");
 }
 
 }  // namespace emslam::rectify

@@ -14,6 +14,7 @@ SerialRectification::SerialRectification(
 {
     m_trajectory.setOdometryPrior(options.odometryPrior());
     m_trajectory.setGridPhases(options.grid_phases);
+    m_trajectory.setThreads(options.threads);
 }
 
 void SerialRectification::addFrame(

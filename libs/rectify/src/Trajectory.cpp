@@ -107,6 +107,15 @@ void Trajectory::setGridPhases(int phases)
     rebuildPhaseMaps();
 }
 
+void Trajectory::setThreads(int threads)
+{
+    m_map.setThreads(threads);
+    for (auto& ph : m_phase_maps)
+    {
+        ph.map.setThreads(threads);
+    }
+}
+
 void Trajectory::setResolutionLevel(int level)
 {
     if (level < 0 || level > 4)
@@ -137,6 +146,7 @@ void Trajectory::rebuildPhaseMaps()
     for (auto& ph : m_phase_maps)
     {
         ph.map = emslam::CEntropyVoxelMap(m_map.creationOptions(), m_map.insertionOptions);
+        ph.map.setThreads(m_map.threads());
         for (std::size_t i = 0; i < m_map.observationCount(); ++i)
         {
             ph.map.insertWeightedCloud(

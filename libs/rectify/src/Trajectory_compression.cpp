@@ -88,7 +88,9 @@ void Trajectory::compress()
         }
         frames.push_back(std::move(members));
     }
+    const int threads = m_map.threads();
     m_map = fuseObservationPairs(m_map, m_actions);
+    m_map.setThreads(threads);
     rebuildPhaseMaps();
     m_actions = composeActionPairs(m_actions);
     m_reference_cov = composeCovariancePairs(m_reference, m_reference_cov);

@@ -185,6 +185,10 @@ public:
     double revertLastMove();
     /** Forgets the undo record (called by insertions and clear()). */
     void commitMove() { m_engine.commitMove(); }
+    /** Threads of one move, 1 or 2 (see IncrementalEntropyGrid::setThreads()). */
+    void setThreads(int threads) { m_engine.setThreads(threads); }
+    /** Threads of one move. */
+    int threads() const { return m_engine.threads(); }
     /** @} */
 
     /** @name Entropies and energy */
@@ -206,6 +210,13 @@ public:
     /** Clears and rebuilds the tracked histograms from all observations and
      * their current poses; returns the energy (the "full evaluation"). */
     double recomputeFromScratch() { return m_engine.recomputeFromScratch(); }
+    /** The energy with observation i at poses[i], one pose per observation
+     * (e.g. the map on a shifted grid, or another trajectory), computed from
+     * scratch; the map does not change. */
+    double energyAtPoses(const std::vector<mrpt::poses::CPose3D>& poses) const
+    {
+        return m_engine.energyAtPoses(poses);
+    }
     /** Tracked histogram of a term (nullptr if not tracked). */
     const emslam::maps::WeightedHistogram* trackedHistogram(emslam::maps::EntropyTerm t) const
     {

@@ -123,6 +123,17 @@ public:
     double revertLastMove();
     /** Forgets the undo record. */
     void commitMove();
+    /** Threads of one move (1 or 2; throws otherwise). With 2, when the 3D
+     * term and marginal ones are tracked (Exp. 9, 10), a move, an undo or
+     * energyAtPoses() over at least PARALLEL_MIN_POINTS points bins the
+     * observations in two halves and updates the 3D histogram and the
+     * marginal ones side by side; the results are the same as with 1. */
+    void setThreads(int threads);
+    /** Threads of one move (see setThreads()). */
+    int threads() const { return m_threads; }
+    /** Smallest move that setThreads(2) splits: below it, starting a
+     * thread costs more than it saves. */
+    static constexpr std::size_t PARALLEL_MIN_POINTS = 16384;
     /** @} */
 
     /** @name Entropies and energy */
@@ -139,6 +150,10 @@ public:
     /** Clears and rebuilds the tracked histograms from all observations and
      * their current poses; returns the energy (the "full evaluation"). */
     double recomputeFromScratch();
+    /** The energy with observation i at poses[i] (one pose per observation),
+     * from scratch as recomputeFromScratch() would give it; the grid does
+     * not change. Throws if the sizes differ. */
+    double energyAtPoses(const std::vector<mrpt::poses::CPose3D>& poses) const;
     /** Tracked histogram of a term (nullptr if not tracked). */
     const WeightedHistogram* trackedHistogram(EntropyTerm t) const;
     /** Builds the histogram of any term from scratch. */
@@ -194,21 +209,43 @@ private:
     void addToTracked(const Observation& o, double sign);
     /** Applies the changes of distinct observations to every tracked term. */
     void applyCellDeltas(const CellChange* changes, std::size_t count);
-    /** Applies one observation's change; the marginal terms only if not
-     * `marginals_applied`; 3D updates are left for flushPending3d(). */
-    void applyCellDelta(const CellChange& change, bool marginals_applied);
+    /** The marginal terms' part of applyCellDeltas(); `box` holds every
+     * from and to cell. Touches only the marginal histograms, m_updates,
+     * m_marginal_keys, m_dense and m_fields. */
+    void applyMarginalDeltas(const CellChange* changes, std::size_t count, const CellBox& box);
+    /** The 3D term's part of applyCellDeltas(). Touches only the 3D
+     * histogram, m_keys3d and m_pending3d. */
+    void apply3dDeltas(const CellChange* changes, std::size_t count);
+    /** Packed keys of a change's cells: [0, n) from, [n, 2n) to. */
+    static void packCells(const CellChange& change, std::vector<std::uint64_t>& keys);
+    /** Writes to `u` the (cell, ±w) updates of term `t` for the points of
+     * `change` whose projected cell changes (`keys` from packCells(); `u`
+     * has room for 2n); returns their number. */
+    static std::size_t collectChangedCells(
+        std::size_t t,
+        const CellChange& change,
+        const std::uint64_t* keys,
+        WeightedHistogram::Update* u);
     static CellBox unionOf(const CellBox& a, const CellBox& b);
     /** True if index(0..count-1) has no repeated value. */
     template <typename INDEX>
     bool distinctIndices(std::size_t count, INDEX&& index);
-    /** Applies the 3D updates collected by applyCellDelta() calls. */
-    void flushPending3d();
     /** Applies updates to term `t` (addManyIntegral() if m_integral_weights). */
     void addNetUpdates(std::size_t t, const WeightedHistogram::Update* u, std::size_t count);
     /** The marginal terms of `changes` through dense grids of weight deltas
      * over `box` (which contains every from and to cell); false (nothing
      * done) if a grid would be too large or the terms have no dense path. */
     bool applyMarginalDeltasDense(const CellChange* changes, std::size_t count, const CellBox& box);
+    /** True if a move of `points` points is split over two threads (see
+     * setThreads()). */
+    bool splitsWork(std::size_t points) const;
+    /** Fills the empty histograms `hist` of the tracked terms with every
+     * observation's weights at `cells` (one list per observation);
+     * `scratch` is a work buffer. */
+    void fillTracked(
+        const std::vector<const std::vector<CellIndex>*>& cells,
+        std::array<WeightedHistogram, NUM_ENTROPY_TERMS>& hist,
+        std::vector<WeightedHistogram::Update>& scratch) const;
     /** Starts deferred batches on the tracked histograms. */
     void beginBatches(std::size_t max_new_cells);
     /** Ends the batches started by beginBatches(). */
@@ -223,11 +260,10 @@ private:
     std::vector<Observation> m_obs;
     std::vector<UndoEntry> m_undo;  //!< entries [0, m_undo_count) are live; buffers are reused
     std::size_t m_undo_count{0};
-    std::vector<WeightedHistogram::Update> m_updates;  //!< scratch of applyCellDelta()
-    std::vector<WeightedHistogram::Update>
-        m_pending3d;  //!< 3D updates of applyCellDelta(), [0, m_pending3d_count) live
-    std::size_t m_pending3d_count{0};
-    std::vector<std::uint64_t> m_keys3d;  //!< scratch of applyCellDelta(): packed from/to cells
+    std::vector<WeightedHistogram::Update> m_updates;    //!< scratch of the marginal updates
+    std::vector<WeightedHistogram::Update> m_pending3d;  //!< scratch of apply3dDeltas()
+    std::vector<std::uint64_t> m_keys3d;         //!< scratch of apply3dDeltas(): packed cells
+    std::vector<std::uint64_t> m_marginal_keys;  //!< scratch of applyMarginalDeltas()
     std::vector<double> m_dense;  //!< scratch of applyMarginalDeltasDense(): grids, kept zero
     std::vector<std::uint64_t> m_fields;  //!< scratch of applyMarginalDeltasDense(): key fields
     std::vector<CellChange> m_changes;    //!< scratch of moves and reverts
@@ -237,6 +273,7 @@ private:
      * weights are then exact integer sums and moves use
      * WeightedHistogram::addManyIntegral(). */
     bool m_integral_weights{true};
+    int m_threads{1};  //!< see setThreads()
 };
 
 }  // namespace emslam::maps

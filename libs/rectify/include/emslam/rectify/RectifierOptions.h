@@ -76,9 +76,10 @@ enum class ProposalShape : std::uint8_t
  * coarse_levels    = 0       ; each rectification first runs on cells 2^L..2 l_d (0: the paper)
  * validate_phases  = 0       ; keep a rectification only if K shifted grids agree (0: the paper)
  * confirm_phases   = 0       ; a success that moves a point > a cell needs K shifted grids (0: off)
- * confirm_min_move = 1       ; [cells] the move beyond which confirm_phases checks (0: every
- * success) confirm_all_before_revisit = false ; confirm_phases checks every success until the path
- * revisits a place \endcode
+ * confirm_min_move = 1       ; [cells] the move beyond which confirm_phases checks (0: all)
+ * confirm_all_before_revisit = false ; confirm_phases checks every success until a revisit
+ * threads          = 2       ; threads of one attempt's map update: 1 | 2 (same results)
+ * \endcode
  *
  * `vertical_band` is an option beside the paper: for a 3DOF robot (fixed
  * camera height) it drops floor and ceiling points, whose projection on the
@@ -158,6 +159,14 @@ struct TRectifierOptions : public mrpt::config::CLoadableOptions
      * frame on and are not held back (doc/rectify.md, "Confirming every
      * success before a revisit"). (Default: false) */
     bool confirm_all_before_revisit{false};
+    /** Threads of one attempt's map update, 1 or 2: with 2, when the energy
+     * has the 3D term and marginal ones (Exp. 9, 10) and an attempt moves
+     * enough points, the moved clouds are binned in two halves and the 3D
+     * histogram and the marginal ones are updated side by side
+     * (IncrementalEntropyGrid::setThreads()). The results are the same. In
+     * AnyTime mode the second thread competes with the egomotion's.
+     * (Default: 2) */
+    int threads{2};
 
     /** The prior these options describe. */
     OdometryPrior odometryPrior() const

@@ -112,6 +112,11 @@ public:
      * grid. Costs `phases` times the moves. Throws unless 1 <= phases <= 8. */
     void setGridPhases(int phases);
     int gridPhases() const { return static_cast<int>(m_phase_maps.size()) + 1; }
+    /** Threads of one change's map updates, 1 or 2 (see
+     * IncrementalEntropyGrid::setThreads(): the same results, sooner);
+     * kept through compress() and setGridPhases(). Throws otherwise. */
+    void setThreads(int threads);
+    int threads() const { return m_map.threads(); }
     /** The world shift of grid phase k of `phases`: k / phases of a cell
      * along (1, 1, 1). */
     static mrpt::poses::CPose3D gridPhaseShift(int k, int phases, double cell_size);
