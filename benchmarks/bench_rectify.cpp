@@ -71,30 +71,14 @@ Trajectory makeTrajectory(EnergyType energy)
     return t;
 }
 
+/** Arguments: the energy, and the threads of the map's updates (2:
+ * `[Rectifier] threads = 2`, the same attempts side by side; real time). */
 void BM_RectifierAttempt(benchmark::State& state)
 {
     const auto energy = static_cast<EnergyType>(state.range(0));
     Trajectory t = makeTrajectory(energy);
+    t.setThreads(static_cast<int>(state.range(1)));
     TRectifierOptions opt;  // the paper's S_sel, ε
-    TrajectoryRectifier r(opt);
-    RectificationStats s;
-    r.begin(t, s);
-    for (auto _ : state)
-    {
-        benchmark::DoNotOptimize(r.attempt(t, s));
-    }
-    state.SetItemsProcessed(static_cast<int64_t>(state.iterations()));
-    state.SetLabel(emslam::maps::toString(energy));
-}
-
-/** BM_RectifierAttempt with the map's updates on two threads
- * (`[Rectifier] threads = 2`: the same attempts, side by side). */
-void BM_RectifierAttemptTwoThreads(benchmark::State& state)
-{
-    const auto energy = static_cast<EnergyType>(state.range(0));
-    Trajectory t = makeTrajectory(energy);
-    t.setThreads(2);
-    TRectifierOptions opt;
     TrajectoryRectifier r(opt);
     RectificationStats s;
     r.begin(t, s);
@@ -123,16 +107,14 @@ void BM_RectifyToConvergence(benchmark::State& state)
 }  // namespace
 
 BENCHMARK(BM_RectifierAttempt)
-    ->Arg(static_cast<int>(EnergyType::PlanarLowStructured))
-    ->Arg(static_cast<int>(EnergyType::PlanarStructured))
-    ->Arg(static_cast<int>(EnergyType::Unstructured))
-    ->Arg(static_cast<int>(EnergyType::LowStructured))
-    ->Arg(static_cast<int>(EnergyType::Structured))
-    ->Unit(benchmark::kMicrosecond);
-BENCHMARK(BM_RectifierAttemptTwoThreads)
-    ->Arg(static_cast<int>(EnergyType::Unstructured))
-    ->Arg(static_cast<int>(EnergyType::LowStructured))
-    ->Arg(static_cast<int>(EnergyType::Structured))
+    ->Args({static_cast<int>(EnergyType::PlanarLowStructured), 1})
+    ->Args({static_cast<int>(EnergyType::PlanarStructured), 1})
+    ->Args({static_cast<int>(EnergyType::Unstructured), 1})
+    ->Args({static_cast<int>(EnergyType::LowStructured), 1})
+    ->Args({static_cast<int>(EnergyType::Structured), 1})
+    ->Args({static_cast<int>(EnergyType::Unstructured), 2})
+    ->Args({static_cast<int>(EnergyType::LowStructured), 2})
+    ->Args({static_cast<int>(EnergyType::Structured), 2})
     ->Unit(benchmark::kMicrosecond)
     ->UseRealTime();
 BENCHMARK(BM_RectifyToConvergence)
