@@ -1,4 +1,5 @@
 // SPDX-License-Identifier: BSD-3-Clause
+#include <emslam/rectify/AnyTimeRectification.h>
 #include <emslam/rectify/Revisit.h>
 #include <emslam/rectify/TrajectoryRectifier.h>
 
@@ -160,4 +161,98 @@ TEST(Revisit, confirmAllBeforeRevisitChecksEverySuccessOnlyOnAnOpenWalk)
     EXPECT_EQ(manhattan_gated.first.attempts, manhattan_long.first.attempts);
     EXPECT_EQ(manhattan_gated.first.unconfirmed, 0u);
     EXPECT_EQ(manhattan_gated.second, manhattan_long.second);
+}
+
+namespace
+{
+/** walk() with a drift on every third action. */
+Trajectory driftedWalk(
+    const std::vector<double>& xs, maps::EnergyType energy = maps::EnergyType::Unstructured)
+{
+    Trajectory t = walk(xs, energy);
+    for (std::size_t i = 1; i < t.size(); i += 3)
+    {
+        t.changeActions({{i, t.action(i) + CPose3D(0.03, 0.02, 0, 0.01, 0, 0)}});
+        t.commitChange();
+    }
+    return t;
+}
+
+std::pair<RectificationStats, Trajectory> rectifiedWalk(
+    const std::vector<double>& xs,
+    const TRectifierOptions& opt,
+    maps::EnergyType energy = maps::EnergyType::Unstructured)
+{
+    Trajectory t = driftedWalk(xs, energy);
+    const RectificationStats s = TrajectoryRectifier(opt).rectify(t);
+    return {s, t};
+}
+}  // namespace
+
+TEST(Revisit, holdBeforeRevisitLeavesAnOpenWalkAloneAndIsInertAfterARevisit)
+{
+    TRectifierOptions free;
+    free.eps_xyz = 0.05;
+    free.eps_rot_deg = 0.3;
+    free.max_attempts = 150;
+    TRectifierOptions hold = free;
+    hold.hold_before_revisit = true;
+    // Open walk: the drift stays, no attempt is made, the run is "stable".
+    const auto [open_free, open_free_t] = rectifiedWalk(range(0, 20), free);
+    const auto [open_held, open_held_t] = rectifiedWalk(range(0, 20), hold);
+    ASSERT_GT(open_free.successes, 0u);  // without the hold the energy moves it
+    EXPECT_TRUE(open_held.held_before_revisit);
+    EXPECT_EQ(open_held.attempts, 0u);
+    EXPECT_TRUE(open_held.converged);
+    EXPECT_EQ(open_held.energy_after, open_held.energy_before);
+    EXPECT_EQ(open_held_t.actions(), driftedWalk(range(0, 20)).actions());
+    // Out and back: a revisit, so the hold changes nothing.
+    const auto [back_free, back_free_t] = rectifiedWalk(outAndBack(), free);
+    const auto [back_held, back_held_t] = rectifiedWalk(outAndBack(), hold);
+    EXPECT_FALSE(back_held.held_before_revisit);
+    EXPECT_GT(back_held.attempts, 0u);
+    EXPECT_EQ(back_held.attempts, back_free.attempts);
+    EXPECT_EQ(back_held_t.actions(), back_free_t.actions());
+    // An energy that anchors a_0 is never held.
+    const auto structured = maps::EnergyType::Structured;
+    const auto [m_free, m_free_t] = rectifiedWalk(range(0, 20), free, structured);
+    const auto [m_held, m_held_t] = rectifiedWalk(range(0, 20), hold, structured);
+    EXPECT_FALSE(m_held.held_before_revisit);
+    EXPECT_GT(m_held.attempts, 0u);
+    EXPECT_EQ(m_held.attempts, m_free.attempts);
+    EXPECT_EQ(m_held_t.actions(), m_free_t.actions());
+}
+
+// AnyTime, where the river bed's open walk ended a few mm worse: every
+// synchronisation before a revisit is held, and the walk stays as fed.
+TEST(Revisit, anyTimeHoldsEverySynchronisationOfAnOpenWalk)
+{
+    TRectifierOptions hold;
+    hold.mode = RectificationMode::AnyTime;
+    hold.eps_xyz = 0.05;
+    hold.eps_rot_deg = 0.3;
+    hold.buffer_size = 5;
+    hold.hold_before_revisit = true;
+    CEntropyVoxelMap::TCreationOptions o;
+    o.energy = maps::EnergyType::Unstructured;
+    o.dof = 6;
+    const Trajectory fed = driftedWalk(range(0, 20));
+    AnyTimeRectification anytime(hold, o);
+    for (std::size_t i = 0; i < fed.size(); ++i)
+    {
+        anytime.addFrame(fed.action(i), fed.map().observationCloud(i), double(i), i);
+    }
+    anytime.finish();
+    const auto stats = anytime.statistics();
+    ASSERT_FALSE(stats.empty());
+    for (const RectificationStats& s : stats)
+    {
+        EXPECT_TRUE(s.held_before_revisit);
+        EXPECT_EQ(s.attempts, 0u);
+    }
+    ASSERT_EQ(anytime.trajectory().size(), fed.size());
+    for (std::size_t i = 0; i < fed.size(); ++i)
+    {
+        EXPECT_EQ(anytime.trajectory().action(i), fed.action(i)) << i;
+    }
 }

@@ -395,6 +395,8 @@ TEST(TrajectoryRectifier, optionsRoundTripAndRejectBadValues)
     o.validate_phases = 4;
     o.confirm_phases = 3;
     o.confirm_min_move = 0.5;
+    o.confirm_all_before_revisit = true;
+    o.hold_before_revisit = true;
     o.threads = 1;
     mrpt::config::CConfigFileMemory out;
     o.saveToConfigFile(out, "Rectifier");
@@ -417,6 +419,9 @@ TEST(TrajectoryRectifier, optionsRoundTripAndRejectBadValues)
     EXPECT_EQ(back.validate_phases, 4);
     EXPECT_EQ(back.confirm_phases, 3);
     EXPECT_DOUBLE_EQ(back.confirm_min_move, 0.5);
+    EXPECT_TRUE(back.confirm_all_before_revisit);
+    EXPECT_TRUE(back.hold_before_revisit);
+    EXPECT_FALSE(TRectifierOptions{}.hold_before_revisit);
     EXPECT_EQ(back.threads, 1);
     EXPECT_EQ(TRectifierOptions{}.threads, 2);
 

@@ -130,6 +130,7 @@ RectificationTotals rectificationTotals(const std::vector<emslam::rectify::Recti
         t.accepted_worse += s.accepted_worse;
         t.rejected_by_validation += s.rejected_by_validation ? 1 : 0;
         t.unconfirmed += s.unconfirmed;
+        t.held_before_revisit += s.held_before_revisit ? 1 : 0;
         t.seconds += s.seconds;
         ms.push_back(1e3 * s.seconds);
     }
@@ -224,7 +225,9 @@ void writeSummaryJson(
       << ", \"attempts\": " << rt.attempts << ", \"successes\": " << rt.successes
       << ", \"failures\": " << rt.failures << ", \"accepted_worse\": " << rt.accepted_worse
       << ", \"rejected_by_validation\": " << rt.rejected_by_validation
-      << ", \"unconfirmed\": " << rt.unconfirmed << ", \"seconds\": " << io::jsonNumber(rt.seconds)
+      << ", \"unconfirmed\": " << rt.unconfirmed
+      << ", \"held_before_revisit\": " << rt.held_before_revisit
+      << ", \"seconds\": " << io::jsonNumber(rt.seconds)
       << ", \"median_ms_per_call\": " << io::jsonNumber(rt.median_ms)
       << ", \"max_ms_per_call\": " << io::jsonNumber(rt.max_ms) << "},\n"
       << "  \"trajectory_elements\": " << m.trajectoryElements() << ",\n"

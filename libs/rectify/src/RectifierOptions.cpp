@@ -102,6 +102,7 @@ void TRectifierOptions::loadFromConfigFile(
     MRPT_LOAD_CONFIG_VAR(confirm_phases, int, c, s);
     MRPT_LOAD_CONFIG_VAR(confirm_min_move, double, c, s);
     MRPT_LOAD_CONFIG_VAR(confirm_all_before_revisit, bool, c, s);
+    MRPT_LOAD_CONFIG_VAR(hold_before_revisit, bool, c, s);
     prior_covariance = readChoice(
         c, s, "prior_covariance", prior_covariance,
         {PriorCovariance::Fixed, PriorCovariance::Egomotion});
@@ -151,6 +152,8 @@ void TRectifierOptions::saveToConfigFile(
         confirm_min_move, "[cells] moves confirm_phases checks beyond (0: every success)");
     MRPT_SAVE_CONFIG_VAR_COMMENT(
         confirm_all_before_revisit, "confirm_phases checks every success until a revisit");
+    MRPT_SAVE_CONFIG_VAR_COMMENT(
+        hold_before_revisit, "no change at all until a revisit (energies blind to a_0)");
     c.write(
         s, "prior_covariance", toString(prior_covariance), -1, -1,
         "fixed (prior_sigma_*) | egomotion (Dpp curvature)");

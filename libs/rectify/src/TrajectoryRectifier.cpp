@@ -137,12 +137,18 @@ void TrajectoryRectifier::begin(Trajectory& t, RectificationStats& s)
     // An energy that anchors a_0 (Manhattan, flat floor) measures the
     // orientation against the world's structure from the first frame on:
     // that the egomotion never measured, so it is not held back.
-    m_confirm_all = m_p.confirm_phases >= 2 && m_p.confirm_all_before_revisit && !t.empty() &&
-                    !t.dependsOnGlobalAlignment() && !revisitsAPlace(t);
+    const bool blind = !t.empty() && !t.dependsOnGlobalAlignment();
+    const bool asks_revisit =
+        blind &&
+        (m_p.hold_before_revisit || (m_p.confirm_phases >= 2 && m_p.confirm_all_before_revisit));
+    const bool before_revisit = asks_revisit && !revisitsAPlace(t);
+    m_confirm_all = m_p.confirm_phases >= 2 && m_p.confirm_all_before_revisit && before_revisit;
+    m_hold = m_p.hold_before_revisit && before_revisit;
+    s.held_before_revisit = m_hold;
     m_best_energy = m_energy;
-    m_consecutive_failures = 0;
+    m_consecutive_failures = m_hold ? m_p.nc_max : 0;  // "stable": nothing to do yet
     m_reuse = false;
-    if (m_p.coarse_levels > 0 && t.size() >= 2)
+    if (m_p.coarse_levels > 0 && t.size() >= 2 && !m_hold)
     {
         startLevel(t, m_p.coarse_levels);
     }
@@ -173,7 +179,7 @@ void TrajectoryRectifier::startLevel(Trajectory& t, int level)
 
 bool TrajectoryRectifier::refine(Trajectory& t)
 {
-    if (t.resolutionLevel() == 0)
+    if (t.resolutionLevel() == 0 || m_hold)
     {
         return false;
     }
@@ -272,7 +278,7 @@ void TrajectoryRectifier::drawPerturbation(const Trajectory& t)
 
 bool TrajectoryRectifier::attempt(Trajectory& t, RectificationStats& s)
 {
-    if (t.size() < 2)
+    if (t.size() < 2 || m_hold)
     {
         return false;
     }

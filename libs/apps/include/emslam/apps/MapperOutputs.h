@@ -63,6 +63,8 @@ struct RectificationTotals
     std::size_t rejected_by_validation{0};
     /** Of `failures`, grid successes that `confirm_phases` refused. */
     std::size_t unconfirmed{0};
+    /** Calls that `hold_before_revisit` kept from changing anything. */
+    std::size_t held_before_revisit{0};
     double seconds{0}, median_ms{0}, max_ms{0};
 };
 RectificationTotals rectificationTotals(const std::vector<emslam::rectify::RectificationStats>& r);

@@ -29,6 +29,9 @@ struct RectificationStats
     /** Of `failures`, attempts that lowered the energy on the grid but that
      * `confirm_phases`' shifted grids did not confirm. */
     std::size_t unconfirmed{0};
+    /** `hold_before_revisit`: the trajectory had not revisited a place, so
+     * this rectification made no attempt. */
+    bool held_before_revisit{false};
     /** Energy of the trajectory after each attempt (kept or reverted), for
      * plots; 4 bytes per attempt. */
     std::vector<float> energy_trace;

@@ -78,6 +78,7 @@ enum class ProposalShape : std::uint8_t
  * confirm_phases   = 0       ; a success that moves a point > a cell needs K shifted grids (0: off)
  * confirm_min_move = 1       ; [cells] the move beyond which confirm_phases checks (0: all)
  * confirm_all_before_revisit = false ; confirm_phases checks every success until a revisit
+ * hold_before_revisit = false ; no change at all until a revisit (energies blind to a_0)
  * threads          = 2       ; threads of one attempt's map update: 1 | 2 (same results)
  * \endcode
  *
@@ -159,6 +160,16 @@ struct TRectifierOptions : public mrpt::config::CLoadableOptions
      * frame on and are not held back (doc/rectify.md, "Confirming every
      * success before a revisit"). (Default: false) */
     bool confirm_all_before_revisit{false};
+    /** With an energy blind to the global alignment (Exp. 8, 11): no
+     * rectification at all until the trajectory comes back to a place it saw
+     * (revisitsAPlace(), at the start of each rectification); the trajectory
+     * stays the egomotion's. Stronger than confirm_all_before_revisit: on an
+     * open path such an energy can only re-measure, through a voxel grid,
+     * what the egomotion measured between neighbouring frames, and even
+     * gains that shifted grids confirm left the river bed a few mm worse
+     * (doc/rectify.md, "Holding still before a revisit"). Energies that
+     * anchor a_0 (Exp. 9, 10, 12) ignore it. (Default: false) */
+    bool hold_before_revisit{false};
     /** Threads of one attempt's map update, 1 or 2: with 2, when the energy
      * has the 3D term and marginal ones (Exp. 9, 10) and an attempt moves
      * enough points, the moved clouds are binned in two halves and the 3D

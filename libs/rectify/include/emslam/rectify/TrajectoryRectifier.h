@@ -27,7 +27,8 @@ namespace emslam::rectify
  * with `confirm_phases`, a success whose draw moves some point by more than
  * `confirm_min_move` cells (with `confirm_all_before_revisit`: any success
  * until the trajectory revisits a place, revisitsAPlace()) must also lower
- * the energy averaged over shifted grids.
+ * the energy averaged over shifted grids; with `hold_before_revisit` and
+ * such an energy, a run before a revisit makes no attempt at all.
  * An attempt that lowers the energy is a success and is kept; otherwise it
  * is a failure, kept with probability p = E_old / E_try (`acceptance =
  * ratio`, the paper's rule) or never (`greedy`). After a success the same
@@ -126,6 +127,8 @@ private:
     /** confirm_all_before_revisit: the trajectory has not come back to a
      * place yet (revisitsAPlace() at begin()), so every success is checked. */
     bool m_confirm_all{false};
+    /** hold_before_revisit: no revisit yet, so this run makes no attempt. */
+    bool m_hold{false};
     double m_best_energy{0.0};
     double m_energy{0.0};
     int m_consecutive_failures{0};
