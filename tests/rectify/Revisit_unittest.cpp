@@ -85,6 +85,29 @@ std::array<TRectifierOptions, 3> checkVariants(TRectifierOptions search)
     return {search, every, gated};
 }
 
+/** walk() with a drift on every third action. */
+Trajectory driftedWalk(
+    const std::vector<double>& xs, maps::EnergyType energy = maps::EnergyType::Unstructured)
+{
+    Trajectory t = walk(xs, energy);
+    for (std::size_t i = 1; i < t.size(); i += 3)
+    {
+        t.changeActions({{i, t.action(i) + CPose3D(0.03, 0.02, 0, 0.01, 0, 0)}});
+        t.commitChange();
+    }
+    return t;
+}
+
+std::pair<RectificationStats, Trajectory> rectifiedWalk(
+    const std::vector<double>& xs,
+    const TRectifierOptions& opt,
+    maps::EnergyType energy = maps::EnergyType::Unstructured)
+{
+    Trajectory t = driftedWalk(xs, energy);
+    const RectificationStats s = TrajectoryRectifier(opt).rectify(t);
+    return {s, t};
+}
+
 std::vector<double> outAndBack()
 {
     std::vector<double> xs = range(0, 15);
@@ -118,16 +141,10 @@ TEST(Revisit, confirmAllBeforeRevisitChecksEverySuccessOnlyOnAnOpenWalk)
     search.select_fraction = 0.1;
     search.max_attempts = 150;
     const auto [long_moves, every, gated] = checkVariants(search);
-    const auto run = [](std::vector<double> xs, const TRectifierOptions& opt,
+    const auto run = [](const std::vector<double>& xs, const TRectifierOptions& opt,
                         maps::EnergyType energy = maps::EnergyType::Unstructured)
     {
-        Trajectory t = walk(xs, energy);
-        for (std::size_t i = 1; i < t.size(); i += 3)  // a drift to correct
-        {
-            t.changeActions({{i, t.action(i) + CPose3D(0.03, 0.02, 0, 0.01, 0, 0)}});
-            t.commitChange();
-        }
-        const RectificationStats s = TrajectoryRectifier(opt).rectify(t);
+        const auto [s, t] = rectifiedWalk(xs, opt, energy);
         return std::make_pair(s, t.actions());
     };
     // Open: the gate checks every success, as confirm_min_move = 0 does.
@@ -162,32 +179,6 @@ TEST(Revisit, confirmAllBeforeRevisitChecksEverySuccessOnlyOnAnOpenWalk)
     EXPECT_EQ(manhattan_gated.first.unconfirmed, 0u);
     EXPECT_EQ(manhattan_gated.second, manhattan_long.second);
 }
-
-namespace
-{
-/** walk() with a drift on every third action. */
-Trajectory driftedWalk(
-    const std::vector<double>& xs, maps::EnergyType energy = maps::EnergyType::Unstructured)
-{
-    Trajectory t = walk(xs, energy);
-    for (std::size_t i = 1; i < t.size(); i += 3)
-    {
-        t.changeActions({{i, t.action(i) + CPose3D(0.03, 0.02, 0, 0.01, 0, 0)}});
-        t.commitChange();
-    }
-    return t;
-}
-
-std::pair<RectificationStats, Trajectory> rectifiedWalk(
-    const std::vector<double>& xs,
-    const TRectifierOptions& opt,
-    maps::EnergyType energy = maps::EnergyType::Unstructured)
-{
-    Trajectory t = driftedWalk(xs, energy);
-    const RectificationStats s = TrajectoryRectifier(opt).rectify(t);
-    return {s, t};
-}
-}  // namespace
 
 TEST(Revisit, holdBeforeRevisitLeavesAnOpenWalkAloneAndIsInertAfterARevisit)
 {
