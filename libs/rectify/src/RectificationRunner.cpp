@@ -1,5 +1,6 @@
 // SPDX-License-Identifier: BSD-3-Clause
 #include <emslam/rectify/AnyTimeRectification.h>
+#include <emslam/rectify/AveragedChainsRectification.h>
 #include <emslam/rectify/RectificationRunner.h>
 #include <emslam/rectify/SerialRectification.h>
 
@@ -13,6 +14,11 @@ std::unique_ptr<RectificationRunner> createRectificationRunner(
     if (options.mode == RectificationMode::AnyTime)
     {
         return std::make_unique<AnyTimeRectification>(options, map_options, insertion_options);
+    }
+    if (options.chains > 1)
+    {
+        return std::make_unique<AveragedChainsRectification>(
+            options, map_options, insertion_options);
     }
     return std::make_unique<SerialRectification>(options, map_options, insertion_options);
 }

@@ -111,6 +111,7 @@ void TRectifierOptions::loadFromConfigFile(
         {ProposalShape::Box, ProposalShape::Covariance, ProposalShape::Coherent});
     MRPT_LOAD_CONFIG_VAR(proposal_scale, double, c, s);
     MRPT_LOAD_CONFIG_VAR(threads, int, c, s);
+    MRPT_LOAD_CONFIG_VAR(chains, int, c, s);
     validate();
 }
 
@@ -162,6 +163,8 @@ void TRectifierOptions::saveToConfigFile(
     MRPT_SAVE_CONFIG_VAR_COMMENT(proposal_scale, "sigma multiplier of the covariance proposal");
     MRPT_SAVE_CONFIG_VAR_COMMENT(
         threads, "threads of one attempt's map update: 1 | 2 (same result)");
+    MRPT_SAVE_CONFIG_VAR_COMMENT(
+        chains, "serial mode, K independent searches, poses averaged (1 = the paper)");
 }
 
 void TRectifierOptions::validate() const
@@ -232,6 +235,10 @@ void TRectifierOptions::validate() const
         std::isfinite(proposal_scale) && proposal_scale > 0 && proposal_scale <= 100,
         "proposal_scale", "must be in (0, 100]");
     require(threads == 1 || threads == 2, "threads", "must be 1 or 2");
+    require(chains >= 1 && chains <= 16, "chains", "must be in 1..16");
+    require(
+        chains == 1 || mode == RectificationMode::Serial, "chains",
+        "must be 1 in anytime mode (the chains run in the caller's thread)");
 }
 
 }  // namespace emslam::rectify

@@ -68,6 +68,12 @@ void SerialRectification::finish()
     m_finished = true;
 }
 
+void SerialRectification::replaceActions(const std::vector<mrpt::poses::CPose3D>& actions)
+{
+    m_trajectory.setActions(actions);
+    m_trajectory.commitChange();
+}
+
 bool SerialRectification::mapStable() const
 {
     return m_since_rectification == 0 && !m_stats.empty() && m_stats.back().converged;

@@ -80,6 +80,7 @@ enum class ProposalShape : std::uint8_t
  * confirm_all_before_revisit = false ; confirm_phases checks every success until a revisit
  * hold_before_revisit = false ; no change at all until a revisit (energies blind to a_0)
  * threads          = 2       ; threads of one attempt's map update: 1 | 2 (same results)
+ * chains           = 1       ; serial: K independent searches, poses averaged (1: the paper)
  * \endcode
  *
  * `vertical_band` is an option beside the paper: for a 3DOF robot (fixed
@@ -178,6 +179,11 @@ struct TRectifierOptions : public mrpt::config::CLoadableOptions
      * AnyTime mode the second thread competes with the egomotion's.
      * (Default: 2) */
     int threads{2};
+    /** K independent serial rectifications (seeds seed..seed+K-1) whose
+     * trajectories are averaged pose by pose (AveragedChainsRectification);
+     * serial mode only; each rectification costs K times as much. 1: one
+     * search, the paper. (Default: 1) */
+    int chains{1};
 
     /** The prior these options describe. */
     OdometryPrior odometryPrior() const

@@ -32,6 +32,10 @@ public:
     std::vector<TimedPose> framePoses() const override { return m_trajectory.framePoses(); }
     const Trajectory& trajectory() const override { return m_trajectory; }
 
+    /** Sets every action (size N), e.g. to the mean of several runs, and
+     * keeps the change (AveragedChainsRectification). */
+    void replaceActions(const std::vector<mrpt::poses::CPose3D>& actions);
+
 private:
     void rectifyNow();
 
