@@ -64,3 +64,21 @@ TEST(Action, rotationAngleIsTheAngleOfTheRotation)
     EXPECT_NEAR(
         emslam::rectify::rotationAngle(mrpt::poses::CPose3D(0, 0, 0, 1e-9, 0, 0)), 1e-9, 1e-15);
 }
+
+TEST(Action, actionsBetweenComposeBackToTheElementPoses)
+{
+    const std::vector<CPose3D> poses = {
+        CPose3D(1, 2, 3, 0.1, 0.2, 0.3), CPose3D(2, 2, 4, 0.2, 0.1, 0.3),
+        CPose3D(0, -1, 5, -0.4, 0.0, 0.1)};
+    const auto a = actionsBetween(poses);
+    ASSERT_EQ(a.size(), poses.size());
+    CPose3D composed = a[0];  // a_0 is the first element's world pose
+    EXPECT_NEAR(composed.distanceTo(poses[0]), 0.0, 1e-12);
+    for (std::size_t i = 1; i < poses.size(); ++i)
+    {
+        composed = composed + a[i];
+        EXPECT_NEAR(composed.distanceTo(poses[i]), 0.0, 1e-12);
+        EXPECT_NEAR(rotationAngle(composed - poses[i]), 0.0, 1e-12);
+    }
+    EXPECT_TRUE(actionsBetween({}).empty());
+}

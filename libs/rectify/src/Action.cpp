@@ -55,4 +55,16 @@ mrpt::poses::CPose3D perturbAction(const mrpt::poses::CPose3D& action, const Act
     return mrpt::poses::CPose3D::FromRotationAndTranslation(R, t);
 }
 
+std::vector<mrpt::poses::CPose3D> actionsBetween(
+    const std::vector<mrpt::poses::CPose3D>& element_poses)
+{
+    std::vector<mrpt::poses::CPose3D> actions;
+    actions.reserve(element_poses.size());
+    for (std::size_t i = 0; i < element_poses.size(); ++i)
+    {
+        actions.push_back(i == 0 ? element_poses[0] : element_poses[i] - element_poses[i - 1]);
+    }
+    return actions;
+}
+
 }  // namespace emslam::rectify

@@ -1,4 +1,5 @@
 // SPDX-License-Identifier: BSD-3-Clause
+#include <emslam/rectify/Action.h>
 #include <emslam/rectify/AveragedChainsRectification.h>
 #include <emslam/rectify/PoseMean.h>
 
@@ -94,8 +95,7 @@ void AveragedChainsRectification::finish()
 
 void AveragedChainsRectification::averageIntoFirstChain()
 {
-    const Trajectory& first = m_chains.front()->trajectory();
-    const std::size_t n = first.size();
+    const std::size_t n = m_chains.front()->trajectory().size();
     if (n == 0)
     {
         return;
@@ -112,14 +112,7 @@ void AveragedChainsRectification::averageIntoFirstChain()
         }
         mean[i] = meanPose(poses);
     }
-    // pose_0 = a_0, pose_i = pose_{i-1} ⊕ a_i.
-    std::vector<mrpt::poses::CPose3D> actions(n);
-    actions[0] = mean[0];
-    for (std::size_t i = 1; i < n; ++i)
-    {
-        actions[i] = mean[i] - mean[i - 1];
-    }
-    m_chains.front()->replaceActions(actions);
+    m_chains.front()->replaceActions(actionsBetween(mean));
 }
 
 bool AveragedChainsRectification::mapStable() const

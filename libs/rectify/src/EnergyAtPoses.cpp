@@ -83,13 +83,7 @@ double priorAtElementPoses(
             "priorAtElementPoses: " + std::to_string(element_poses.size()) + " poses for " +
             std::to_string(t.size()) + " elements");
     }
-    std::vector<mrpt::poses::CPose3D> actions;
-    actions.reserve(element_poses.size());
-    for (std::size_t i = 0; i < element_poses.size(); ++i)
-    {
-        actions.push_back(i == 0 ? element_poses[0] : element_poses[i] - element_poses[i - 1]);
-    }
-    return t.priorEnergyOf(actions);
+    return t.priorEnergyOf(actionsBetween(element_poses));
 }
 
 }  // namespace emslam::rectify

@@ -4,6 +4,7 @@
 #include <mrpt/poses/CPose3D.h>
 
 #include <array>
+#include <vector>
 
 namespace emslam::rectify
 {
@@ -31,5 +32,10 @@ mrpt::poses::CPose3D perturbAction(const mrpt::poses::CPose3D& action, const Act
  * (trace − 1) / 2 loses half the digits at the small angles of drift.
  * \ingroup emslam_rectify_grp */
 double rotationAngle(const mrpt::poses::CPose3D& T);
+
+/** The actions that put the elements at `element_poses`: a_0 = pose_0 (the
+ * global alignment), a_i = pose_{i-1}⁻¹ ⊕ pose_i. \ingroup emslam_rectify_grp */
+std::vector<mrpt::poses::CPose3D> actionsBetween(
+    const std::vector<mrpt::poses::CPose3D>& element_poses);
 
 }  // namespace emslam::rectify
