@@ -102,14 +102,16 @@ void runLwo(benchmark::State& state, const Pair* p)
     state.counters["kept"] = static_cast<double>(p->ka.size());
 }
 
-void runPose(benchmark::State& state, const Pair* p)
+void runPose(benchmark::State& state, const Pair* p, bool joint_refinement = false)
 {
     if (!p || p->ka.size() < 3)
     {
         state.SkipWithError("test data not found (set EMSLAM_TEST_DATA)");
         return;
     }
-    const emslam::egomotion::DppPoseEstimator est;
+    emslam::egomotion::DppPoseEstimator::TParameters params;
+    params.joint_refinement = joint_refinement;
+    const emslam::egomotion::DppPoseEstimator est(params);
     int evals = 0;
     for (auto _ : state)
     {
@@ -182,6 +184,10 @@ void BM_Kitti320x240_Pose(benchmark::State& s)
 {
     runPose(s, kittiPair(320, 240));
 }
+void BM_Kitti320x240_PoseJointRefinement(benchmark::State& s)
+{
+    runPose(s, kittiPair(320, 240), true);
+}
 void BM_Kitti320x240_Estimate(benchmark::State& s)
 {
     runEstimate(s, kittiPair(320, 240));
@@ -207,6 +213,7 @@ BENCHMARK_CAPTURE(runProcess, KittiFull_FullSearch, 0, 0, false)->Unit(benchmark
 BENCHMARK_CAPTURE(runProcess, KittiFull_Guided, 0, 0, true)->Unit(benchmark::kMillisecond);
 BENCHMARK(BM_Kitti320x240_Lwo)->Unit(benchmark::kMillisecond);
 BENCHMARK(BM_Kitti320x240_Pose)->Unit(benchmark::kMillisecond);
+BENCHMARK(BM_Kitti320x240_PoseJointRefinement)->Unit(benchmark::kMillisecond);
 BENCHMARK(BM_Kitti320x240_Estimate)->Unit(benchmark::kMillisecond);
 BENCHMARK(BM_KittiFull_Lwo)->Unit(benchmark::kMillisecond);
 BENCHMARK(BM_KittiFull_Pose)->Unit(benchmark::kMillisecond);

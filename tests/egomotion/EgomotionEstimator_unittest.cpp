@@ -38,6 +38,7 @@ lp_num_rings = 6
 lp_num_angles = 12
 lp_radius = 10
 euclidean_init = false
+joint_refinement = true
 max_lwo_matches = 1500
 guided_matching = true
 guided_radius = 0.25
@@ -56,6 +57,7 @@ void expectEqualParams(
     EXPECT_EQ(a.lp_num_angles, b.lp_num_angles);
     EXPECT_DOUBLE_EQ(a.lp_radius, b.lp_radius);
     EXPECT_EQ(a.euclidean_init, b.euclidean_init);
+    EXPECT_EQ(a.joint_refinement, b.joint_refinement);
     EXPECT_EQ(a.max_lwo_matches, b.max_lwo_matches);
     EXPECT_EQ(a.guided_matching, b.guided_matching);
     EXPECT_DOUBLE_EQ(a.guided_radius, b.guided_radius);
@@ -145,6 +147,7 @@ TEST(EgomotionEstimator, loadsNonDefaultValues)
     EXPECT_EQ(p.lp_num_angles, 12);
     EXPECT_DOUBLE_EQ(p.lp_radius, 10);
     EXPECT_FALSE(p.euclidean_init);
+    EXPECT_TRUE(p.joint_refinement);
     EXPECT_EQ(p.max_lwo_matches, 1500);
     EXPECT_TRUE(p.guided_matching);
     EXPECT_DOUBLE_EQ(p.guided_radius, 0.25);

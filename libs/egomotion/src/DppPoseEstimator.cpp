@@ -273,6 +273,74 @@ double cgBlock(
     }
     return e;
 }
+
+/** Levenberg-Marquardt on the six parameters at once, each Dpp read as a
+ * squared residual r² as in covarianceAt(): δ = −(H + λ diag H)⁻¹ ∇E with
+ * H = 2 Σ ∇r ∇rᵀ, kept only when E drops. The alternating blocks above
+ * move the translation and the rotation in turn; where the two trade off
+ * (a turn in front of a wall: a small rotation about the vertical looks like
+ * a sideways step) they zig-zag down the valley and stop short of its
+ * minimum. Returns the new energy. */
+double jointRefine(
+    const Pairs& p, Mat3& R, Vec3& t, double e, int max_iters, double tolerance, int& evals)
+{
+    using Vec6 = Eigen::Matrix<double, 6, 1>;
+    using Mat6 = Eigen::Matrix<double, 6, 6>;
+    double lambda = 1e-4;
+    for (int it = 0; it < max_iters; ++it)
+    {
+        Mat6 H = Mat6::Zero();
+        Vec6 g = Vec6::Zero();
+        Vec3 gt, gw;
+        for (std::size_t i = 0; i < p.a.size(); ++i)
+        {
+            const double dpp = pairTerm(p, i, R, t, &gt, &gw);
+            if (!(dpp > 1e-30))
+            {
+                continue;  // an exact fit: no direction to learn from
+            }
+            Vec6 gi;
+            gi << gt, gw;
+            g += gi;
+            H += gi * gi.transpose() / (2.0 * dpp);  // 2 ∇r ∇rᵀ, ∇r = ∇Dpp / (2 r)
+        }
+        ++evals;
+        bool moved = false;
+        double gain = 0;
+        for (int k = 0; k < 12 && !moved; ++k)
+        {
+            Mat6 A = H;
+            A.diagonal() *= 1.0 + lambda;
+            const Vec6 d = A.ldlt().solve(-g);
+            if (!d.allFinite())
+            {
+                break;
+            }
+            const Mat3 R2 = expSO3(d.tail<3>()) * R;
+            const Vec3 t2 = t + d.head<3>();
+            const double e2 = energyGrad(p, R2, t2, nullptr, nullptr);
+            ++evals;
+            if (e2 < e)
+            {
+                R = R2;
+                t = t2;
+                gain = e - e2;
+                e = e2;
+                lambda = std::max(lambda * 0.1, 1e-9);
+                moved = true;
+            }
+            else
+            {
+                lambda *= 10.0;
+            }
+        }
+        if (!moved || gain <= tolerance * std::max(e, TINY))
+        {
+            break;
+        }
+    }
+    return e;
+}
 }  // namespace
 
 double DppPoseEstimator::dpp(
@@ -449,6 +517,10 @@ DppPoseEstimator::Result DppPoseEstimator::estimate(
         {
             break;
         }
+    }
+    if (m_params.joint_refinement)
+    {
+        e = jointRefine(p, R, t, e, m_params.max_alternations, m_params.tolerance, res.evaluations);
     }
     res.energy = e;
     res.T_prev_cur = toPose(R, t);

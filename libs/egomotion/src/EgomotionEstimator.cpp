@@ -61,6 +61,7 @@ void EgomotionEstimator::TParameters::loadFromConfigFile(
     MRPT_LOAD_CONFIG_VAR(lp_num_angles, int, c, s);
     MRPT_LOAD_CONFIG_VAR(lp_radius, double, c, s);
     MRPT_LOAD_CONFIG_VAR(euclidean_init, bool, c, s);
+    MRPT_LOAD_CONFIG_VAR(joint_refinement, bool, c, s);
     MRPT_LOAD_CONFIG_VAR(max_lwo_matches, int, c, s);
     MRPT_LOAD_CONFIG_VAR(guided_matching, bool, c, s);
     MRPT_LOAD_CONFIG_VAR(guided_radius, double, c, s);
@@ -80,6 +81,8 @@ void EgomotionEstimator::TParameters::saveToConfigFile(
     MRPT_SAVE_CONFIG_VAR_COMMENT(lp_num_angles, "log-polar descriptor angles");
     MRPT_SAVE_CONFIG_VAR_COMMENT(lp_radius, "log-polar window radius [px]");
     MRPT_SAVE_CONFIG_VAR_COMMENT(euclidean_init, "closed-form start of the Dpp minimisation");
+    MRPT_SAVE_CONFIG_VAR_COMMENT(
+        joint_refinement, "Levenberg-Marquardt on all six parameters after the alternating CG");
     MRPT_SAVE_CONFIG_VAR_COMMENT(max_lwo_matches, "most similar matches kept for LWO");
     MRPT_SAVE_CONFIG_VAR_COMMENT(
         guided_matching,
@@ -377,6 +380,7 @@ EgomotionResult EgomotionEstimator::estimateWithMatches(
     }
     DppPoseEstimator::TParameters pp;
     pp.euclidean_init = m_params.euclidean_init;
+    pp.joint_refinement = m_params.joint_refinement;
     const auto pose = DppPoseEstimator(pp).estimate(ka, kb);
     r.ms_pose = msSince(t0);
     r.T_prev_cur = pose.T_prev_cur;

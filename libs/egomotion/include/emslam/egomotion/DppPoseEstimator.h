@@ -15,7 +15,8 @@ namespace emslam::egomotion
  * (Eq. 4, 7): the product of the two point-to-ray distances, which ignores
  * each point's depth noise along its own camera ray. Minimised by alternating
  * conjugate gradient on the translation and on the rotation, with an adaptive
- * step, until neither changes.
+ * step, until neither changes; optionally polished by Levenberg-Marquardt on
+ * all six parameters at once (TParameters::joint_refinement).
  * \ingroup emslam_egomotion_grp */
 class DppPoseEstimator
 {
@@ -28,6 +29,11 @@ public:
         int max_alternations{50};   //!< translation/rotation rounds
         int max_cg_iterations{50};  //!< per conjugate-gradient run
         double tolerance{1e-7};     //!< relative energy change that counts as "no change"
+        /** After the alternating conjugate gradient, Levenberg-Marquardt on
+         * the six parameters jointly, from where it stopped. Not in the
+         * paper: the alternation stops short where a rotation and a
+         * translation trade off; an option, measured (doc/apps/emslam-odometry.md). */
+        bool joint_refinement{false};
     };
 
     struct Result

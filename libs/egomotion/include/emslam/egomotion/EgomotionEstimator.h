@@ -65,6 +65,7 @@ struct EgomotionResult
  * lp_num_angles     = 16     ; 4..256
  * lp_radius         = 8      ; [px], (1, 256]
  * euclidean_init    = true   ; closed-form start before the Dpp conjugate gradient
+ * joint_refinement  = false  ; Levenberg-Marquardt on all six parameters after it
  * max_lwo_matches   = 2000   ; most similar matches kept for LWO (O(M^2) memory/time)
  * guided_matching   = false  ; match near the constant-velocity prediction first
  * guided_radius     = 0.1    ; its search radius, fraction of the image width, (0, 1]
@@ -113,6 +114,10 @@ public:
         double lp_radius{8};
         /** Closed-form Euclidean start of the Dpp minimisation. (Default: true) */
         bool euclidean_init{true};
+        /** Joint Levenberg-Marquardt polish of the Dpp minimum after the
+         * paper's alternating conjugate gradient
+         * (DppPoseEstimator::TParameters::joint_refinement). (Default: false) */
+        bool joint_refinement{false};
         /** Upper bound on the matches given to LWO (the most similar are kept),
          * bounding its O(M^2) matrix; >= min_final_matches. (Default: 2000) */
         int max_lwo_matches{2000};
