@@ -34,8 +34,9 @@ CPose3D rotateLeft(const CPose3D& T, const mrpt::math::CVectorFixedDouble<3>& w)
 }
 
 /** Stereo-like matched points for a known motion T_prev_cur. A camera with
- * f = 500 px and a 0.12 m baseline sees points at 2-20 m (or `z_near`-`z_far`); each point gets the
- * noise of its own stereo reconstruction: `disp_sigma` px of disparity noise
+ * f = 500 px and a 0.12 m baseline sees points at 2-20 m (or between
+ * `z_near` and `z_far`); each point gets the noise of its own stereo
+ * reconstruction: `disp_sigma` px of disparity noise
  * (a depth error along its ray that grows with z^2) and 0.3 px of pixel noise
  * across it. */
 void makeStereoPairs(

@@ -274,8 +274,39 @@ double cgBlock(
     return e;
 }
 
-/** Levenberg-Marquardt on the six parameters at once, each Dpp read as a
- * squared residual r² as in covarianceAt(): δ = −(H + λ diag H)⁻¹ ∇E with
+using Vec6 = Eigen::Matrix<double, 6, 1>;
+using Mat6 = Eigen::Matrix<double, 6, 6>;
+
+/** The Gauss-Newton system of E at (R, t), each Dpp read as a squared
+ * residual r² (it is a product of two distances): JᵀJ = Σ ∇r ∇rᵀ with
+ * ∇r = ∇Dpp / (2 r), and ∇E = Σ ∇Dpp, over [t, w] (w the left rotation
+ * vector). The exact Hessian of a product of distances is indefinite near
+ * zero residuals. Returns E. */
+double gaussNewtonSystem(const Pairs& p, const Mat3& R, const Vec3& t, Mat6& JtJ, Vec6& grad)
+{
+    JtJ.setZero();
+    grad.setZero();
+    double e = 0;
+    Vec3 gt, gw;
+    for (std::size_t i = 0; i < p.a.size(); ++i)
+    {
+        const double dpp = pairTerm(p, i, R, t, &gt, &gw);
+        e += dpp;
+        if (!(dpp > 1e-30))
+        {
+            continue;  // an exact fit: no gradient direction to learn from
+        }
+        Vec6 g;
+        g << gt, gw;
+        grad += g;
+        g /= 2.0 * std::sqrt(dpp);
+        JtJ += g * g.transpose();
+    }
+    return e;
+}
+
+/** Levenberg-Marquardt on the six parameters at once, on the system of
+ * gaussNewtonSystem(): δ = −(H + λ diag H)⁻¹ ∇E with
  * H = 2 Σ ∇r ∇rᵀ, kept only when E drops. The alternating blocks above
  * move the translation and the rotation in turn; where the two trade off
  * (a turn in front of a wall: a small rotation about the vertical looks like
@@ -284,27 +315,14 @@ double cgBlock(
 double jointRefine(
     const Pairs& p, Mat3& R, Vec3& t, double e, int max_iters, double tolerance, int& evals)
 {
-    using Vec6 = Eigen::Matrix<double, 6, 1>;
-    using Mat6 = Eigen::Matrix<double, 6, 6>;
     double lambda = 1e-4;
     for (int it = 0; it < max_iters; ++it)
     {
-        Mat6 H = Mat6::Zero();
-        Vec6 g = Vec6::Zero();
-        Vec3 gt, gw;
-        for (std::size_t i = 0; i < p.a.size(); ++i)
-        {
-            const double dpp = pairTerm(p, i, R, t, &gt, &gw);
-            if (!(dpp > 1e-30))
-            {
-                continue;  // an exact fit: no direction to learn from
-            }
-            Vec6 gi;
-            gi << gt, gw;
-            g += gi;
-            H += gi * gi.transpose() / (2.0 * dpp);  // 2 ∇r ∇rᵀ, ∇r = ∇Dpp / (2 r)
-        }
+        Mat6 JtJ;
+        Vec6 g;
+        gaussNewtonSystem(p, R, t, JtJ, g);
         ++evals;
+        const Mat6 H = 2.0 * JtJ;
         bool moved = false;
         double gain = 0;
         for (int k = 0; k < 12 && !moved; ++k)
@@ -397,25 +415,9 @@ bool DppPoseEstimator::covarianceAt(
     Mat3 R;
     Vec3 t;
     fromPose(T_prev_cur, R, t);
-    // Gauss-Newton: read each Dpp as a squared residual r² (it is a product
-    // of two distances), so H ≈ 2 Σ ∇r ∇rᵀ with ∇r = ∇Dpp / (2 r). The exact
-    // Hessian of a product of distances is indefinite near zero residuals.
-    Eigen::Matrix<double, 6, 6> JtJ = Eigen::Matrix<double, 6, 6>::Zero();
-    double e = 0;
-    Vec3 gt, gw;
-    for (std::size_t i = 0; i < p.a.size(); ++i)
-    {
-        const double dpp = pairTerm(p, i, R, t, &gt, &gw);
-        e += dpp;
-        if (!(dpp > 1e-30))
-        {
-            continue;  // an exact fit: no gradient direction to learn from
-        }
-        Eigen::Matrix<double, 6, 1> g;
-        g << gt, gw;
-        g /= 2.0 * std::sqrt(dpp);
-        JtJ += g * g.transpose();
-    }
+    Mat6 JtJ;
+    Vec6 grad;
+    const double e = gaussNewtonSystem(p, R, t, JtJ, grad);
     const Eigen::LLT<Eigen::Matrix<double, 6, 6>> llt(JtJ);
     if (llt.info() != Eigen::Success || !(e > 0))
     {
