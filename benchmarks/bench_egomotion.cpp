@@ -10,6 +10,8 @@
 #include <emslam/egomotion/EgomotionEstimator.h>
 #include <emslam/egomotion/FeatureMatcher.h>
 #include <emslam/egomotion/LwoRefinement.h>
+#include <emslam/egomotion/StereoReprojectionRefinement.h>
+#include <emslam/stereo/StereoCalibration.h>
 #include <emslam/stereo/StereoFrontEnd.h>
 
 #include <benchmark/benchmark.h>
@@ -123,6 +125,29 @@ void runPose(benchmark::State& state, const Pair* p, bool joint_refinement = fal
     state.counters["evaluations"] = evals;
 }
 
+/** The stereo reprojection refinement alone, from the Dpp's pose
+ * ([Egomotion] reprojection_refinement). */
+void runReprojection(benchmark::State& state, const Pair* p)
+{
+    if (!p || p->ka.size() < 4)
+    {
+        state.SkipWithError("test data not found (set EMSLAM_TEST_DATA)");
+        return;
+    }
+    using emslam::egomotion::StereoReprojectionRefinement;
+    const auto start = emslam::egomotion::DppPoseEstimator().estimate(p->ka, p->kb).T_prev_cur;
+    const double baseline = emslam::stereo::baselineOf(p->cur->camera);
+    const double focal = p->cur->camera.leftCamera.fx();
+    StereoReprojectionRefinement::Result r;
+    for (auto _ : state)
+    {
+        r = StereoReprojectionRefinement::refine(p->ka, p->kb, start, baseline, focal);
+        benchmark::DoNotOptimize(r);
+    }
+    state.counters["pairs"] = static_cast<double>(r.pairs);
+    state.counters["evaluations"] = r.evaluations;
+}
+
 /** Stages 1-5: features, descriptors (of both frames), matching, LWO, pose. */
 void runEstimate(benchmark::State& state, const Pair* p)
 {
@@ -188,6 +213,10 @@ void BM_Kitti320x240_PoseJointRefinement(benchmark::State& s)
 {
     runPose(s, kittiPair(320, 240), true);
 }
+void BM_Kitti320x240_PoseReprojection(benchmark::State& s)
+{
+    runReprojection(s, kittiPair(320, 240));
+}
 void BM_Kitti320x240_Estimate(benchmark::State& s)
 {
     runEstimate(s, kittiPair(320, 240));
@@ -199,6 +228,10 @@ void BM_KittiFull_Lwo(benchmark::State& s)
 void BM_KittiFull_Pose(benchmark::State& s)
 {
     runPose(s, kittiPair(0, 0));
+}
+void BM_KittiFull_PoseReprojection(benchmark::State& s)
+{
+    runReprojection(s, kittiPair(0, 0));
 }
 void BM_KittiFull_Estimate(benchmark::State& s)
 {
@@ -214,9 +247,11 @@ BENCHMARK_CAPTURE(runProcess, KittiFull_Guided, 0, 0, true)->Unit(benchmark::kMi
 BENCHMARK(BM_Kitti320x240_Lwo)->Unit(benchmark::kMillisecond);
 BENCHMARK(BM_Kitti320x240_Pose)->Unit(benchmark::kMillisecond);
 BENCHMARK(BM_Kitti320x240_PoseJointRefinement)->Unit(benchmark::kMillisecond);
+BENCHMARK(BM_Kitti320x240_PoseReprojection)->Unit(benchmark::kMillisecond);
 BENCHMARK(BM_Kitti320x240_Estimate)->Unit(benchmark::kMillisecond);
 BENCHMARK(BM_KittiFull_Lwo)->Unit(benchmark::kMillisecond);
 BENCHMARK(BM_KittiFull_Pose)->Unit(benchmark::kMillisecond);
+BENCHMARK(BM_KittiFull_PoseReprojection)->Unit(benchmark::kMillisecond);
 BENCHMARK(BM_KittiFull_Estimate)->Unit(benchmark::kMillisecond);
 
 EMSLAM_BENCHMARK_MAIN();

@@ -1,4 +1,6 @@
 // SPDX-License-Identifier: BSD-3-Clause
+#include "PoseEigen.h"
+
 #include <emslam/egomotion/DppPoseEstimator.h>
 
 #include <mrpt/core/exceptions.h>
@@ -14,8 +16,13 @@ namespace emslam::egomotion
 {
 namespace
 {
-using Vec3 = Eigen::Vector3d;
-using Mat3 = Eigen::Matrix3d;
+using detail::expSO3;
+using detail::fromPose;
+using detail::Mat3;
+using detail::Mat6;
+using detail::toPose;
+using detail::Vec3;
+using detail::Vec6;
 
 /** A point closer than this to its camera centre [m] defines no ray: Eq. 7
  * divides by its norm. Such pairs are left out of E (their term would not
@@ -126,54 +133,6 @@ double energyGrad(const Pairs& p, const Mat3& R, const Vec3& t, Vec3* gt, Vec3* 
     return e;
 }
 
-Mat3 expSO3(const Vec3& w)
-{
-    const double th = w.norm();
-    if (th < 1e-12)
-    {
-        Mat3 r = Mat3::Identity();
-        r(0, 1) = -w.z();
-        r(0, 2) = w.y();
-        r(1, 0) = w.z();
-        r(1, 2) = -w.x();
-        r(2, 0) = -w.y();
-        r(2, 1) = w.x();
-        return r;
-    }
-    return Eigen::AngleAxisd(th, w / th).toRotationMatrix();
-}
-
-void fromPose(const mrpt::poses::CPose3D& T, Mat3& R, Vec3& t)
-{
-    const auto Rm = T.getRotationMatrix();
-    for (int r = 0; r < 3; ++r)
-    {
-        for (int c = 0; c < 3; ++c)
-        {
-            R(r, c) = Rm(r, c);
-        }
-    }
-    t = Vec3(T.x(), T.y(), T.z());
-}
-
-mrpt::poses::CPose3D toPose(const Mat3& R, const Vec3& t)
-{
-    mrpt::math::CMatrixDouble44 H = mrpt::math::CMatrixDouble44::Identity();
-    // Re-orthonormalise: many small left-multiplied updates accumulate
-    // rounding.
-    const Eigen::Quaterniond q(R);
-    const Mat3 Rn = q.normalized().toRotationMatrix();
-    for (int r = 0; r < 3; ++r)
-    {
-        for (int c = 0; c < 3; ++c)
-        {
-            H(r, c) = Rn(r, c);
-        }
-        H(r, 3) = t[r];
-    }
-    return mrpt::poses::CPose3D::FromHomogeneousMatrix(H);
-}
-
 /** One conjugate-gradient run (Polak-Ribiere+, restarted when the direction
  * stops descending) over one block: the translation or the left rotation
  * vector. The line search is adaptive: it starts from the step length that
@@ -274,9 +233,6 @@ double cgBlock(
     return e;
 }
 
-using Vec6 = Eigen::Matrix<double, 6, 1>;
-using Mat6 = Eigen::Matrix<double, 6, 6>;
-
 /** The Gauss-Newton system of E at (R, t), each Dpp read as a squared
  * residual r² (it is a product of two distances): JᵀJ = Σ ∇r ∇rᵀ with
  * ∇r = ∇Dpp / (2 r), and ∇E = Σ ∇Dpp, over [t, w] (w the left rotation
@@ -315,49 +271,14 @@ double gaussNewtonSystem(const Pairs& p, const Mat3& R, const Vec3& t, Mat6& JtJ
 double jointRefine(
     const Pairs& p, Mat3& R, Vec3& t, double e, int max_iters, double tolerance, int& evals)
 {
-    double lambda = 1e-4;
-    for (int it = 0; it < max_iters; ++it)
-    {
-        Mat6 JtJ;
-        Vec6 g;
-        gaussNewtonSystem(p, R, t, JtJ, g);
-        ++evals;
-        const Mat6 H = 2.0 * JtJ;
-        bool moved = false;
-        double gain = 0;
-        for (int k = 0; k < 12 && !moved; ++k)
+    return detail::levenbergMarquardt(
+        [&p](const Mat3& Rc, const Vec3& tc, Mat6& H, Vec6& g)
         {
-            Mat6 A = H;
-            A.diagonal() *= 1.0 + lambda;
-            const Vec6 d = A.ldlt().solve(-g);
-            if (!d.allFinite())
-            {
-                break;
-            }
-            const Mat3 R2 = expSO3(d.tail<3>()) * R;
-            const Vec3 t2 = t + d.head<3>();
-            const double e2 = energyGrad(p, R2, t2, nullptr, nullptr);
-            ++evals;
-            if (e2 < e)
-            {
-                R = R2;
-                t = t2;
-                gain = e - e2;
-                e = e2;
-                lambda = std::max(lambda * 0.1, 1e-9);
-                moved = true;
-            }
-            else
-            {
-                lambda *= 10.0;
-            }
-        }
-        if (!moved || gain <= tolerance * std::max(e, TINY))
-        {
-            break;
-        }
-    }
-    return e;
+            gaussNewtonSystem(p, Rc, tc, H, g);
+            H *= 2.0;
+        },
+        [&p](const Mat3& Rc, const Vec3& tc) { return energyGrad(p, Rc, tc, nullptr, nullptr); }, R,
+        t, e, max_iters, tolerance, evals);
 }
 }  // namespace
 

@@ -2,6 +2,8 @@
 #include <emslam/egomotion/EgomotionEstimator.h>
 #include <emslam/egomotion/FeatureMatcher.h>
 #include <emslam/egomotion/LwoRefinement.h>
+#include <emslam/egomotion/StereoReprojectionRefinement.h>
+#include <emslam/stereo/StereoCalibration.h>
 
 #include <mrpt/config/CConfigFileBase.h>
 #include <mrpt/core/exceptions.h>
@@ -46,6 +48,7 @@ struct EgomotionEstimator::Described
     FeatureList features;
     Descriptors descriptors;
     mrpt::img::TCamera camera;  //!< of the intensity image, for guided matching
+    double baseline{0};         //!< stereo baseline [m]; 0 for a depth camera
     double ms_features{0}, ms_descriptors{0};
 };
 
@@ -62,6 +65,7 @@ void EgomotionEstimator::TParameters::loadFromConfigFile(
     MRPT_LOAD_CONFIG_VAR(lp_radius, double, c, s);
     MRPT_LOAD_CONFIG_VAR(euclidean_init, bool, c, s);
     MRPT_LOAD_CONFIG_VAR(joint_refinement, bool, c, s);
+    MRPT_LOAD_CONFIG_VAR(reprojection_refinement, bool, c, s);
     MRPT_LOAD_CONFIG_VAR(max_lwo_matches, int, c, s);
     MRPT_LOAD_CONFIG_VAR(guided_matching, bool, c, s);
     MRPT_LOAD_CONFIG_VAR(guided_radius, double, c, s);
@@ -83,6 +87,8 @@ void EgomotionEstimator::TParameters::saveToConfigFile(
     MRPT_SAVE_CONFIG_VAR_COMMENT(euclidean_init, "closed-form start of the Dpp minimisation");
     MRPT_SAVE_CONFIG_VAR_COMMENT(
         joint_refinement, "Levenberg-Marquardt on all six parameters after the alternating CG");
+    MRPT_SAVE_CONFIG_VAR_COMMENT(
+        reprojection_refinement, "polish the pose by the stereo reprojection error (stereo only)");
     MRPT_SAVE_CONFIG_VAR_COMMENT(max_lwo_matches, "most similar matches kept for LWO");
     MRPT_SAVE_CONFIG_VAR_COMMENT(
         guided_matching,
@@ -177,6 +183,7 @@ EgomotionEstimator::Described EgomotionEstimator::describe(
 {
     Described d;
     d.camera = f.camera.leftCamera;
+    d.baseline = emslam::stereo::baselineOf(f.camera);
     auto t0 = Clock::now();
     if (!f.intensity.empty() && f.intensity.type() == CV_8UC1 && !f.points.empty())
     {
@@ -382,11 +389,26 @@ EgomotionResult EgomotionEstimator::estimateWithMatches(
     pp.euclidean_init = m_params.euclidean_init;
     pp.joint_refinement = m_params.joint_refinement;
     const auto pose = DppPoseEstimator(pp).estimate(ka, kb);
-    r.ms_pose = msSince(t0);
     r.T_prev_cur = pose.T_prev_cur;
     r.energy = pose.energy;
     r.covariance = pose.covariance;
     r.has_covariance = pose.has_covariance;
+    if (m_params.reprojection_refinement && cur.baseline > 0)
+    {
+        const auto refined = StereoReprojectionRefinement::refine(
+            ka, kb, pose.T_prev_cur, cur.baseline, cur.camera.fx());
+        r.T_prev_cur = refined.T_prev_cur;
+        r.energy = DppPoseEstimator::energy(ka, kb, r.T_prev_cur);
+        // The uncertainty of the estimate that is used; if it has none (a
+        // degenerate geometry), the Dpp's at the polished pose.
+        r.has_covariance = refined.has_covariance;
+        r.covariance = refined.covariance;
+        if (!r.has_covariance)
+        {
+            r.has_covariance = DppPoseEstimator::covarianceAt(ka, kb, r.T_prev_cur, r.covariance);
+        }
+    }
+    r.ms_pose = msSince(t0);
     if (r.has_covariance && m_params.covariance_lwo_truncation && r.initial_matches > 0)
     {
         r.covariance *= lwoTruncationVarianceFactor(

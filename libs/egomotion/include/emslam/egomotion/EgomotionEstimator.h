@@ -66,6 +66,7 @@ struct EgomotionResult
  * lp_radius         = 8      ; [px], (1, 256]
  * euclidean_init    = true   ; closed-form start before the Dpp conjugate gradient
  * joint_refinement  = false  ; Levenberg-Marquardt on all six parameters after it
+ * reprojection_refinement = false ; then polish by the stereo reprojection error
  * max_lwo_matches   = 2000   ; most similar matches kept for LWO (O(M^2) memory/time)
  * guided_matching   = false  ; match near the constant-velocity prediction first
  * guided_radius     = 0.1    ; its search radius, fraction of the image width, (0, 1]
@@ -118,6 +119,11 @@ public:
          * paper's alternating conjugate gradient
          * (DppPoseEstimator::TParameters::joint_refinement). (Default: false) */
         bool joint_refinement{false};
+        /** Polish the pose by the stereo reprojection error in both frames
+         * (StereoReprojectionRefinement), after the Dpp minimisation; the
+         * covariance is the Dpp's at the polished pose. Not in the paper; a
+         * stereo pair only (no effect with a zero baseline). (Default: false) */
+        bool reprojection_refinement{false};
         /** Upper bound on the matches given to LWO (the most similar are kept),
          * bounding its O(M^2) matrix; >= min_final_matches. (Default: 2000) */
         int max_lwo_matches{2000};
