@@ -12,11 +12,14 @@ namespace emslam::egomotion
 /** Polishes an action by the stereo reprojection error, not in the paper:
  * each matched point of one frame is moved by the action into the other
  * frame's camera and compared there with its match in image coordinates,
- * (x/z, y/z) and the disparity B/z, in both directions. Stereo noise is
- * close to Gaussian and unbiased in these coordinates, while a 3D point's
- * depth error grows as z² and is skewed (z = f B / d), so a fit of 3D
- * points (Dpp, Eq. 7) leans towards the far points' bias along the
- * direction of travel. Levenberg-Marquardt from a given pose (the Dpp's).
+ * (x/z, y/z) and the disparity B/z, in both directions. On real images a
+ * feature is located to a pixel or two across frames while its disparity
+ * is good to a fraction of one; Dpp (Eq. 7) trusts the bearings and
+ * discounts the depths, this fit weighs each coordinate by its own noise.
+ * That noise is read from the data (robust deviation of the residuals);
+ * each residual's covariance adds the moved point's own noise carried
+ * through the motion; Huber's loss per whitened coordinate. Levenberg-
+ * Marquardt from a given pose (the Dpp's).
  * \ingroup emslam_egomotion_grp */
 class StereoReprojectionRefinement
 {
