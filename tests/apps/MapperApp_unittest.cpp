@@ -959,8 +959,8 @@ TEST(MapperApp, kitti06RectificationDoesNoHarm)
 // (--frames 0:50:2,49:1:-2), so the last pose should meet the first. The
 // egomotion ends 0.8 m away; kitti.ini (rectifier seed 1, serial,
 // deterministic) must bring the end within 0.15 m and to 1/5 of that, and
-// halve the ATE. Measured: end 0.798 -> 0.060 m, ATE 0.243 -> 0.088 m;
-// rectifier seeds 1-12 end at 0.044-0.135 m (doc/rectify.md, "Reprojection
+// halve the ATE. Measured: end 0.798 -> 0.052 m, ATE 0.243 -> 0.087 m;
+// rectifier seeds 1-12 end at 0.033-0.067 m (doc/rectify.md, "Reprojection
 // refinement on real images").
 TEST(MapperApp, kitti06PseudoLoopRectificationCloses)
 {
