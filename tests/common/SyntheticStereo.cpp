@@ -64,4 +64,28 @@ void renderFrontoParallelPlane(
     }
 }
 
+emslam::stereo::StereoFrame frameWithImage(const cv::Mat& img)
+{
+    emslam::stereo::StereoFrame f;
+    f.intensity = img;
+    f.valid = cv::Mat(img.size(), CV_8UC1, cv::Scalar(255));
+    for (int v = 0; v < img.rows; ++v)
+    {
+        for (int u = 0; u < img.cols; ++u)
+        {
+            f.points.emplace_back((u - img.cols / 2) * 0.01f, (v - img.rows / 2) * 0.01f, 5.0f);
+            f.pixels.push_back({static_cast<std::uint16_t>(u), static_cast<std::uint16_t>(v)});
+        }
+    }
+    return f;
+}
+
+cv::Mat noiseImage(int w, int h, unsigned seed)
+{
+    cv::Mat img(h, w, CV_8UC1);
+    cv::RNG rng(seed);
+    rng.fill(img, cv::RNG::UNIFORM, 0, 256);
+    return img;
+}
+
 }  // namespace emslam::test

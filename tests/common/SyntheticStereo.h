@@ -1,6 +1,8 @@
 // SPDX-License-Identifier: BSD-3-Clause
 #pragma once
 
+#include <emslam/stereo/StereoFrame.h>
+
 #include <mrpt/img/TStereoCamera.h>
 
 #include <cstdint>
@@ -22,5 +24,12 @@ void renderFrontoParallelPlane(
     std::uint32_t seed,
     cv::Mat& left,
     cv::Mat& right);
+
+/** A frame with this intensity image whose every pixel has a point on a
+ * fronto-parallel plane 5 m ahead, 1 cm apart (no stereo involved). */
+emslam::stereo::StereoFrame frameWithImage(const cv::Mat& img);
+
+/** Uniform 8-bit noise, seeded: a texture every feature of which is unique. */
+cv::Mat noiseImage(int w, int h, unsigned seed);
 
 }  // namespace emslam::test

@@ -1,4 +1,5 @@
 // SPDX-License-Identifier: BSD-3-Clause
+#include "SyntheticStereo.h"
 #include "TestData.h"
 #include "TestHelpers.h"
 
@@ -23,6 +24,8 @@
 using emslam::egomotion::EgomotionEstimator;
 using emslam::egomotion::EgomotionResult;
 using emslam::stereo::StereoFrame;
+using emslam::test::frameWithImage;
+using emslam::test::noiseImage;
 using mrpt::poses::CPose3D;
 
 namespace
@@ -64,32 +67,6 @@ void expectEqualParams(
     EXPECT_EQ(a.guided_matching, b.guided_matching);
     EXPECT_DOUBLE_EQ(a.guided_radius, b.guided_radius);
     EXPECT_EQ(a.covariance_lwo_truncation, b.covariance_lwo_truncation);
-}
-
-/** A frame of `w` x `h` pixels whose every pixel has a point at depth 5 m,
- * with the given intensity image. */
-StereoFrame frameWithImage(const cv::Mat& img)
-{
-    StereoFrame f;
-    f.intensity = img;
-    f.valid = cv::Mat(img.size(), CV_8UC1, cv::Scalar(255));
-    for (int v = 0; v < img.rows; ++v)
-    {
-        for (int u = 0; u < img.cols; ++u)
-        {
-            f.points.emplace_back((u - img.cols / 2) * 0.01f, (v - img.rows / 2) * 0.01f, 5.0f);
-            f.pixels.push_back({static_cast<std::uint16_t>(u), static_cast<std::uint16_t>(v)});
-        }
-    }
-    return f;
-}
-
-cv::Mat noiseImage(int w, int h, unsigned seed)
-{
-    cv::Mat img(h, w, CV_8UC1);
-    cv::RNG rng(seed);
-    rng.fill(img, cv::RNG::UNIFORM, 0, 256);
-    return img;
 }
 
 /** KITTI-style translational drift [fraction]: the relative translation

@@ -18,6 +18,7 @@
 #include <emslam/stereo/ExceptionMessage.h>
 
 #include <mrpt/core/bits_math.h>
+#include <mrpt/poses/CPose3DQuat.h>
 #include <mrpt/system/filesystem.h>
 
 #include <chrono>
@@ -53,6 +54,7 @@ const std::vector<std::string>& outputNames()
         "trajectory_egomotion_times.txt",
         "trajectory_slam_times.txt",
         "keyframes.txt",
+        "loop_closures.txt",
         "map.ply",
         "map.3Dscene",
         "map_top.png",
@@ -102,6 +104,22 @@ void writeKeyframes(const slam::EntropySlam& m, const std::string& file)
     }
     f.commit();
 }
+/** loop_closures.txt: the loop edges [LoopCloser] accepted, one per line. */
+void writeLoopClosures(const slam::EntropySlam& m, const std::string& file)
+{
+    io::AtomicTextFile f(file);
+    f.stream() << "# loop closures: frame_from frame_to x y z qx qy qz qw matches; the pose of "
+                  "frame_to in frame_from as the egomotion registered it [m], frame indices are "
+                  "lines of trajectory_slam.tum from 0\n";
+    for (const auto& e : m.loopCloser().loopEdges())
+    {
+        const mrpt::poses::CPose3DQuat q(e.measurement);
+        f.stream() << e.frame_from << ' ' << e.frame_to << ' ' << q.x() << ' ' << q.y() << ' '
+                   << q.z() << ' ' << q.quat().x() << ' ' << q.quat().y() << ' ' << q.quat().z()
+                   << ' ' << q.quat().r() << ' ' << e.matches << '\n';
+    }
+    f.commit();
+}
 }  // namespace
 
 MapperApp::MapperApp() : App(PROGRAM) {}
@@ -120,7 +138,7 @@ bool MapperApp::parseArguments(int argc, const char** argv)
         ' ', "0.1");
     TCLAP::UnlabeledValueArg<std::string> config(
         "config",
-        "INI file ([Stereo] [Egomotion] [EntropyVoxelMap] [SpaceSampling] [Rectifier] "
+        "INI file ([Stereo] [Egomotion] [EntropyVoxelMap] [SpaceSampling] [Rectifier] [LoopCloser] "
         "[Mapper]); see config/mapper/",
         true, "", "CONFIG.ini", cmd);
     TCLAP::UnlabeledValueArg<std::string> rawlog(
@@ -439,6 +457,10 @@ void MapperApp::writeOutputs(const emslam::io::TumTrajectory& ground_truth)
             m_trajectory_output);
     }
     writeKeyframes(m, joinPath(m_out, "keyframes.txt"));
+    if (m.parameters().loop_closer.enabled)
+    {
+        writeLoopClosures(m, joinPath(m_out, "loop_closures.txt"));
+    }
     savePly(m.mapCloud(), joinPath(m_out, "map.ply"));
     writeScene(m, ground_truth, joinPath(m_out, "map.3Dscene"));
     writeTopViewPng(m, ground_truth, joinPath(m_out, "map_top.png"));

@@ -186,6 +186,7 @@ void writeSummaryJson(
 {
     const StageMeans ms = stageMeans(m.frames());
     const RectificationTotals rt = rectificationTotals(m.rectifications());
+    const auto& lc = m.loopCloser().stats();
     const auto& p = m.parameters();
     std::ostringstream j;
     j << "{\n"
@@ -230,6 +231,13 @@ void writeSummaryJson(
       << ", \"seconds\": " << io::jsonNumber(rt.seconds)
       << ", \"median_ms_per_call\": " << io::jsonNumber(rt.median_ms)
       << ", \"max_ms_per_call\": " << io::jsonNumber(rt.max_ms) << "},\n"
+      << "  \"loop_closing\": {\"enabled\": "
+      << (m.parameters().loop_closer.enabled ? "true" : "false")
+      << ", \"candidates\": " << lc.candidates << ", \"registrations\": " << lc.registrations
+      << ", \"registered\": " << lc.registered << ", \"loop_edges\": " << lc.loop_edges
+      << ", \"rounds\": " << lc.rounds << ", \"initial_cost\": " << io::jsonNumber(lc.initial_cost)
+      << ", \"final_cost\": " << io::jsonNumber(lc.final_cost)
+      << ", \"ms\": " << io::jsonNumber(lc.ms) << "},\n"
       << "  \"trajectory_elements\": " << m.trajectoryElements() << ",\n"
       << "  \"compressions\": " << m.compressions() << ",\n"
       << "  \"final_energy\": " << io::jsonNumber(m.finalEnergy()) << ",\n"

@@ -402,6 +402,7 @@ const std::vector<std::pair<std::string, std::string>> KNOWN_OUTPUTS = {
     {"trajectory_slam_kitti.txt", "SLAM trajectory (KITTI 3x4 poses)"},
     {"trajectory_slam_times.txt", "timestamps of the KITTI SLAM poses"},
     {"keyframes.txt", "the keyframes (accepted frames) of the SLAM trajectory"},
+    {"loop_closures.txt", "the loops closed ([LoopCloser]): registered frame pairs"},
     {"map.ply", "map point cloud (PLY)"},
     {"map.3Dscene", "map and trajectories for SceneViewer3D"},
     {"map_top.png", "top view of the map"},

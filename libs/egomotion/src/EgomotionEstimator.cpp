@@ -432,6 +432,15 @@ EgomotionResult EgomotionEstimator::estimate(
     return r;
 }
 
+EgomotionResult EgomotionEstimator::estimate(const Description& prev, const Description& cur) const
+{
+    if (!prev || !cur)
+    {
+        throw std::invalid_argument("EgomotionEstimator::estimate: no description of a frame");
+    }
+    return estimateDescribed(*prev, *cur, nullptr);
+}
+
 EgomotionResult EgomotionEstimator::process(const emslam::stereo::StereoFrame& cur)
 {
     auto d = std::make_shared<Described>(describe(cur));

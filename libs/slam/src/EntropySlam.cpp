@@ -25,6 +25,7 @@ constexpr const char* EGOMOTION_SECTION = "Egomotion";
 constexpr const char* MAP_SECTION = "EntropyVoxelMap";
 constexpr const char* SAMPLING_SECTION = "SpaceSampling";
 constexpr const char* RECTIFIER_SECTION = "Rectifier";
+constexpr const char* LOOP_CLOSER_SECTION = "LoopCloser";
 /** A failed egomotion step is predicted by the previous one, and may be off
  * by that whole motion or at least by these. */
 constexpr double FAILED_STEP_MIN_SIGMA_XYZ = 0.1;      // [m]
@@ -126,6 +127,8 @@ void EntropySlam::TParameters::loadFromConfigFile(const mrpt::config::CConfigFil
     loadSection(SAMPLING_SECTION, [&] { sampling.loadFromConfigFile(c, SAMPLING_SECTION); });
     loadSection(RECTIFIER_SECTION, [&] { rectifier.loadFromConfigFile(c, RECTIFIER_SECTION); });
     loadSection(MAPPER_SECTION, [&] { mapper.loadFromConfigFile(c, MAPPER_SECTION); });
+    loadSection(
+        LOOP_CLOSER_SECTION, [&] { loop_closer.loadFromConfigFile(c, LOOP_CLOSER_SECTION); });
 }
 
 void EntropySlam::TParameters::saveToConfigFile(mrpt::config::CConfigFileBase& c) const
@@ -137,12 +140,14 @@ void EntropySlam::TParameters::saveToConfigFile(mrpt::config::CConfigFileBase& c
     sampling.saveToConfigFile(c, SAMPLING_SECTION);
     rectifier.saveToConfigFile(c, RECTIFIER_SECTION);
     mapper.saveToConfigFile(c, MAPPER_SECTION);
+    loop_closer.saveToConfigFile(c, LOOP_CLOSER_SECTION);
 }
 
 EntropySlam::EntropySlam(const TParameters& p)
     : m_p(p),
       m_odometry(p.stereo, p.egomotion),
       m_sampler(p.sampling),
+      m_loops(p.loop_closer),
       m_clouds(static_cast<std::size_t>(std::max(p.rectifier.n_max, 0)), p.mapper.map_cell_size)
 {
     m_cov_keyframe_cur.setZero();
@@ -239,6 +244,13 @@ bool EntropySlam::process(const mrpt::obs::CObservation& obs)
     m_links.push_back({m_last_keyframe, m_T_keyframe_cur});
     if (r.accepted)
     {
+        // What registering this keyframe again needs, kept only for loop closing.
+        m_loops.addKeyframe(
+            r.index,
+            m_p.loop_closer.enabled && !m_p.mapper.egomotion_only
+                ? m_odometry.estimator().lastDescription()
+                : nullptr,
+            cov_since_keyframe);
         PendingKeyframe k;
         k.index = r.index;
         k.timestamp = r.timestamp;
@@ -330,7 +342,27 @@ void EntropySlam::finish()
     m_has_energy = true;
     m_entropy = m_runner->trajectory().entropy();
     m_keyframes.clear();
-    const auto poses = m_runner->framePoses();
+    auto poses = m_runner->framePoses();
+    if (m_p.loop_closer.enabled && !m_p.mapper.egomotion_only)
+    {
+        if (poses.size() != m_loops.keyframeCount())
+        {
+            throw std::logic_error(
+                "EntropySlam::finish: " + std::to_string(poses.size()) + " keyframe poses for " +
+                std::to_string(m_loops.keyframeCount()) + " keyframes of the loop closer");
+        }
+        std::vector<mrpt::poses::CPose3D> keyframe_poses;
+        keyframe_poses.reserve(poses.size());
+        for (const auto& fp : poses)
+        {
+            keyframe_poses.push_back(fp.T_world_frame);
+        }
+        keyframe_poses = m_loops.close(keyframe_poses, m_odometry.estimator());
+        for (std::size_t k = 0; k < poses.size(); ++k)
+        {
+            poses[k].T_world_frame = keyframe_poses[k];
+        }
+    }
     m_keyframe_slam = poses;
     std::map<std::size_t, mrpt::poses::CPose3D> T_world_keyframe;
     for (const auto& fp : poses)

@@ -158,8 +158,21 @@ public:
     /** Forget the previous frame (e.g. after a failure, to restart). */
     void reset();
 
-private:
+    /** A frame's features, their 3D points and descriptors, as process()
+     * computed them: what registering the frame again needs, without its
+     * images or its cloud. */
     struct Described;
+    using Description = std::shared_ptr<const Described>;
+    /** The description of the frame the last process() call took (null
+     * before the first): keep it to register that frame again later. */
+    Description lastDescription() const { return m_prev; }
+    /** The motion between two described frames, by the same stages as
+     * process() (matching, LWO, Dpp and the optional refinements) but with no
+     * prediction: e.g. a place seen again after a loop. Throws
+     * std::invalid_argument on a null description. */
+    EgomotionResult estimate(const Description& prev, const Description& cur) const;
+
+private:
     Described describe(const emslam::stereo::StereoFrame& f) const;
     /** Guided if `prediction` (T_prev_cur) is given and guided_matching is on. */
     EgomotionResult estimateDescribed(

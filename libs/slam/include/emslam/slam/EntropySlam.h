@@ -10,6 +10,7 @@
 #include <emslam/slam/ElementClouds.h>
 #include <emslam/slam/FrameRecord.h>
 #include <emslam/slam/IntensityCloud.h>
+#include <emslam/slam/LoopCloser.h>
 #include <emslam/slam/StereoOdometry.h>
 #include <emslam/stereo/StereoFrontEnd.h>
 
@@ -86,6 +87,7 @@ public:
         emslam::rectify::SpaceSampler::TParameters sampling;           //!< [SpaceSampling]
         emslam::rectify::TRectifierOptions rectifier;                  //!< [Rectifier]
         TOptions mapper;                                               //!< [Mapper]
+        LoopCloser::TParameters loop_closer;                           //!< [LoopCloser]
 
         /** Loads every section (missing keys keep their defaults) and
          * validates; throws std::invalid_argument naming the section and key
@@ -198,6 +200,9 @@ public:
     /** The entropy part of finalEnergy() (the paper's energy; what
      * entropyMap().energy() gives). */
     double finalEntropy() const { return m_entropy; }
+    /** The loop closer ([LoopCloser]): its statistics and accepted edges
+     * after finish() (none unless enabled). */
+    const LoopCloser& loopCloser() const { return m_loops; }
     /** Elements N and trajectory compressions at the end. */
     std::size_t trajectoryElements() const;
     std::size_t compressions() const;
@@ -222,6 +227,7 @@ private:
     StereoOdometry m_odometry;
     emslam::rectify::SpaceSampler m_sampler;
     std::unique_ptr<emslam::rectify::RectificationRunner> m_runner;
+    LoopCloser m_loops;
     std::vector<emslam::rectify::TimedPose> m_egomotion, m_slam, m_keyframe_slam;
     /** Where a frame is measured from: its keyframe and the egomotion since. */
     struct KeyframeLink

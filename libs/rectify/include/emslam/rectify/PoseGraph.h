@@ -1,0 +1,74 @@
+// SPDX-License-Identifier: BSD-3-Clause
+#pragma once
+
+#include <emslam/rectify/ActionCovariance.h>
+
+#include <mrpt/poses/CPose3D.h>
+
+#include <cstddef>
+#include <vector>
+
+namespace emslam::rectify
+{
+/** A graph of camera poses tied by measured relative poses, solved by
+ * Levenberg–Marquardt on the sum of squared Mahalanobis residuals:
+ *
+ *   E = ½ Σ_edges δ_eᵀ Ω_e δ_e,   δ_e = actionDifference(x_i⁻¹ ⊕ x_j, z_e),
+ *
+ * with x the node poses (world), z_e the measured pose of node j in node i
+ * and Ω_e its information (inverse covariance, in the convention of
+ * ActionCovariance). Node 0 is held fixed (the world is the first camera).
+ * Each node moves by x ← perturbAction(x, δ), so every node has six unknowns;
+ * the normal equations are sparse (a chain plus the loop edges) and solved
+ * with a sparse Cholesky factorization.
+ *
+ * Why: a loop's closing edge says where the path ends relative to where it
+ * began; spread over the chain by the chain's own covariances it bends every
+ * pose, not just the trajectory elements the rectifier may move.
+ * \ingroup emslam_rectify_grp \sa emslam::slam::LoopCloser */
+class PoseGraph
+{
+public:
+    struct Edge
+    {
+        std::size_t from{0}, to{0};
+        mrpt::poses::CPose3D measurement;  //!< pose of node `to` in node `from`
+        ActionCovariance information;      //!< inverse covariance of `measurement`
+    };
+    /** What optimize() did. */
+    struct Result
+    {
+        int iterations{0};
+        double initial_cost{0};  //!< E before
+        double final_cost{0};    //!< E after
+    };
+
+    /** Appends a node at world pose `pose`; returns its index. */
+    std::size_t addNode(const mrpt::poses::CPose3D& pose);
+    /** Adds an edge between existing nodes `from` != `to` with this
+     * covariance (its inverse is taken, see informationOf()). Throws
+     * std::out_of_range / std::invalid_argument otherwise. */
+    void addEdge(
+        std::size_t from,
+        std::size_t to,
+        const mrpt::poses::CPose3D& measurement,
+        const ActionCovariance& covariance);
+    std::size_t nodeCount() const { return m_nodes.size(); }
+    const std::vector<Edge>& edges() const { return m_edges; }
+    const mrpt::poses::CPose3D& node(std::size_t i) const { return m_nodes.at(i); }
+    const std::vector<mrpt::poses::CPose3D>& nodes() const { return m_nodes; }
+
+    /** E at the current nodes. */
+    double cost() const;
+    /** ½ δᵀ Ω δ of one edge at the current nodes. */
+    double edgeCost(const Edge& e) const;
+    /** Levenberg–Marquardt until the relative decrease of E falls below
+     * 1e-9 or `max_iterations`; node 0 stays where it is. */
+    Result optimize(int max_iterations = 30);
+
+private:
+    std::vector<mrpt::poses::CPose3D> m_nodes;
+    std::vector<Edge> m_edges;
+};
+
+}  // namespace emslam::rectify
