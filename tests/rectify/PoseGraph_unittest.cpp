@@ -1,5 +1,7 @@
 // SPDX-License-Identifier: BSD-3-Clause
 // A drifting square loop, closed by one exact edge between its ends.
+#include "PoseLoops.h"
+
 #include <emslam/rectify/ActionCovariance.h>
 #include <emslam/rectify/PoseGraph.h>
 
@@ -14,44 +16,13 @@
 using emslam::rectify::ActionCovariance;
 using emslam::rectify::diagonalCovariance;
 using emslam::rectify::PoseGraph;
+using emslam::test::distance;
+using emslam::test::positionRmse;
 using mrpt::poses::CPose3D;
-
-namespace
-{
-/** 40 one-metre steps round a 10 m square (camera frame: z forward, y down,
- * turning about y), so pose 40 is pose 0 again. */
-std::vector<CPose3D> squareLoop()
-{
-    std::vector<CPose3D> truth{CPose3D()};
-    for (int k = 1; k <= 40; ++k)
-    {
-        const double turn = (k % 10 == 0) ? mrpt::DEG2RAD(90.0) : 0.0;
-        // Camera axes: yaw about the camera's y is CPose3D's pitch.
-        truth.push_back(truth.back() + CPose3D(0, 0, 1, 0, turn, 0));
-    }
-    return truth;
-}
-
-double distance(const CPose3D& a, const CPose3D& b)
-{
-    return (a.translation() - b.translation()).norm();
-}
-
-double positionRmse(const std::vector<CPose3D>& a, const std::vector<CPose3D>& b)
-{
-    double s = 0;
-    for (std::size_t i = 0; i < a.size(); ++i)
-    {
-        s += std::pow(distance(a[i], b[i]), 2);
-    }
-    return std::sqrt(s / static_cast<double>(a.size()));
-}
-
-}  // namespace
 
 TEST(PoseGraph, exactEdgesGiveZeroCostAtTheTruth)
 {
-    const auto truth = squareLoop();
+    const auto truth = emslam::test::squareLoop(40);
     PoseGraph g;
     for (const auto& p : truth)
     {
@@ -74,7 +45,7 @@ TEST(PoseGraph, exactEdgesGiveZeroCostAtTheTruth)
 
 TEST(PoseGraph, oneLoopEdgeSpreadsTheDriftOverTheLoop)
 {
-    const auto truth = squareLoop();
+    const auto truth = emslam::test::squareLoop(40);
     // The odometry turns 0.3 degrees too far at every step: 12 degrees at the
     // end, 2-3 m of gap.
     std::vector<CPose3D> steps, drifted{CPose3D()};

@@ -1,6 +1,7 @@
 // SPDX-License-Identifier: BSD-3-Clause
 // A drifting square loop whose last keyframes see the first keyframes' places
 // again, and a look-alike place just before them.
+#include "PoseLoops.h"
 #include "SyntheticStereo.h"
 
 #include <emslam/egomotion/EgomotionEstimator.h>
@@ -21,38 +22,12 @@ using emslam::egomotion::EgomotionEstimator;
 using emslam::rectify::ActionCovariance;
 using emslam::rectify::diagonalCovariance;
 using emslam::slam::LoopCloser;
+using emslam::test::distance;
+using emslam::test::positionRmse;
 using mrpt::poses::CPose3D;
 
 namespace
 {
-/** 40 one-metre steps round a 10 m square and four more: keyframes 40 to 43
- * stand where 0 to 3 stood. */
-std::vector<CPose3D> squareLoopAndFour()
-{
-    std::vector<CPose3D> truth{CPose3D()};
-    for (int k = 1; k <= 43; ++k)
-    {
-        const double turn = (k % 10 == 0) ? mrpt::DEG2RAD(90.0) : 0.0;
-        truth.push_back(truth.back() + CPose3D(0, 0, 1, 0, turn, 0));
-    }
-    return truth;
-}
-
-double distance(const CPose3D& a, const CPose3D& b)
-{
-    return (a.translation() - b.translation()).norm();
-}
-
-double positionRmse(const std::vector<CPose3D>& a, const std::vector<CPose3D>& b)
-{
-    double s = 0;
-    for (std::size_t i = 0; i < a.size(); ++i)
-    {
-        s += std::pow(distance(a[i], b[i]), 2);
-    }
-    return std::sqrt(s / static_cast<double>(a.size()));
-}
-
 /** The description of a frame showing texture `seed` (a tilted plane). */
 EgomotionEstimator::Description describe(EgomotionEstimator& e, unsigned seed)
 {
@@ -77,7 +52,7 @@ struct LoopRun
 LoopRun runLoop(LoopCloser& closer, const std::map<std::size_t, unsigned>& textures)
 {
     LoopRun run;
-    run.truth = squareLoopAndFour();
+    run.truth = emslam::test::squareLoop(43);
     EgomotionEstimator e;
     const ActionCovariance step_cov = diagonalCovariance(0.02, mrpt::DEG2RAD(1.0));
     run.drifted.push_back(CPose3D());
