@@ -3,10 +3,13 @@
 // again, and a look-alike place just before them.
 #include "PoseLoops.h"
 #include "SyntheticStereo.h"
+#include "TestData.h"
 
 #include <emslam/egomotion/EgomotionEstimator.h>
 #include <emslam/rectify/ActionCovariance.h>
+#include <emslam/sim/StereoSimulator.h>
 #include <emslam/slam/LoopCloser.h>
+#include <emslam/stereo/StereoFrontEnd.h>
 
 #include <mrpt/config/CConfigFileMemory.h>
 #include <mrpt/core/bits_math.h>
@@ -157,6 +160,66 @@ TEST(LoopCloser, withoutRevisitsThePosesStay)
     EXPECT_THROW(closer.close({CPose3D()}, EgomotionEstimator()), std::invalid_argument);
 }
 
+TEST(LoopCloser, localEdgesRepairABadStepOfAnOpenPath)
+{
+    // Rendered frames of a corridor world (no loop): every second frame is a
+    // keyframe. The odometry between keyframes 5 and 6 is 0.3 m and 4 deg
+    // off, with the wide covariance of a failed egomotion step; the direct
+    // registrations of the keyframes around it (local_edges) put it right.
+    emslam::sim::StereoSimulator sim;
+    sim.loadFile(emslam::test::sourceDir() + "/config/sim/three_corridors.ini");
+    emslam::stereo::StereoFrontEnd front_end;
+    EgomotionEstimator e;
+    constexpr std::size_t KEYFRAMES = 12;
+    const ActionCovariance good = diagonalCovariance(0.01, mrpt::DEG2RAD(0.3));
+    const ActionCovariance failed = diagonalCovariance(0.5, mrpt::DEG2RAD(10.0));
+    const CPose3D error(0.05, 0.0, 0.3, mrpt::DEG2RAD(4.0), 0, 0);
+    std::vector<CPose3D> truth, odometry;
+    for (auto local : {0, 2})
+    {
+        LoopCloser::TParameters p;
+        p.enabled = true;
+        p.local_edges = local;
+        LoopCloser closer(p);
+        truth.clear();
+        odometry.clear();
+        for (std::size_t k = 0; k < KEYFRAMES; ++k)
+        {
+            const auto f = sim.renderFrame(2 * k);
+            e.reset();
+            e.process(front_end.process(*f.obs));
+            truth.push_back(f.T_first_left);
+            if (k > 0)
+            {
+                const CPose3D step = truth[k] - truth[k - 1];
+                odometry.push_back(odometry.back() + (k == 6 ? step + error : step));
+            }
+            else
+            {
+                odometry.push_back(f.T_first_left);
+            }
+            closer.addKeyframe(2 * k, e.lastDescription(), k == 6 ? failed : good);
+        }
+        const std::vector<CPose3D> closed = closer.close(odometry, e);
+        const double before = positionRmse(odometry, truth);
+        const double after = positionRmse(closed, truth);
+        std::printf(
+            "local_edges %d: RMSE %.3f -> %.3f m, %zu of %zu registrations in the graph\n", local,
+            before, after, closer.stats().local_edges, closer.stats().local_registrations);
+        ASSERT_GT(before, 0.2);
+        if (local == 0)
+        {
+            EXPECT_EQ(closer.stats().local_registrations, 0u);
+            EXPECT_LT(std::abs(after - before), 1e-9);
+            continue;
+        }
+        EXPECT_EQ(closer.stats().local_registrations, 2 * KEYFRAMES - 3);
+        EXPECT_GE(closer.stats().local_edges, KEYFRAMES);
+        EXPECT_LT(after, 0.03);
+        EXPECT_LT(distance(closed[6], truth[6]), 0.05);
+    }
+}
+
 TEST(LoopCloser, parametersRoundTripAndBadValuesThrow)
 {
     LoopCloser::TParameters p;
@@ -166,6 +229,7 @@ TEST(LoopCloser, parametersRoundTripAndBadValuesThrow)
     p.max_angle_deg = 20;
     p.max_candidates = 5;
     p.max_rounds = 2;
+    p.local_edges = 4;
     mrpt::config::CConfigFileMemory c;
     p.saveToConfigFile(c, "LoopCloser");
     // MRPT 2.5 reads defaults back from the object written: re-parse the text.
@@ -178,9 +242,10 @@ TEST(LoopCloser, parametersRoundTripAndBadValuesThrow)
     EXPECT_DOUBLE_EQ(q.max_angle_deg, 20);
     EXPECT_EQ(q.max_candidates, 5);
     EXPECT_EQ(q.max_rounds, 2);
+    EXPECT_EQ(q.local_edges, 4);
     for (const char* bad :
          {"max_angle_deg = 0", "max_candidates = 0", "max_rounds = 0", "min_path_length = -1",
-          "max_distance = nan"})
+          "max_distance = nan", "local_edges = -1"})
     {
         mrpt::config::CConfigFileMemory b(std::string("[LoopCloser]\n") + bad + "\n");
         LoopCloser::TParameters r;

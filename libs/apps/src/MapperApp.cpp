@@ -488,6 +488,14 @@ void MapperApp::writeOutputs(const emslam::io::TumTrajectory& ground_truth)
     std::printf(
         "%s (first to last pose): egomotion %.3f m, SLAM %.3f m\n",
         startToEndName(ground_truth).c_str(), loopGap(m.egomotionPoses()), loopGap(m.slamPoses()));
+    if (m.parameters().loop_closer.enabled && !m.parameters().mapper.egomotion_only)
+    {
+        const auto& lc = m.loopCloser().stats();
+        std::printf(
+            "loop closing: %zu loop edges of %zu registrations, %zu local edges of %zu, %.1f s\n",
+            lc.loop_edges, lc.registrations, lc.local_edges, lc.local_registrations,
+            lc.ms / 1000.0);
+    }
     if (m_info.slam_vs_gt)
     {
         std::printf(

@@ -235,7 +235,9 @@ void writeSummaryJson(
       << (m.parameters().loop_closer.enabled ? "true" : "false")
       << ", \"candidates\": " << lc.candidates << ", \"registrations\": " << lc.registrations
       << ", \"registered\": " << lc.registered << ", \"loop_edges\": " << lc.loop_edges
-      << ", \"rounds\": " << lc.rounds << ", \"initial_cost\": " << io::jsonNumber(lc.initial_cost)
+      << ", \"local_registrations\": " << lc.local_registrations
+      << ", \"local_edges\": " << lc.local_edges << ", \"rounds\": " << lc.rounds
+      << ", \"initial_cost\": " << io::jsonNumber(lc.initial_cost)
       << ", \"final_cost\": " << io::jsonNumber(lc.final_cost)
       << ", \"ms\": " << io::jsonNumber(lc.ms) << "},\n"
       << "  \"trajectory_elements\": " << m.trajectoryElements() << ",\n"

@@ -153,6 +153,7 @@ void LoopCloser::TParameters::loadFromConfigFile(
     MRPT_LOAD_CONFIG_VAR(max_angle_deg, double, c, s);
     MRPT_LOAD_CONFIG_VAR(max_candidates, int, c, s);
     MRPT_LOAD_CONFIG_VAR(max_rounds, int, c, s);
+    MRPT_LOAD_CONFIG_VAR(local_edges, int, c, s);
     validate();
 }
 
@@ -165,6 +166,7 @@ void LoopCloser::TParameters::saveToConfigFile(
     MRPT_SAVE_CONFIG_VAR_COMMENT(max_angle_deg, "[deg] between the viewing directions");
     MRPT_SAVE_CONFIG_VAR_COMMENT(max_candidates, "registrations per keyframe, nearest first");
     MRPT_SAVE_CONFIG_VAR_COMMENT(max_rounds, "rounds of detection and solving");
+    MRPT_SAVE_CONFIG_VAR_COMMENT(local_edges, "direct registrations to the keyframes before");
 }
 
 void LoopCloser::TParameters::validate() const
@@ -191,6 +193,10 @@ void LoopCloser::TParameters::validate() const
     {
         bad("max_rounds", "must be >= 1");
     }
+    if (local_edges < 0)
+    {
+        bad("local_edges", "must be >= 0");
+    }
 }
 
 LoopCloser::LoopCloser(const TParameters& p) : m_p(p)
@@ -204,6 +210,62 @@ void LoopCloser::addKeyframe(
     const emslam::rectify::ActionCovariance& step_covariance)
 {
     m_keyframes.push_back({frame_index, std::move(description), step_covariance});
+}
+
+void LoopCloser::addLocalEdges(
+    emslam::rectify::PoseGraph& graph,
+    const std::vector<emslam::rectify::ActionCovariance>& steps,
+    const emslam::rectify::ActionCovariance& mean_step,
+    const emslam::egomotion::EgomotionEstimator& estimator)
+{
+    if (m_p.local_edges <= 0)
+    {
+        return;
+    }
+    const std::vector<mrpt::poses::CPose3D>& x = graph.nodes();
+    const ChainDrift drift(x, steps, {});
+    const std::size_t depth = static_cast<std::size_t>(m_p.local_edges);
+    for (std::size_t j = 1; j < x.size(); ++j)
+    {
+        if (!m_keyframes[j].description)
+        {
+            continue;
+        }
+        for (std::size_t i = j - std::min(j, depth); i < j; ++i)
+        {
+            if (!m_keyframes[i].description)
+            {
+                continue;
+            }
+            const auto r =
+                estimator.estimate(m_keyframes[i].description, m_keyframes[j].description);
+            ++m_stats.local_registrations;
+            if (!r.ok)
+            {
+                continue;
+            }
+            const emslam::rectify::ActionCovariance cov =
+                r.has_covariance ? r.covariance : mean_step;
+            const auto delta = emslam::rectify::actionDifference(x[j] - x[i], r.T_prev_cur);
+            const double dt2 = delta[0] * delta[0] + delta[1] * delta[1] + delta[2] * delta[2];
+            const double dr2 = delta[3] * delta[3] + delta[4] * delta[4] + delta[5] * delta[5];
+            const double var_t =
+                drift.translationVariance(i, j, positionOf(x[j])) + translationTrace(cov);
+            const double var_r = drift.rotationVariance(i, j) + rotationTrace(cov);
+            if (dt2 > GATE_SIGMAS * GATE_SIGMAS * var_t || dr2 > GATE_SIGMAS * GATE_SIGMAS * var_r)
+            {
+                continue;
+            }
+            graph.addEdge(i, j, r.T_prev_cur, cov);
+            ++m_stats.local_edges;
+        }
+    }
+    if (m_stats.local_edges > 0)
+    {
+        const auto solved = graph.optimize();
+        m_stats.initial_cost = solved.initial_cost;
+        m_stats.final_cost = solved.final_cost;
+    }
 }
 
 std::vector<mrpt::poses::CPose3D> LoopCloser::close(
@@ -244,6 +306,7 @@ std::vector<mrpt::poses::CPose3D> LoopCloser::close(
         mean_step += steps[k];
     }
     mean_step *= 1.0 / static_cast<double>(n - 1);
+    addLocalEdges(graph, steps, mean_step, estimator);
     const double cos_max_angle = std::cos(mrpt::DEG2RAD(m_p.max_angle_deg));
     std::map<std::pair<std::size_t, std::size_t>, Registration> tried;
     std::vector<ChainDrift::Shortcut> shortcuts;
@@ -371,7 +434,7 @@ std::vector<mrpt::poses::CPose3D> LoopCloser::close(
                 {m_keyframes[r->i].frame_index, m_keyframes[r->j].frame_index, r->z, r->matches});
         }
         const auto solved = graph.optimize();
-        if (m_stats.rounds == 0)
+        if (m_stats.rounds == 0 && m_stats.local_edges == 0)
         {
             m_stats.initial_cost = solved.initial_cost;
         }

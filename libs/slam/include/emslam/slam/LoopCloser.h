@@ -3,6 +3,7 @@
 
 #include <emslam/egomotion/EgomotionEstimator.h>
 #include <emslam/rectify/ActionCovariance.h>
+#include <emslam/rectify/PoseGraph.h>
 
 #include <mrpt/config/CLoadableOptions.h>
 #include <mrpt/poses/CPose3D.h>
@@ -44,6 +45,11 @@ namespace emslam::slam
  * 4. The winners join the pose graph as edges (their Dpp covariances), which
  *    is solved; steps 1–4 repeat on the corrected poses until no group wins.
  *
+ * Before step 1, with `local_edges` > 0, each keyframe is registered
+ * against the few keyframes before it and those edges (gated like the loops)
+ * join the graph, which is solved once: this bends the path where no loop
+ * does.
+ *
  * The odometry edges are the relative poses of the keyframes as given (the
  * rectified trajectory) with the egomotion's covariances.
  * \ingroup emslam_slam_grp \sa EntropySlam */
@@ -77,15 +83,23 @@ public:
         int max_candidates{8};
         /** Rounds of detection and solving. (Default: 4) */
         int max_rounds{4};
+        /** Each keyframe is also registered directly against this many
+         * keyframes before it, and those registrations join the pose graph:
+         * one registration in place of a chain of frame-to-frame steps, so
+         * the chain's errors average out along the whole path, loop or not.
+         * 0: off. A few ms per registration. (Default: 0) */
+        int local_edges{0};
     };
 
     /** What close() did. */
     struct Stats
     {
-        std::size_t candidates{0};     //!< pairs within the gates of step 1
-        std::size_t registrations{0};  //!< egomotion registrations tried
-        std::size_t registered{0};     //!< of them: succeeded and within the gate
-        std::size_t loop_edges{0};     //!< accepted into the pose graph
+        std::size_t candidates{0};           //!< pairs within the gates of step 1
+        std::size_t registrations{0};        //!< egomotion registrations tried
+        std::size_t registered{0};           //!< of them: succeeded and within the gate
+        std::size_t loop_edges{0};           //!< accepted into the pose graph
+        std::size_t local_registrations{0};  //!< of `local_edges`, tried
+        std::size_t local_edges{0};          //!< of them: within the gate, in the graph
         int rounds{0};
         double initial_cost{0}, final_cost{0};  //!< of the pose graph, first and last solve
         double ms{0};
@@ -123,6 +137,13 @@ public:
     const std::vector<LoopEdge>& loopEdges() const { return m_edges; }
 
 private:
+    /** The `local_edges` registrations into `graph`, which is then solved. */
+    void addLocalEdges(
+        emslam::rectify::PoseGraph& graph,
+        const std::vector<emslam::rectify::ActionCovariance>& steps,
+        const emslam::rectify::ActionCovariance& mean_step,
+        const emslam::egomotion::EgomotionEstimator& estimator);
+
     struct Keyframe
     {
         std::size_t frame_index{0};
