@@ -20,6 +20,9 @@ namespace
 using Vec3 = Eigen::Vector3d;
 /** Three standard deviations: the gates of a Gaussian's bulk. */
 constexpr double GATE_SIGMAS = 3.0;
+/** The same bulk (99.73 %) of a χ² with 6 degrees of freedom: a gate on the
+ * Mahalanobis distance of a 6D pose difference. */
+constexpr double GATE_CHI2_6DOF = 20.06;
 
 Vec3 positionOf(const mrpt::poses::CPose3D& p)
 {
@@ -223,7 +226,6 @@ void LoopCloser::addLocalEdges(
         return;
     }
     const std::vector<mrpt::poses::CPose3D>& x = graph.nodes();
-    const ChainDrift drift(x, steps, {});
     const std::size_t depth = static_cast<std::size_t>(m_p.local_edges);
     for (std::size_t j = 1; j < x.size(); ++j)
     {
@@ -246,13 +248,23 @@ void LoopCloser::addLocalEdges(
             }
             const emslam::rectify::ActionCovariance cov =
                 r.has_covariance ? r.covariance : mean_step;
+            // The chain's own covariance from i to j, composed step by step:
+            // a registration must agree with it in every direction, not only
+            // on the whole (an edge confident across the path but off along
+            // it would bend the path).
+            emslam::rectify::ActionCovariance chain;
+            chain.setZero();
+            mrpt::poses::CPose3D T_i_k;
+            for (std::size_t k = i + 1; k <= j; ++k)
+            {
+                const mrpt::poses::CPose3D step = x[k] - x[k - 1];
+                chain = emslam::rectify::composeCovariance(T_i_k, chain, step, steps[k]);
+                T_i_k = T_i_k + step;
+            }
             const auto delta = emslam::rectify::actionDifference(x[j] - x[i], r.T_prev_cur);
-            const double dt2 = delta[0] * delta[0] + delta[1] * delta[1] + delta[2] * delta[2];
-            const double dr2 = delta[3] * delta[3] + delta[4] * delta[4] + delta[5] * delta[5];
-            const double var_t =
-                drift.translationVariance(i, j, positionOf(x[j])) + translationTrace(cov);
-            const double var_r = drift.rotationVariance(i, j) + rotationTrace(cov);
-            if (dt2 > GATE_SIGMAS * GATE_SIGMAS * var_t || dr2 > GATE_SIGMAS * GATE_SIGMAS * var_r)
+            const double d2 = 2 * emslam::rectify::halfMahalanobis(
+                                      delta, emslam::rectify::informationOf(chain + cov, 6));
+            if (!(d2 <= GATE_CHI2_6DOF))
             {
                 continue;
             }

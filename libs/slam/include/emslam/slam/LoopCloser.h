@@ -46,7 +46,9 @@ namespace emslam::slam
  *    is solved; steps 1–4 repeat on the corrected poses until no group wins.
  *
  * Before step 1, with `local_edges` > 0, each keyframe is registered
- * against the few keyframes before it and those edges (gated like the loops)
+ * against the few keyframes before it and those edges (kept if their
+ * Mahalanobis distance to the chain, under the chain's composed covariance
+ * plus their own, is within the 99.73 % bulk of a χ²(6))
  * join the graph, which is solved once: this bends the path where no loop
  * does.
  *
