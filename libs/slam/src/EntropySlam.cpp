@@ -229,6 +229,7 @@ bool EntropySlam::process(const mrpt::obs::CObservation& obs)
 
     const emslam::rectify::ActionCovariance cov_since_keyframe = emslam::rectify::composeCovariance(
         m_T_keyframe_cur, m_cov_keyframe_cur, action, action_cov);
+    const mrpt::poses::CPose3D motion_since_keyframe = m_T_keyframe_cur + action;
     r.accepted = m_sampler.feed(action);
     if (r.accepted)
     {
@@ -250,7 +251,7 @@ bool EntropySlam::process(const mrpt::obs::CObservation& obs)
             m_p.loop_closer.enabled && !m_p.mapper.egomotion_only
                 ? m_odometry.estimator().lastDescription()
                 : nullptr,
-            cov_since_keyframe);
+            cov_since_keyframe, motion_since_keyframe);
         PendingKeyframe k;
         k.index = r.index;
         k.timestamp = r.timestamp;

@@ -210,9 +210,10 @@ LoopCloser::LoopCloser(const TParameters& p) : m_p(p)
 void LoopCloser::addKeyframe(
     std::size_t frame_index,
     emslam::egomotion::EgomotionEstimator::Description description,
-    const emslam::rectify::ActionCovariance& step_covariance)
+    const emslam::rectify::ActionCovariance& step_covariance,
+    const std::optional<mrpt::poses::CPose3D>& step_motion)
 {
-    m_keyframes.push_back({frame_index, std::move(description), step_covariance});
+    m_keyframes.push_back({frame_index, std::move(description), step_covariance, step_motion});
 }
 
 void LoopCloser::addLocalEdges(
@@ -248,20 +249,23 @@ void LoopCloser::addLocalEdges(
             }
             const emslam::rectify::ActionCovariance cov =
                 r.has_covariance ? r.covariance : mean_step;
-            // The chain's own covariance from i to j, composed step by step:
-            // a registration must agree with it in every direction, not only
-            // on the whole (an edge confident across the path but off along
-            // it would bend the path).
+            // Against the egomotion's own chain from i to j and its
+            // covariance composed step by step: a registration must agree
+            // with it in every direction, not only on the whole (an edge
+            // confident across the path but off along it would bend the
+            // path), and not with the rectified chain, which the edge may
+            // have to correct.
             emslam::rectify::ActionCovariance chain;
             chain.setZero();
             mrpt::poses::CPose3D T_i_k;
             for (std::size_t k = i + 1; k <= j; ++k)
             {
-                const mrpt::poses::CPose3D step = x[k] - x[k - 1];
+                const auto& motion = m_keyframes[k].motion;
+                const mrpt::poses::CPose3D step = motion ? *motion : x[k] - x[k - 1];
                 chain = emslam::rectify::composeCovariance(T_i_k, chain, step, steps[k]);
                 T_i_k = T_i_k + step;
             }
-            const auto delta = emslam::rectify::actionDifference(x[j] - x[i], r.T_prev_cur);
+            const auto delta = emslam::rectify::actionDifference(T_i_k, r.T_prev_cur);
             const double d2 = 2 * emslam::rectify::halfMahalanobis(
                                       delta, emslam::rectify::informationOf(chain + cov, 6));
             if (!(d2 <= GATE_CHI2_6DOF))

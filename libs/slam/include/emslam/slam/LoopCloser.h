@@ -9,6 +9,7 @@
 #include <mrpt/poses/CPose3D.h>
 
 #include <cstddef>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -120,12 +121,17 @@ public:
     const TParameters& parameters() const { return m_p; }
 
     /** Adds the next keyframe: its frame index, its description (may be
-     * null: never registered) and the egomotion's covariance of its motion
-     * since the previous keyframe (ignored for the first). */
+     * null: never registered), the egomotion's covariance of its motion
+     * since the previous keyframe and, if known, that motion itself (both
+     * ignored for the first). The local edges are checked against the
+     * egomotion's own chain of these motions, so that a registration can
+     * undo what the rectifier did wrong; without them, against the poses
+     * given to close(). */
     void addKeyframe(
         std::size_t frame_index,
         emslam::egomotion::EgomotionEstimator::Description description,
-        const emslam::rectify::ActionCovariance& step_covariance);
+        const emslam::rectify::ActionCovariance& step_covariance,
+        const std::optional<mrpt::poses::CPose3D>& step_motion = std::nullopt);
     std::size_t keyframeCount() const { return m_keyframes.size(); }
 
     /** The keyframe poses (world, one per addKeyframe(), in order) with the
@@ -151,6 +157,7 @@ private:
         std::size_t frame_index{0};
         emslam::egomotion::EgomotionEstimator::Description description;
         emslam::rectify::ActionCovariance covariance;
+        std::optional<mrpt::poses::CPose3D> motion;
     };
     TParameters m_p;
     std::vector<Keyframe> m_keyframes;
