@@ -160,49 +160,72 @@ TEST(LoopCloser, withoutRevisitsThePosesStay)
     EXPECT_THROW(closer.close({CPose3D()}, EgomotionEstimator()), std::invalid_argument);
 }
 
+namespace
+{
+/** Every second rendered frame of the corridor world (no loop) as a
+ * keyframe: its true pose and its description. */
+struct CorridorKeyframes
+{
+    std::vector<CPose3D> truth;
+    std::vector<EgomotionEstimator::Description> descriptions;
+};
+
+CorridorKeyframes renderCorridorKeyframes(EgomotionEstimator& e, std::size_t count)
+{
+    emslam::sim::StereoSimulator sim;
+    sim.loadFile(emslam::test::sourceDir() + "/config/sim/three_corridors.ini");
+    emslam::stereo::StereoFrontEnd front_end;
+    CorridorKeyframes out;
+    for (std::size_t k = 0; k < count; ++k)
+    {
+        const auto f = sim.renderFrame(2 * k);
+        e.reset();
+        e.process(front_end.process(*f.obs));
+        out.truth.push_back(f.T_first_left);
+        out.descriptions.push_back(e.lastDescription());
+    }
+    return out;
+}
+
+/** The true poses with step `bent` (into keyframe `bent`) 0.3 m and 4 deg off. */
+std::vector<CPose3D> withOneBentStep(const std::vector<CPose3D>& truth, std::size_t bent)
+{
+    const CPose3D error(0.05, 0.0, 0.3, mrpt::DEG2RAD(4.0), 0, 0);
+    std::vector<CPose3D> poses{truth.front()};
+    for (std::size_t k = 1; k < truth.size(); ++k)
+    {
+        const CPose3D step = truth[k] - truth[k - 1];
+        poses.push_back(poses.back() + (k == bent ? step + error : step));
+    }
+    return poses;
+}
+}  // namespace
+
 TEST(LoopCloser, localEdgesRepairABadStepOfAnOpenPath)
 {
     // Rendered frames of a corridor world (no loop): every second frame is a
     // keyframe. The odometry between keyframes 5 and 6 is 0.3 m and 4 deg
     // off, with the wide covariance of a failed egomotion step; the direct
     // registrations of the keyframes around it (local_edges) put it right.
-    emslam::sim::StereoSimulator sim;
-    sim.loadFile(emslam::test::sourceDir() + "/config/sim/three_corridors.ini");
-    emslam::stereo::StereoFrontEnd front_end;
     EgomotionEstimator e;
     constexpr std::size_t KEYFRAMES = 12;
+    const CorridorKeyframes kf = renderCorridorKeyframes(e, KEYFRAMES);
+    const std::vector<CPose3D> odometry = withOneBentStep(kf.truth, 6);
     const ActionCovariance good = diagonalCovariance(0.01, mrpt::DEG2RAD(0.3));
     const ActionCovariance failed = diagonalCovariance(0.5, mrpt::DEG2RAD(10.0));
-    const CPose3D error(0.05, 0.0, 0.3, mrpt::DEG2RAD(4.0), 0, 0);
-    std::vector<CPose3D> truth, odometry;
     for (auto local : {0, 2})
     {
         LoopCloser::TParameters p;
         p.enabled = true;
         p.local_edges = local;
         LoopCloser closer(p);
-        truth.clear();
-        odometry.clear();
         for (std::size_t k = 0; k < KEYFRAMES; ++k)
         {
-            const auto f = sim.renderFrame(2 * k);
-            e.reset();
-            e.process(front_end.process(*f.obs));
-            truth.push_back(f.T_first_left);
-            if (k > 0)
-            {
-                const CPose3D step = truth[k] - truth[k - 1];
-                odometry.push_back(odometry.back() + (k == 6 ? step + error : step));
-            }
-            else
-            {
-                odometry.push_back(f.T_first_left);
-            }
-            closer.addKeyframe(2 * k, e.lastDescription(), k == 6 ? failed : good);
+            closer.addKeyframe(2 * k, kf.descriptions[k], k == 6 ? failed : good);
         }
         const std::vector<CPose3D> closed = closer.close(odometry, e);
-        const double before = positionRmse(odometry, truth);
-        const double after = positionRmse(closed, truth);
+        const double before = positionRmse(odometry, kf.truth);
+        const double after = positionRmse(closed, kf.truth);
         std::printf(
             "local_edges %d: RMSE %.3f -> %.3f m, %zu of %zu registrations in the graph\n", local,
             before, after, closer.stats().local_edges, closer.stats().local_registrations);
@@ -216,7 +239,7 @@ TEST(LoopCloser, localEdgesRepairABadStepOfAnOpenPath)
         EXPECT_EQ(closer.stats().local_registrations, 2 * KEYFRAMES - 3);
         EXPECT_GE(closer.stats().local_edges, KEYFRAMES);
         EXPECT_LT(after, 0.03);
-        EXPECT_LT(distance(closed[6], truth[6]), 0.05);
+        EXPECT_LT(distance(closed[6], kf.truth[6]), 0.05);
     }
 }
 
@@ -228,32 +251,23 @@ TEST(LoopCloser, localEdgesUndoAStepTheRectifierBent)
     // agree with the egomotion's chain, so they are kept and repair the
     // bent step. Checked against the given poses instead, 3 of them are
     // refused and the step stays bent.
-    emslam::sim::StereoSimulator sim;
-    sim.loadFile(emslam::test::sourceDir() + "/config/sim/three_corridors.ini");
-    emslam::stereo::StereoFrontEnd front_end;
     EgomotionEstimator e;
     constexpr std::size_t KEYFRAMES = 10;
+    const CorridorKeyframes kf = renderCorridorKeyframes(e, KEYFRAMES);
+    const std::vector<CPose3D> rectified = withOneBentStep(kf.truth, 5);
     const ActionCovariance tight = diagonalCovariance(0.01, mrpt::DEG2RAD(0.3));
-    const CPose3D error(0.05, 0.0, 0.3, mrpt::DEG2RAD(4.0), 0, 0);
     LoopCloser::TParameters p;
     p.enabled = true;
     p.local_edges = 2;
     LoopCloser closer(p);
-    std::vector<CPose3D> truth, rectified;
     for (std::size_t k = 0; k < KEYFRAMES; ++k)
     {
-        const auto f = sim.renderFrame(2 * k);
-        e.reset();
-        e.process(front_end.process(*f.obs));
-        truth.push_back(f.T_first_left);
-        const CPose3D step = k > 0 ? truth[k] - truth[k - 1] : CPose3D();
-        rectified.push_back(
-            k > 0 ? rectified.back() + (k == 5 ? step + error : step) : f.T_first_left);
-        closer.addKeyframe(2 * k, e.lastDescription(), tight, step);
+        const CPose3D step = k > 0 ? kf.truth[k] - kf.truth[k - 1] : CPose3D();
+        closer.addKeyframe(2 * k, kf.descriptions[k], tight, step);
     }
     const std::vector<CPose3D> closed = closer.close(rectified, e);
-    const double before = positionRmse(rectified, truth);
-    const double after = positionRmse(closed, truth);
+    const double before = positionRmse(rectified, kf.truth);
+    const double after = positionRmse(closed, kf.truth);
     std::printf(
         "rectifier-bent step: RMSE %.3f -> %.3f m, %zu of %zu local registrations in the graph\n",
         before, after, closer.stats().local_edges, closer.stats().local_registrations);
