@@ -286,6 +286,10 @@ TEST(LoopCloser, parametersRoundTripAndBadValuesThrow)
     p.max_candidates = 5;
     p.max_rounds = 2;
     p.local_edges = 4;
+    p.vertical_prior = true;
+    p.vertical.patch_px = 12;
+    p.vertical.max_angle_deg = 15;
+    p.vertical.min_patches = 6;
     mrpt::config::CConfigFileMemory c;
     p.saveToConfigFile(c, "LoopCloser");
     // MRPT 2.5 reads defaults back from the object written: re-parse the text.
@@ -299,9 +303,14 @@ TEST(LoopCloser, parametersRoundTripAndBadValuesThrow)
     EXPECT_EQ(q.max_candidates, 5);
     EXPECT_EQ(q.max_rounds, 2);
     EXPECT_EQ(q.local_edges, 4);
+    EXPECT_TRUE(q.vertical_prior);
+    EXPECT_EQ(q.vertical.patch_px, 12);
+    EXPECT_DOUBLE_EQ(q.vertical.max_angle_deg, 15);
+    EXPECT_EQ(q.vertical.min_patches, 6);
     for (const char* bad :
          {"max_angle_deg = 0", "max_candidates = 0", "max_rounds = 0", "min_path_length = -1",
-          "max_distance = nan", "local_edges = -1"})
+          "max_distance = nan", "local_edges = -1", "vertical_patch_px = 3",
+          "vertical_max_angle_deg = 90", "vertical_min_patches = 1"})
     {
         mrpt::config::CConfigFileMemory b(std::string("[LoopCloser]\n") + bad + "\n");
         LoopCloser::TParameters r;

@@ -495,6 +495,14 @@ void MapperApp::writeOutputs(const emslam::io::TumTrajectory& ground_truth)
             "loop closing: %zu loop edges of %zu registrations, %zu local edges of %zu, %.1f s\n",
             lc.loop_edges, lc.registrations, lc.local_edges, lc.local_registrations,
             lc.ms / 1000.0);
+        if (m.parameters().loop_closer.vertical_prior)
+        {
+            std::printf(
+                "levelling: %zu of %zu measured verticals agree (tilt spread %.2f deg, camera "
+                "bias %.2f deg, %.1f keyframes per independent error)\n",
+                lc.verticals_used, lc.verticals_measured, lc.vertical_drift_deg,
+                lc.vertical_bias_deg, lc.vertical_correlation_time);
+        }
     }
     if (m_info.slam_vs_gt)
     {

@@ -236,8 +236,13 @@ void writeSummaryJson(
       << ", \"candidates\": " << lc.candidates << ", \"registrations\": " << lc.registrations
       << ", \"registered\": " << lc.registered << ", \"loop_edges\": " << lc.loop_edges
       << ", \"local_registrations\": " << lc.local_registrations
-      << ", \"local_edges\": " << lc.local_edges << ", \"rounds\": " << lc.rounds
-      << ", \"initial_cost\": " << io::jsonNumber(lc.initial_cost)
+      << ", \"local_edges\": " << lc.local_edges
+      << ", \"verticals_measured\": " << lc.verticals_measured
+      << ", \"verticals_used\": " << lc.verticals_used
+      << ", \"vertical_drift_deg\": " << io::jsonNumber(lc.vertical_drift_deg)
+      << ", \"vertical_bias_deg\": " << io::jsonNumber(lc.vertical_bias_deg)
+      << ", \"vertical_correlation_time\": " << io::jsonNumber(lc.vertical_correlation_time)
+      << ", \"rounds\": " << lc.rounds << ", \"initial_cost\": " << io::jsonNumber(lc.initial_cost)
       << ", \"final_cost\": " << io::jsonNumber(lc.final_cost)
       << ", \"ms\": " << io::jsonNumber(lc.ms) << "},\n"
       << "  \"trajectory_elements\": " << m.trajectoryElements() << ",\n"

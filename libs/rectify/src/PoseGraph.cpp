@@ -45,6 +45,30 @@ Vec6 residual(
     return toVec(actionDifference(xj - xi, z));
 }
 
+using Vec3 = Eigen::Vector3d;
+using Mat3 = Eigen::Matrix3d;
+using Mat32 = Eigen::Matrix<double, 3, 2>;
+
+Vec3 toVec3(const mrpt::math::TVector3D& v)
+{
+    return {v.x, v.y, v.z};
+}
+
+/** Two unit vectors orthogonal to unit `n` and to each other. */
+Mat32 tangentBasis(const Vec3& n)
+{
+    Mat32 E;
+    E << n.unitOrthogonal(), n.cross(n.unitOrthogonal());
+    return E;
+}
+
+/** ρ = normalize(u − b) − Rᵀ w, in the node's frame. */
+Vec3 priorResidual(
+    const mrpt::poses::CPose3D& x, const PoseGraph::DirectionPrior& p, const Vec3& w, const Vec3& b)
+{
+    return (toVec3(p.in_node) - b).normalized() - x.getRotationMatrix().asEigen().transpose() * w;
+}
+
 mrpt::poses::CPose3D moved(const mrpt::poses::CPose3D& x, const Vec6& d)
 {
     return perturbAction(x, {d[0], d[1], d[2], d[3], d[4], d[5]});
@@ -76,6 +100,26 @@ void PoseGraph::addEdge(
     m_edges.push_back({from, to, measurement, informationOf(covariance, 6)});
 }
 
+void PoseGraph::addDirectionPrior(
+    std::size_t node,
+    const mrpt::math::TVector3D& in_node,
+    const mrpt::math::CMatrixDouble33& information)
+{
+    if (node >= m_nodes.size())
+    {
+        throw std::out_of_range(
+            "PoseGraph::addDirectionPrior: node " + std::to_string(node) + " of " +
+            std::to_string(m_nodes.size()));
+    }
+    m_priors.push_back({node, in_node, information});
+}
+
+double PoseGraph::priorCost(const DirectionPrior& p) const
+{
+    const Vec3 r = priorResidual(m_nodes[p.node], p, toVec3(m_frame.world), toVec3(m_frame.bias));
+    return 0.5 * r.dot(p.information.asEigen() * r);
+}
+
 double PoseGraph::edgeCost(const Edge& e) const
 {
     const Vec6 r = residual(m_nodes[e.from], m_nodes[e.to], e.measurement);
@@ -89,6 +133,10 @@ double PoseGraph::cost() const
     {
         c += edgeCost(e);
     }
+    for (const auto& p : m_priors)
+    {
+        c += priorCost(p);
+    }
     return c;
 }
 
@@ -98,12 +146,24 @@ PoseGraph::Result PoseGraph::optimize(int max_iterations)
     res.initial_cost = cost();
     res.final_cost = res.initial_cost;
     const std::size_t n = m_nodes.size();
-    if (n < 2 || m_edges.empty())
+    if (n < 2 || (m_edges.empty() && m_priors.empty()))
     {
         return res;
     }
-    // Node 0 is fixed: unknowns are nodes 1..n-1, six each.
-    const auto dim = static_cast<Eigen::Index>(6 * (n - 1));
+    // Node 0 is fixed: unknowns are nodes 1..n-1, six each, then the
+    // shared world direction and bias of the direction priors (two each).
+    const bool any_prior = !m_priors.empty();
+    const auto world_col = static_cast<Eigen::Index>(6 * (n - 1));
+    const Eigen::Index bias_col = world_col + (any_prior && m_frame.solve_world ? 2 : 0);
+    const Eigen::Index dim = bias_col + (any_prior && m_frame.solve_bias ? 2 : 0);
+    // The bias moves orthogonally to the mean measured direction.
+    Vec3 mean_measured = Vec3::Zero();
+    for (const auto& p : m_priors)
+    {
+        mean_measured += toVec3(p.in_node);
+    }
+    const Mat32 Eb =
+        tangentBasis(mean_measured.norm() > 0 ? mean_measured.normalized() : Vec3::UnitY());
     const auto col = [](std::size_t node) { return static_cast<Eigen::Index>(6 * (node - 1)); };
     double lambda = 1e-4;
     constexpr double h = 1e-6;  // central differences of a smooth residual
@@ -157,6 +217,68 @@ PoseGraph::Result PoseGraph::optimize(int max_iterations)
                 }
             }
         }
+        // Direction priors: the node's six unknowns and those of the
+        // shared world direction and bias, where solved.
+        const Vec3 w = toVec3(m_frame.world);
+        const Vec3 b = toVec3(m_frame.bias);
+        const Mat32 Ew = tangentBasis(w);
+        for (const auto& p : m_priors)
+        {
+            const auto& x = m_nodes[p.node];
+            const Vec3 r = priorResidual(x, p, w, b);
+            std::vector<std::pair<Eigen::Index, Eigen::MatrixXd>> blocks;
+            if (p.node != 0)
+            {
+                Eigen::MatrixXd J(3, 6);
+                for (int k = 0; k < 6; ++k)
+                {
+                    Vec6 d = Vec6::Zero();
+                    d[k] = h;
+                    J.col(k) = (priorResidual(moved(x, d), p, w, b) -
+                                priorResidual(moved(x, -d), p, w, b)) /
+                               (2 * h);
+                }
+                blocks.emplace_back(col(p.node), J);
+            }
+            if (m_frame.solve_world)
+            {
+                Eigen::MatrixXd J(3, 2);
+                for (int k = 0; k < 2; ++k)
+                {
+                    J.col(k) = (priorResidual(x, p, (w + h * Ew.col(k)).normalized(), b) -
+                                priorResidual(x, p, (w - h * Ew.col(k)).normalized(), b)) /
+                               (2 * h);
+                }
+                blocks.emplace_back(world_col, J);
+            }
+            if (m_frame.solve_bias)
+            {
+                Eigen::MatrixXd J(3, 2);
+                for (int k = 0; k < 2; ++k)
+                {
+                    J.col(k) = (priorResidual(x, p, w, b + h * Eb.col(k)) -
+                                priorResidual(x, p, w, b - h * Eb.col(k))) /
+                               (2 * h);
+                }
+                blocks.emplace_back(bias_col, J);
+            }
+            const Mat3 W = p.information.asEigen();
+            for (const auto& [ci, Ji] : blocks)
+            {
+                g.segment(ci, Ji.cols()) += Ji.transpose() * W * r;
+                for (const auto& [cj, Jj] : blocks)
+                {
+                    const Eigen::MatrixXd Hij = Ji.transpose() * W * Jj;
+                    for (Eigen::Index a = 0; a < Hij.rows(); ++a)
+                    {
+                        for (Eigen::Index c = 0; c < Hij.cols(); ++c)
+                        {
+                            triplets.emplace_back(ci + a, cj + c, Hij(a, c));
+                        }
+                    }
+                }
+            }
+        }
         Eigen::SparseMatrix<double> H(dim, dim);
         H.setFromTriplets(triplets.begin(), triplets.end());
         const Eigen::VectorXd diag = H.diagonal();
@@ -177,9 +299,20 @@ PoseGraph::Result PoseGraph::optimize(int max_iterations)
             }
             const Eigen::VectorXd step = solver.solve(-g);
             std::vector<mrpt::poses::CPose3D> before = m_nodes;
+            const DirectionFrame frame_before = m_frame;
             for (std::size_t i = 1; i < n; ++i)
             {
                 m_nodes[i] = moved(m_nodes[i], step.segment<6>(col(i)));
+            }
+            if (any_prior && m_frame.solve_world)
+            {
+                const Vec3 w_new = (w + Ew * step.segment<2>(world_col)).normalized();
+                m_frame.world = {w_new.x(), w_new.y(), w_new.z()};
+            }
+            if (any_prior && m_frame.solve_bias)
+            {
+                const Vec3 b_new = b + Eb * step.segment<2>(bias_col);
+                m_frame.bias = {b_new.x(), b_new.y(), b_new.z()};
             }
             const double c = cost();
             if (std::isfinite(c) && c <= res.final_cost)
@@ -197,6 +330,7 @@ PoseGraph::Result PoseGraph::optimize(int max_iterations)
             else
             {
                 m_nodes = std::move(before);
+                m_frame = frame_before;
                 lambda *= 10;
             }
         }

@@ -307,6 +307,18 @@ void EntropySlam::addAccepted(const emslam::stereo::StereoFrame& f, const Pendin
     const double t = k.timestamp;
     const emslam::rectify::ActionCovariance& covariance = k.covariance;
     m_runner->addFrame(action, toWeightedCloud(f, m_p.insertion), t, index, covariance);
+    if (m_p.loop_closer.enabled && !m_p.mapper.egomotion_only)
+    {
+        // The keyframe is the last or, with the sparse front-end, the one
+        // before the last egomotion pose.
+        const auto it = std::find_if(
+            m_egomotion.rbegin(), m_egomotion.rend(),
+            [index](const emslam::rectify::TimedPose& p) { return p.frame_index == index; });
+        if (it != m_egomotion.rend())
+        {
+            m_loops.observeVertical(index, f, it->T_world_frame);
+        }
+    }
     m_last_cloud = downsampleFrame(f, m_p.mapper.map_cell_size);
     m_last_cloud_frame = index;
     m_cloud_added = true;

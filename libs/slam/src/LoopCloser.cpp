@@ -1,5 +1,6 @@
 // SPDX-License-Identifier: BSD-3-Clause
 #include <emslam/rectify/PoseGraph.h>
+#include <emslam/slam/LevelFloors.h>
 #include <emslam/slam/LoopCloser.h>
 
 #include <mrpt/config/CConfigFileBase.h>
@@ -157,6 +158,8 @@ void LoopCloser::TParameters::loadFromConfigFile(
     MRPT_LOAD_CONFIG_VAR(max_candidates, int, c, s);
     MRPT_LOAD_CONFIG_VAR(max_rounds, int, c, s);
     MRPT_LOAD_CONFIG_VAR(local_edges, int, c, s);
+    MRPT_LOAD_CONFIG_VAR(vertical_prior, bool, c, s);
+    vertical.loadFromConfigFile(c, s);
     validate();
 }
 
@@ -170,6 +173,8 @@ void LoopCloser::TParameters::saveToConfigFile(
     MRPT_SAVE_CONFIG_VAR_COMMENT(max_candidates, "registrations per keyframe, nearest first");
     MRPT_SAVE_CONFIG_VAR_COMMENT(max_rounds, "rounds of detection and solving");
     MRPT_SAVE_CONFIG_VAR_COMMENT(local_edges, "direct registrations to the keyframes before");
+    MRPT_SAVE_CONFIG_VAR_COMMENT(vertical_prior, "level floors: the up each keyframe sees");
+    vertical.saveToConfigFile(c, s);
 }
 
 void LoopCloser::TParameters::validate() const
@@ -200,6 +205,14 @@ void LoopCloser::TParameters::validate() const
     {
         bad("local_edges", "must be >= 0");
     }
+    try
+    {
+        vertical.validate();
+    }
+    catch (const std::invalid_argument& e)
+    {
+        throw std::invalid_argument(std::string("[LoopCloser] ") + e.what());
+    }
 }
 
 LoopCloser::LoopCloser(const TParameters& p) : m_p(p)
@@ -213,7 +226,41 @@ void LoopCloser::addKeyframe(
     const emslam::rectify::ActionCovariance& step_covariance,
     const std::optional<mrpt::poses::CPose3D>& step_motion)
 {
-    m_keyframes.push_back({frame_index, std::move(description), step_covariance, step_motion});
+    m_keyframes.push_back(
+        {frame_index, std::move(description), step_covariance, step_motion, std::nullopt});
+}
+
+void LoopCloser::observeVertical(
+    std::size_t frame_index,
+    const emslam::stereo::StereoFrame& frame,
+    const mrpt::poses::CPose3D& pose)
+{
+    if (!m_p.vertical_prior)
+    {
+        return;
+    }
+    auto it = std::find_if(
+        m_keyframes.rbegin(), m_keyframes.rend(),
+        [frame_index](const Keyframe& k) { return k.frame_index == frame_index; });
+    if (it == m_keyframes.rend())
+    {
+        return;
+    }
+    // Where up should be in this camera: the ups seen so far (world), or
+    // the first camera's -y.
+    const Vec3 sum(m_up_sum.x, m_up_sum.y, m_up_sum.z);
+    const Vec3 g = sum.norm() > 0 ? sum.normalized() : Vec3(0, -1, 0);
+    const auto R = pose.getRotationMatrix().asEigen();
+    const Vec3 predicted = R.transpose() * g;
+    it->vertical = emslam::stereo::VerticalFromPlanes(m_p.vertical)
+                       .measure(frame, {predicted.x(), predicted.y(), predicted.z()});
+    if (it->vertical)
+    {
+        const auto& m = *it->vertical;
+        const double var = m.covariance(0, 0) + m.covariance(1, 1) + m.covariance(2, 2);
+        const Vec3 added = sum + R * Vec3(m.up.x, m.up.y, m.up.z) / std::max(var, 1e-12);
+        m_up_sum = {added.x(), added.y(), added.z()};
+    }
 }
 
 void LoopCloser::addLocalEdges(
@@ -458,6 +505,27 @@ std::vector<mrpt::poses::CPose3D> LoopCloser::close(
         m_stats.rounds = round + 1;
     }
     m_stats.loop_edges = m_edges.size();
+    if (m_p.vertical_prior)
+    {
+        // How far the egomotion may have tilted each keyframe: its chain's
+        // rotation variance, per axis (no loop or local edge counted).
+        std::vector<std::optional<emslam::stereo::VerticalMeasurement>> verticals(n);
+        std::vector<double> tilt_variance(n, 0.0);
+        for (std::size_t k = 0; k < n; ++k)
+        {
+            verticals[k] = m_keyframes[k].vertical;
+            if (k > 0)
+            {
+                tilt_variance[k] = tilt_variance[k - 1] + rotationTrace(steps[k]) / 3;
+            }
+        }
+        const LevelFloorsStats level = levelFloors(graph, verticals, tilt_variance);
+        m_stats.verticals_measured = level.measured;
+        m_stats.verticals_used = level.used;
+        m_stats.vertical_drift_deg = level.drift_deg;
+        m_stats.vertical_bias_deg = level.bias_deg;
+        m_stats.vertical_correlation_time = level.correlation_time;
+    }
     m_stats.ms =
         std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
     return graph.nodes();

@@ -3,6 +3,8 @@
 
 #include <emslam/rectify/ActionCovariance.h>
 
+#include <mrpt/math/CMatrixFixed.h>
+#include <mrpt/math/TPoint3D.h>
 #include <mrpt/poses/CPose3D.h>
 
 #include <cstddef>
@@ -17,8 +19,12 @@ namespace emslam::rectify
  *
  * with x the node poses (world), z_e the measured pose of node j in node i
  * and Ω_e its information (inverse covariance, in the convention of
- * ActionCovariance). Node 0 is held fixed (the world is the first camera).
- * Each node moves by x ← perturbAction(x, δ), so every node has six unknowns;
+ * ActionCovariance). Direction priors add ½ ρᵀ Λ ρ,
+ * ρ = normalize(u − b) − R_iᵀ w: a direction `u` measured in node i (e.g. the
+ * up a camera sees), less the sensor's own bias `b` (node frame, the same
+ * for every node), should be the world direction `w`. w and b may be
+ * unknowns solved with the nodes (two degrees of freedom each). Node 0 is held fixed (the world is
+ * the first camera). Each node moves by x ← perturbAction(x, δ), so every node has six unknowns;
  * the normal equations are sparse (a chain plus the loop edges) and solved
  * with a sparse Cholesky factorization.
  *
@@ -34,6 +40,23 @@ public:
         std::size_t from{0}, to{0};
         mrpt::poses::CPose3D measurement;  //!< pose of node `to` in node `from`
         ActionCovariance information;      //!< inverse covariance of `measurement`
+    };
+    /** A direction measured in a node that should be the world direction. */
+    struct DirectionPrior
+    {
+        std::size_t node{0};
+        mrpt::math::TVector3D in_node;            //!< measured, unit, node frame
+        mrpt::math::CMatrixDouble33 information;  //!< of `in_node`, node frame
+    };
+    /** What the direction priors share. */
+    struct DirectionFrame
+    {
+        mrpt::math::TVector3D world{0, -1, 0};  //!< w, unit
+        mrpt::math::TVector3D bias{0, 0, 0};    //!< b, node frame
+        bool solve_world{false};                //!< w is an unknown
+        /** b is an unknown, orthogonal to the mean measured direction (a
+         * tilt of what the sensor sees, not a length). */
+        bool solve_bias{false};
     };
     /** What optimize() did. */
     struct Result
@@ -53,6 +76,20 @@ public:
         std::size_t to,
         const mrpt::poses::CPose3D& measurement,
         const ActionCovariance& covariance);
+    /** Adds a direction prior on an existing node (std::out_of_range
+     * otherwise); `information` may be singular (a direction has two
+     * degrees of freedom). */
+    void addDirectionPrior(
+        std::size_t node,
+        const mrpt::math::TVector3D& in_node,
+        const mrpt::math::CMatrixDouble33& information);
+    void setDirectionFrame(const DirectionFrame& f) { m_frame = f; }
+    /** After optimize(): with the solved w and b. */
+    const DirectionFrame& directionFrame() const { return m_frame; }
+    void clearDirectionPriors() { m_priors.clear(); }
+    const std::vector<DirectionPrior>& directionPriors() const { return m_priors; }
+    /** ½ ρᵀ Λ ρ of one prior at the current nodes. */
+    double priorCost(const DirectionPrior& p) const;
     std::size_t nodeCount() const { return m_nodes.size(); }
     const std::vector<Edge>& edges() const { return m_edges; }
     const mrpt::poses::CPose3D& node(std::size_t i) const { return m_nodes.at(i); }
@@ -69,6 +106,8 @@ public:
 private:
     std::vector<mrpt::poses::CPose3D> m_nodes;
     std::vector<Edge> m_edges;
+    std::vector<DirectionPrior> m_priors;
+    DirectionFrame m_frame;
 };
 
 }  // namespace emslam::rectify

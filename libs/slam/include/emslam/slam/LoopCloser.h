@@ -4,6 +4,8 @@
 #include <emslam/egomotion/EgomotionEstimator.h>
 #include <emslam/rectify/ActionCovariance.h>
 #include <emslam/rectify/PoseGraph.h>
+#include <emslam/stereo/StereoFrame.h>
+#include <emslam/stereo/VerticalFromPlanes.h>
 
 #include <mrpt/config/CLoadableOptions.h>
 #include <mrpt/poses/CPose3D.h>
@@ -92,17 +94,30 @@ public:
          * the chain's errors average out along the whole path, loop or not.
          * 0: off. A few ms per registration. (Default: 0) */
         int local_edges{0};
+        /** Level the floors: each keyframe's dense cloud says where up is
+         * (emslam::stereo::VerticalFromPlanes), and those that agree join
+         * the pose graph as priors on its tilt (levelFloors()). For
+         * buildings (floors, ceilings, stair treads are level); not for
+         * open terrain. (Default: false) */
+        bool vertical_prior{false};
+        /** The `vertical_*` keys of the measurement. */
+        emslam::stereo::VerticalFromPlanes::TParameters vertical;
     };
 
     /** What close() did. */
     struct Stats
     {
-        std::size_t candidates{0};           //!< pairs within the gates of step 1
-        std::size_t registrations{0};        //!< egomotion registrations tried
-        std::size_t registered{0};           //!< of them: succeeded and within the gate
-        std::size_t loop_edges{0};           //!< accepted into the pose graph
-        std::size_t local_registrations{0};  //!< of `local_edges`, tried
-        std::size_t local_edges{0};          //!< of them: within the gate, in the graph
+        std::size_t candidates{0};            //!< pairs within the gates of step 1
+        std::size_t registrations{0};         //!< egomotion registrations tried
+        std::size_t registered{0};            //!< of them: succeeded and within the gate
+        std::size_t loop_edges{0};            //!< accepted into the pose graph
+        std::size_t local_registrations{0};   //!< of `local_edges`, tried
+        std::size_t local_edges{0};           //!< of them: within the gate, in the graph
+        std::size_t verticals_measured{0};    //!< keyframes whose up was measured
+        std::size_t verticals_used{0};        //!< of them: agreed, in the graph
+        double vertical_drift_deg{0};         //!< tilt spread before levelling
+        double vertical_bias_deg{0};          //!< the camera's own tilt of what it sees
+        double vertical_correlation_time{1};  //!< keyframes that share one error
         int rounds{0};
         double initial_cost{0}, final_cost{0};  //!< of the pose graph, first and last solve
         double ms{0};
@@ -132,6 +147,13 @@ public:
         emslam::egomotion::EgomotionEstimator::Description description,
         const emslam::rectify::ActionCovariance& step_covariance,
         const std::optional<mrpt::poses::CPose3D>& step_motion = std::nullopt);
+    /** Measures the up that keyframe `frame_index` (already added) sees in
+     * its dense cloud `frame`, near where `pose` (world, the egomotion's)
+     * says it is; nothing unless `vertical_prior`. */
+    void observeVertical(
+        std::size_t frame_index,
+        const emslam::stereo::StereoFrame& frame,
+        const mrpt::poses::CPose3D& pose);
     std::size_t keyframeCount() const { return m_keyframes.size(); }
 
     /** The keyframe poses (world, one per addKeyframe(), in order) with the
@@ -158,8 +180,10 @@ private:
         emslam::egomotion::EgomotionEstimator::Description description;
         emslam::rectify::ActionCovariance covariance;
         std::optional<mrpt::poses::CPose3D> motion;
+        std::optional<emslam::stereo::VerticalMeasurement> vertical;
     };
     TParameters m_p;
+    mrpt::math::TVector3D m_up_sum{0, 0, 0};  // ups seen (world), weighted by information
     std::vector<Keyframe> m_keyframes;
     Stats m_stats;
     std::vector<LoopEdge> m_edges;
