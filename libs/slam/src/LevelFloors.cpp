@@ -65,6 +65,7 @@ std::vector<Disagreement> disagreements(
     }
     return out;
 }
+
 /** How many neighbouring keyframes share one error: 1 + 2 Σ ρ_k of the
  * whitened disagreements in path order (summed while positive, up to 50
  * lags). Neighbours see much of the same floor, so their measurements are
