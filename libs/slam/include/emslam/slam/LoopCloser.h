@@ -55,6 +55,9 @@ namespace emslam::slam
  * join the graph, which is solved once: this bends the path where no loop
  * does.
  *
+ * After the last round, with `vertical_prior`, the up each keyframe saw in
+ * its dense cloud (observeVertical()) levels the graph (levelFloors()).
+ *
  * The odometry edges are the relative poses of the keyframes as given (the
  * rectified trajectory) with the egomotion's covariances.
  * \ingroup emslam_slam_grp \sa EntropySlam */
