@@ -39,7 +39,8 @@ struct Disagreement
 
 std::vector<Disagreement> disagreements(
     const emslam::rectify::PoseGraph& graph,
-    const std::vector<std::optional<emslam::stereo::VerticalMeasurement>>& verticals)
+    const std::vector<std::optional<emslam::stereo::VerticalMeasurement>>& verticals,
+    std::size_t n)
 {
     const auto& frame = graph.directionFrame();
     const Vec3 g = toEigen(frame.world);
@@ -49,7 +50,7 @@ std::vector<Disagreement> disagreements(
     E.col(0) = g.unitOrthogonal();
     E.col(1) = g.cross(E.col(0));
     std::vector<Disagreement> out;
-    for (std::size_t k = 0; k < verticals.size(); ++k)
+    for (std::size_t k = 0; k < n; ++k)
     {
         if (!verticals[k])
         {
@@ -127,11 +128,9 @@ LevelFloorsStats levelFloors(
 {
     LevelFloorsStats stats;
     const std::size_t n = std::min(graph.nodeCount(), verticals.size());
-    std::vector<std::optional<emslam::stereo::VerticalMeasurement>> measured(
-        verticals.begin(), verticals.begin() + static_cast<long>(n));
-    for (const auto& m : measured)
+    for (std::size_t k = 0; k < n; ++k)
     {
-        stats.measured += m ? 1 : 0;
+        stats.measured += verticals[k] ? 1 : 0;
     }
     if (stats.measured < 2)
     {
@@ -141,9 +140,9 @@ LevelFloorsStats levelFloors(
     Vec3 sum = Vec3::Zero();
     for (std::size_t k = 0; k < n; ++k)
     {
-        if (measured[k])
+        if (verticals[k])
         {
-            sum += graph.node(k).getRotationMatrix().asEigen() * toEigen(measured[k]->up);
+            sum += graph.node(k).getRotationMatrix().asEigen() * toEigen(verticals[k]->up);
         }
     }
     if (!(sum.norm() > 0) || !sum.allFinite())
@@ -158,7 +157,7 @@ LevelFloorsStats levelFloors(
     graph.setDirectionFrame(frame);
     for (int pass = 0; pass < passes; ++pass)
     {
-        const std::vector<Disagreement> dis = disagreements(graph, measured);
+        const std::vector<Disagreement> dis = disagreements(graph, verticals, n);
         // The first pass gates by how far the egomotion may have tilted
         // each pose; later passes by the tilt spread the measurements show
         // beyond their own noise (by their median).
@@ -190,7 +189,7 @@ LevelFloorsStats levelFloors(
                 continue;
             }
             ++stats.used;
-            const auto& m = *measured[d.node];
+            const auto& m = *verticals[d.node];
             mrpt::math::CMatrixDouble33 information = m.information();
             information.asEigen() /= correlation_time;
             graph.addDirectionPrior(d.node, m.up, information);

@@ -215,10 +215,7 @@ void LoopCloser::TParameters::validate() const
     }
 }
 
-LoopCloser::LoopCloser(const TParameters& p) : m_p(p)
-{
-    m_p.validate();
-}
+LoopCloser::LoopCloser(const TParameters& p) : m_p((p.validate(), p)), m_vertical(m_p.vertical) {}
 
 void LoopCloser::addKeyframe(
     std::size_t frame_index,
@@ -252,8 +249,7 @@ void LoopCloser::observeVertical(
     const Vec3 g = sum.norm() > 0 ? sum.normalized() : Vec3(0, -1, 0);
     const auto R = pose.getRotationMatrix().asEigen();
     const Vec3 predicted = R.transpose() * g;
-    it->vertical = emslam::stereo::VerticalFromPlanes(m_p.vertical)
-                       .measure(frame, {predicted.x(), predicted.y(), predicted.z()});
+    it->vertical = m_vertical.measure(frame, {predicted.x(), predicted.y(), predicted.z()});
     if (it->vertical)
     {
         const auto& m = *it->vertical;

@@ -186,7 +186,8 @@ private:
         std::optional<emslam::stereo::VerticalMeasurement> vertical;
     };
     TParameters m_p;
-    mrpt::math::TVector3D m_up_sum{0, 0, 0};  // ups seen (world), weighted by information
+    emslam::stereo::VerticalFromPlanes m_vertical;  // with m_p.vertical
+    mrpt::math::TVector3D m_up_sum{0, 0, 0};        // ups seen (world), weighted by information
     std::vector<Keyframe> m_keyframes;
     Stats m_stats;
     std::vector<LoopEdge> m_edges;
