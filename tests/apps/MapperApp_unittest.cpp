@@ -808,6 +808,30 @@ TEST(MapperApp, sigintStopsAndWritesTheOutputs)
         EXPECT_TRUE(mrpt::system::fileExists(out + "/" + f)) << f;
     }
 }
+
+// A signal after the last frame, while the rectifier finishes and the loop
+// closer catches up and polishes: the run ends at once and still writes
+// every output of every frame.
+TEST(MapperApp, sigintAfterTheLastFrameEndsTheLoopClosingAndWritesTheOutputs)
+{
+    const std::string rawlog = simulatedHall(300);
+    const std::string out = emslam::test::makeTempDir("mapper_sigint_end");
+    const auto run = emslam::test::interruptedRun(
+        EMSLAM_MAPPER_EXE, {config("3dof-low-structured"), rawlog, "--out", out}, "(100%)", SIGINT);
+    std::printf("exit %d, %.2f s after the signal\n", run.exit_code, run.seconds_to_exit);
+    ASSERT_TRUE(run.exited) << run.stderr_text;
+    EXPECT_EQ(run.exit_code, 130) << run.stderr_text;
+    // Loose: a loaded machine may take long to write the outputs.
+    EXPECT_LT(run.seconds_to_exit, 60.0);
+    const auto slam = emslam::io::TumTrajectory::fromFile(out + "/trajectory_slam.tum");
+    EXPECT_EQ(slam.size(), 300U);
+    const auto online = emslam::io::TumTrajectory::fromFile(out + "/trajectory_online.tum");
+    EXPECT_EQ(online.size(), 300U);
+    for (const char* f : {"map.ply", "map.3Dscene", "stats.csv", "summary.json", "report.html"})
+    {
+        EXPECT_TRUE(mrpt::system::fileExists(out + "/" + f)) << f;
+    }
+}
 #endif
 
 namespace

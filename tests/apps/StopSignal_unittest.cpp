@@ -61,6 +61,19 @@ TEST(StopSignal, remembersTheSignalUntilCleared)
     EXPECT_EQ(StopSignal::receivedSignal(), 0);
 }
 
+TEST(StopSignal, aHangupStopsAsATermDoes)
+{
+    // A dropped ssh session: the run stops and keeps its work.
+    StopSignal::clear();
+    {
+        const StopSignalGuard signals;
+        std::raise(SIGHUP);
+    }
+    EXPECT_TRUE(StopSignal::requested());
+    EXPECT_EQ(StopSignal::receivedSignal(), SIGHUP);
+    StopSignal::clear();
+}
+
 TEST(StopSignal, appMainExitsWith128PlusTheSignal)
 {
     EXPECT_EQ(runMain(&emslam::apps::appMain<StoppedApp<SIGINT>>), 130);

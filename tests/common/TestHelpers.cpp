@@ -114,8 +114,11 @@ InterruptedRun interruptedRun(
         std::this_thread::sleep_for(std::chrono::milliseconds(20));
     }
     ::kill(pid, signum);
+    const auto t_signal = std::chrono::steady_clock::now();
     int status = 0;
     ::waitpid(pid, &status, 0);
+    r.seconds_to_exit =
+        std::chrono::duration<double>(std::chrono::steady_clock::now() - t_signal).count();
     r.exited = WIFEXITED(status);
     r.exit_code = r.exited ? WEXITSTATUS(status) : -1;
     r.stderr_text = readErr();

@@ -33,6 +33,7 @@ struct InterruptedRun
     bool exited{false};  //!< exited normally (not killed by the signal)
     int exit_code{-1};
     std::string stderr_text;
+    double seconds_to_exit{0};  //!< from the signal to the end of the process
 };
 
 /** Runs the program `exe` with `args` (stdout discarded), waits until its

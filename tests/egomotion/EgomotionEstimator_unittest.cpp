@@ -6,6 +6,7 @@
 #include <emslam/egomotion/EgomotionEstimator.h>
 #include <emslam/io/EurocSequence.h>
 #include <emslam/io/KittiSequence.h>
+#include <emslam/sim/StereoSimulator.h>
 #include <emslam/stereo/StereoFrontEnd.h>
 
 #include <mrpt/config/CConfigFile.h>
@@ -443,4 +444,40 @@ TEST(EgomotionEstimator, unrelatedFramesFail)
     EXPECT_FALSE(r.ok);
     EXPECT_LT(r.final_matches, 12u);
     EXPECT_TRUE(r.T_prev_cur == CPose3D());
+}
+
+TEST(EgomotionEstimator, compactDescriptionsAreSmallAndRegisterAsTheFullOnes)
+{
+    // Two rendered frames of the corridor world, four steps apart: the
+    // compact description of the first (200 features, 8 bits) against the
+    // full one of the second gives the motion the full pair gives.
+    emslam::sim::StereoSimulator sim;
+    sim.loadFile(emslam::test::sourceDir() + "/config/sim/three_corridors.ini");
+    emslam::stereo::StereoFrontEnd front_end;
+    EgomotionEstimator e;
+    const auto a = sim.renderFrame(0);
+    const auto b = sim.renderFrame(4);
+    e.process(front_end.process(*a.obs));
+    const auto full_a = e.lastDescription();
+    e.reset();
+    e.process(front_end.process(*b.obs));
+    const auto full_b = e.lastDescription();
+    const auto kept = EgomotionEstimator::compact(full_a, 200);
+    EXPECT_LE(kept.features.size(), 200u);
+    EXPECT_LE(kept.bytes(), 32u * 1024u);
+    const EgomotionResult with_full = e.estimate(full_a, full_b);
+    const EgomotionResult with_kept = e.estimate(EgomotionEstimator::expand(kept), full_b);
+    ASSERT_TRUE(with_full.ok) << with_full.failure_reason;
+    ASSERT_TRUE(with_kept.ok) << with_kept.failure_reason;
+    const CPose3D truth = b.T_first_left - a.T_first_left;
+    const double err_full = (with_full.T_prev_cur - truth).norm();
+    const double err_kept = (with_kept.T_prev_cur - truth).norm();
+    std::printf(
+        "kept %zu features, %zu bytes; error full %.4f m, compact %.4f m\n", kept.features.size(),
+        kept.bytes(), err_full, err_kept);
+    EXPECT_LT(err_kept, 0.02);
+    EXPECT_LT(rotationDeg(with_kept.T_prev_cur - truth), 0.5);
+    // Nothing to keep: nothing to register.
+    EXPECT_TRUE(EgomotionEstimator::compact(nullptr, 200).features.empty());
+    EXPECT_EQ(EgomotionEstimator::expand(EgomotionEstimator::CompactDescription()), nullptr);
 }

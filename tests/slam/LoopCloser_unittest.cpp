@@ -18,6 +18,7 @@
 
 #include <cmath>
 #include <map>
+#include <optional>
 #include <stdexcept>
 #include <vector>
 
@@ -130,9 +131,10 @@ TEST(LoopCloser, refusesALookAlikePlaceThatDisagreesWithTheRealRevisit)
     textures[42] = 100;
     textures[43] = 101;
     const LoopRun run = runLoop(closer, textures);
-    // The look-alikes register (they pass the drift's gate) but disagree
-    // with the revisits, whose correction is the smaller.
-    EXPECT_GE(closer.stats().registered, 4u);
+    // The look-alikes are registered too, but either disagree with the
+    // revisits (whose correction is the smaller) or, once the revisits
+    // closed the loop, fall outside the drift left.
+    EXPECT_GE(closer.stats().registrations, 4u);
     for (const auto& e : closer.loopEdges())
     {
         EXPECT_EQ(e.frame_to - e.frame_from, 40u) << e.frame_from << " -> " << e.frame_to;
@@ -284,7 +286,9 @@ TEST(LoopCloser, parametersRoundTripAndBadValuesThrow)
     p.max_distance = 1.5;
     p.max_angle_deg = 20;
     p.max_candidates = 5;
-    p.max_rounds = 2;
+    p.kept_features = 150;
+    p.consensus_window = 5;
+    p.max_lag = 7;
     p.local_edges = 4;
     p.vertical_prior = true;
     p.vertical.patch_px = 12;
@@ -301,19 +305,88 @@ TEST(LoopCloser, parametersRoundTripAndBadValuesThrow)
     EXPECT_DOUBLE_EQ(q.max_distance, 1.5);
     EXPECT_DOUBLE_EQ(q.max_angle_deg, 20);
     EXPECT_EQ(q.max_candidates, 5);
-    EXPECT_EQ(q.max_rounds, 2);
+    EXPECT_EQ(q.kept_features, 150);
+    EXPECT_EQ(q.consensus_window, 5);
+    EXPECT_EQ(q.max_lag, 7);
     EXPECT_EQ(q.local_edges, 4);
     EXPECT_TRUE(q.vertical_prior);
     EXPECT_EQ(q.vertical.patch_px, 12);
     EXPECT_DOUBLE_EQ(q.vertical.max_angle_deg, 15);
     EXPECT_EQ(q.vertical.min_patches, 6);
     for (const char* bad :
-         {"max_angle_deg = 0", "max_candidates = 0", "max_rounds = 0", "min_path_length = -1",
-          "max_distance = nan", "local_edges = -1", "vertical_patch_px = 3",
-          "vertical_max_angle_deg = 90", "vertical_min_patches = 1"})
+         {"max_angle_deg = 0", "max_candidates = 0", "kept_features = -1", "consensus_window = 0",
+          "max_lag = 0", "min_path_length = -1", "max_distance = nan", "local_edges = -1",
+          "vertical_patch_px = 3", "vertical_max_angle_deg = 90", "vertical_min_patches = 1"})
     {
         mrpt::config::CConfigFileMemory b(std::string("[LoopCloser]\n") + bad + "\n");
         LoopCloser::TParameters r;
         EXPECT_THROW(r.loadFromConfigFile(b, "LoopCloser"), std::invalid_argument) << bad;
     }
+}
+
+TEST(LoopCloser, closesTheLoopOnlineBeforeTheEnd)
+{
+    // The square loop fed as a mapper feeds it: each keyframe with its
+    // (drifting) motion, update() after each, as the background thread does.
+    LoopCloser::TParameters p;
+    p.enabled = true;
+    LoopCloser closer(p);
+    const std::vector<CPose3D> truth = emslam::test::squareLoop(43);
+    EgomotionEstimator e;
+    const ActionCovariance step_cov = diagonalCovariance(0.02, mrpt::DEG2RAD(1.0));
+    std::vector<CPose3D> drifted{CPose3D()};
+    double gap_before_revisit = 0;
+    for (std::size_t k = 0; k < truth.size(); ++k)
+    {
+        std::optional<CPose3D> motion;
+        if (k > 0)
+        {
+            motion = (truth[k] - truth[k - 1]) + CPose3D(0, 0, 0, 0, mrpt::DEG2RAD(0.15), 0);
+            drifted.push_back(drifted.back() + *motion);
+        }
+        const unsigned texture = static_cast<unsigned>(100 + (k >= 40 && k <= 41 ? k - 40 : k));
+        closer.addKeyframe(k, describe(e, texture), step_cov, motion);
+        EXPECT_EQ(closer.update(e), 1u);
+        ASSERT_EQ(closer.processedCount(), k + 1);
+        if (k == 39)
+        {
+            gap_before_revisit = distance(closer.currentPoses()[39].pose, truth[39]);
+        }
+    }
+    // Before close(): the current poses already have the loop closed.
+    const auto online = closer.currentPoses();
+    ASSERT_EQ(online.size(), truth.size());
+    const double gap_online = distance(online[40].pose, online[0].pose);
+    std::printf(
+        "online: keyframe 39 off by %.3f m before the revisit; gap %.3f -> %.3f m\n",
+        gap_before_revisit, distance(drifted[40], drifted[0]), gap_online);
+    ASSERT_GT(distance(drifted[40], drifted[0]), 0.5);
+    EXPECT_LT(gap_online, 0.05);
+    EXPECT_EQ(closer.loopEdges().size(), 2u);
+    EXPECT_LE(closer.stats().kept_bytes, truth.size() * 32u * 1024u);
+    // close() polishes what is there: the loop stays closed.
+    const auto closed = closer.close(drifted, e);
+    EXPECT_LT(distance(closed[40], closed[0]), 0.05);
+}
+
+TEST(LoopCloser, aStopMakesUpdatePlaceKeyframesWithoutWork)
+{
+    LoopCloser::TParameters p;
+    p.enabled = true;
+    p.local_edges = 3;
+    LoopCloser closer(p);
+    EgomotionEstimator e;
+    const ActionCovariance step_cov = diagonalCovariance(0.02, mrpt::DEG2RAD(1.0));
+    for (std::size_t k = 0; k < 10; ++k)
+    {
+        closer.addKeyframe(
+            k, describe(e, 100), step_cov,
+            k == 0 ? std::nullopt : std::optional<CPose3D>(CPose3D(0, 0, 0.5, 0, 0, 0)));
+    }
+    EXPECT_EQ(closer.update(e, [] { return true; }), 10u);
+    EXPECT_EQ(closer.stats().local_registrations, 0u);
+    EXPECT_EQ(closer.stats().registrations, 0u);
+    const auto poses = closer.currentPoses();
+    ASSERT_EQ(poses.size(), 10u);
+    EXPECT_NEAR(poses[9].pose.z(), 4.5, 1e-9);  // placed by the motions
 }

@@ -49,10 +49,13 @@ const std::vector<std::string>& outputNames()
     static const std::vector<std::string> names = {
         "trajectory_egomotion.tum",
         "trajectory_slam.tum",
+        "trajectory_online.tum",
         "trajectory_egomotion_kitti.txt",
         "trajectory_slam_kitti.txt",
+        "trajectory_online_kitti.txt",
         "trajectory_egomotion_times.txt",
         "trajectory_slam_times.txt",
+        "trajectory_online_times.txt",
         "keyframes.txt",
         "loop_closures.txt",
         "map.ply",
@@ -251,6 +254,8 @@ void MapperApp::execute()
     const emslam::io::TumTrajectory& ground_truth = m_ground_truth.trajectory;
     io::RawlogInput in(m_rawlog);
     m_mapper = std::make_unique<slam::EntropySlam>(p);
+    // A signal during the loop closer's catching up or polish ends them.
+    m_mapper->setStopCheck([] { return StopSignal::requested(); });
     m_info = {};
     m_info.rawlog = m_rawlog;
     m_info.config = m_config;
@@ -353,7 +358,11 @@ void MapperApp::execute()
     }
     const auto finishAndWrite = [&]
     {
+        const auto t_finish = std::chrono::steady_clock::now();
         m_mapper->finish();
+        m_info.seconds_after_last_frame =
+            std::chrono::duration<double>(std::chrono::steady_clock::now() - t_finish).count();
+        m_info.interrupted = m_info.interrupted || StopSignal::requested();
         m_info.seconds =
             std::chrono::duration<double>(std::chrono::steady_clock::now() - t_start).count();
         const slam::EntropySlam& m = *m_mapper;
@@ -428,6 +437,8 @@ void MapperApp::writeOutputs(const emslam::io::TumTrajectory& ground_truth)
             ground_truth, tumTrajectoryOf(m.egomotionPoses()), opts);
         m_info.slam_vs_gt =
             eval::TrajectoryMetrics::compute(ground_truth, tumTrajectoryOf(m.slamPoses()), opts);
+        m_info.online_vs_gt =
+            eval::TrajectoryMetrics::compute(ground_truth, tumTrajectoryOf(m.onlinePoses()), opts);
     }
     // A scan that cannot be made (a frame without ground truth) fails the run,
     // but only after every other output is written.
@@ -448,8 +459,10 @@ void MapperApp::writeOutputs(const emslam::io::TumTrajectory& ground_truth)
     }
     const auto ego = tumTrajectoryOf(m.egomotionPoses());
     const auto slam = tumTrajectoryOf(m.slamPoses());
+    const auto online = tumTrajectoryOf(m.onlinePoses());
     for (const auto& [name, t] :
-         {std::pair{"trajectory_egomotion", &ego}, std::pair{"trajectory_slam", &slam}})
+         {std::pair{"trajectory_egomotion", &ego}, std::pair{"trajectory_slam", &slam},
+          std::pair{"trajectory_online", &online}})
     {
         const bool kitti_only = m_trajectory_output == emslam::io::TrajectoryOutput::Kitti;
         emslam::io::saveTrajectory(
@@ -492,9 +505,17 @@ void MapperApp::writeOutputs(const emslam::io::TumTrajectory& ground_truth)
     {
         const auto& lc = m.loopCloser().stats();
         std::printf(
-            "loop closing: %zu loop edges of %zu registrations, %zu local edges of %zu, %.1f s\n",
-            lc.loop_edges, lc.registrations, lc.local_edges, lc.local_registrations,
-            lc.ms / 1000.0);
+            "loop closing (online): %zu loop edges of %zu registrations (%zu dropped as "
+            "inconsistent), %zu local edges of %zu, %.1f s in the background, %.2f s polish\n",
+            lc.loop_edges, lc.registrations, lc.dropped_edges, lc.local_edges,
+            lc.local_registrations, (lc.ms - lc.polish_ms) / 1000.0, lc.polish_ms / 1000.0);
+        if (!lc.unreliable.empty())
+        {
+            std::fflush(stdout);
+            std::fprintf(
+                stderr, "%s: warning: loop closing is unreliable: %s\n", PROGRAM,
+                lc.unreliable.c_str());
+        }
         if (m.parameters().loop_closer.vertical_prior)
         {
             std::printf(
@@ -507,8 +528,9 @@ void MapperApp::writeOutputs(const emslam::io::TumTrajectory& ground_truth)
     if (m_info.slam_vs_gt)
     {
         std::printf(
-            "ATE against the ground truth: egomotion %.3f m, SLAM %.3f m\n",
-            m_info.egomotion_vs_gt->ate_rmse_m, m_info.slam_vs_gt->ate_rmse_m);
+            "ATE against the ground truth: egomotion %.3f m, SLAM %.3f m, online %.3f m\n",
+            m_info.egomotion_vs_gt->ate_rmse_m, m_info.slam_vs_gt->ate_rmse_m,
+            m_info.online_vs_gt ? m_info.online_vs_gt->ate_rmse_m : 0.0);
     }
     if (m_info.energy_scan)
     {

@@ -244,6 +244,10 @@ void writeSummaryJson(
       << ", \"vertical_correlation_time\": " << io::jsonNumber(lc.vertical_correlation_time)
       << ", \"rounds\": " << lc.rounds << ", \"initial_cost\": " << io::jsonNumber(lc.initial_cost)
       << ", \"final_cost\": " << io::jsonNumber(lc.final_cost)
+      << ", \"dropped_edges\": " << lc.dropped_edges << ", \"kept_bytes\": " << lc.kept_bytes
+      << ", \"unreliable\": "
+      << (lc.unreliable.empty() ? std::string("null") : io::jsonString(lc.unreliable))
+      << ", \"polish_ms\": " << io::jsonNumber(lc.polish_ms)
       << ", \"ms\": " << io::jsonNumber(lc.ms) << "},\n"
       << "  \"trajectory_elements\": " << m.trajectoryElements() << ",\n"
       << "  \"compressions\": " << m.compressions() << ",\n"
@@ -253,12 +257,18 @@ void writeSummaryJson(
       << "  \"loop_gap_egomotion_m\": " << io::jsonNumber(loopGap(m.egomotionPoses())) << ",\n"
       << "  \"loop_gap_slam_m\": " << io::jsonNumber(loopGap(m.slamPoses())) << ",\n"
       << "  \"seconds\": " << io::jsonNumber(info.seconds) << ",\n"
+      << "  \"seconds_after_last_frame\": " << io::jsonNumber(info.seconds_after_last_frame)
+      << ",\n"
       << "  \"wall_ms_per_frame\": "
       << io::jsonNumber(
              m.frameCount() > 0 ? 1e3 * info.seconds / static_cast<double>(m.frameCount()) : 0.0);
     if (info.egomotion_vs_gt)
     {
         j << ",\n  \"egomotion_vs_gt\": " << nestedJson(info.egomotion_vs_gt->toJson());
+    }
+    if (info.online_vs_gt)
+    {
+        j << ",\n  \"online_vs_gt\": " << nestedJson(info.online_vs_gt->toJson());
     }
     if (info.slam_vs_gt)
     {

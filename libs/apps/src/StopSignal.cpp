@@ -49,6 +49,9 @@ struct StopSignalGuard::Saved
     struct sigaction old_term
     {
     };
+    struct sigaction old_hup
+    {
+    };
 };
 
 StopSignalGuard::StopSignalGuard() : m_saved(new Saved)
@@ -61,12 +64,15 @@ StopSignalGuard::StopSignalGuard() : m_saved(new Saved)
     sigemptyset(&sa.sa_mask);
     sigaction(SIGINT, &sa, &m_saved->old_int);
     sigaction(SIGTERM, &sa, &m_saved->old_term);
+    // A dropped ssh session: stop and keep the work, as for SIGTERM.
+    sigaction(SIGHUP, &sa, &m_saved->old_hup);
 }
 
 StopSignalGuard::~StopSignalGuard()
 {
     sigaction(SIGINT, &m_saved->old_int, nullptr);
     sigaction(SIGTERM, &m_saved->old_term, nullptr);
+    sigaction(SIGHUP, &m_saved->old_hup, nullptr);
     delete m_saved;
 }
 

@@ -441,6 +441,125 @@ EgomotionResult EgomotionEstimator::estimate(const Description& prev, const Desc
     return estimateDescribed(*prev, *cur, nullptr);
 }
 
+std::size_t EgomotionEstimator::CompactDescription::bytes() const
+{
+    return sizeof(*this) + features.size() * sizeof(Feature) + codes.size() +
+           scales.size() * sizeof(float);
+}
+
+EgomotionEstimator::CompactDescription EgomotionEstimator::compact(
+    const Description& d, std::size_t max_features)
+{
+    CompactDescription c;
+    if (!d)
+    {
+        return c;
+    }
+    c.camera = d->camera;
+    c.baseline = d->baseline;
+    c.dim = d->descriptors.dim;
+    const std::size_t n = std::min(d->features.size(), d->descriptors.size());
+    // Rows of a flat window are zero: they match nothing, so they go first.
+    std::vector<std::size_t> usable;
+    for (std::size_t i = 0; i < n; ++i)
+    {
+        const float* row = d->descriptors.row(i);
+        if (std::any_of(row, row + c.dim, [](float v) { return v != 0.0f; }))
+        {
+            usable.push_back(i);
+        }
+    }
+    if (max_features > 0 && usable.size() > max_features)
+    {
+        // The strongest gradients of each cell of an 8 x 6 grid in turn, so
+        // the kept features cover the image as the matches of a registration
+        // need, rather than crowding on the most contrasted object.
+        constexpr int GRID_X = 8, GRID_Y = 6;
+        const double w = std::max<double>(1, d->camera.ncols),
+                     h = std::max<double>(1, d->camera.nrows);
+        std::sort(
+            usable.begin(), usable.end(),
+            [&](std::size_t a, std::size_t b)
+            { return d->features[a].gradient_magnitude > d->features[b].gradient_magnitude; });
+        std::vector<int> taken(GRID_X * GRID_Y, 0);
+        std::vector<std::pair<int, std::size_t>> ranked;  // (rank in its cell, feature)
+        ranked.reserve(usable.size());
+        for (std::size_t i : usable)
+        {
+            const auto& f = d->features[i];
+            const int cx = std::clamp(static_cast<int>(f.u * GRID_X / w), 0, GRID_X - 1);
+            const int cy = std::clamp(static_cast<int>(f.v * GRID_Y / h), 0, GRID_Y - 1);
+            ranked.emplace_back(taken[static_cast<std::size_t>(cy * GRID_X + cx)]++, i);
+        }
+        std::stable_sort(
+            ranked.begin(), ranked.end(),
+            [](const auto& a, const auto& b) { return a.first < b.first; });
+        usable.clear();
+        for (std::size_t k = 0; k < max_features; ++k)
+        {
+            usable.push_back(ranked[k].second);
+        }
+        std::sort(usable.begin(), usable.end());
+    }
+    c.features.reserve(usable.size());
+    c.codes.reserve(usable.size() * static_cast<std::size_t>(c.dim));
+    c.scales.reserve(usable.size());
+    for (std::size_t i : usable)
+    {
+        c.features.push_back(d->features[i]);
+        const float* row = d->descriptors.row(i);
+        float peak = 0;
+        for (int k = 0; k < c.dim; ++k)
+        {
+            peak = std::max(peak, std::abs(row[k]));
+        }
+        c.scales.push_back(peak / 127.0f);
+        for (int k = 0; k < c.dim; ++k)
+        {
+            c.codes.push_back(static_cast<std::int8_t>(std::lround(row[k] / peak * 127.0f)));
+        }
+    }
+    return c;
+}
+
+EgomotionEstimator::Description EgomotionEstimator::expand(const CompactDescription& c)
+{
+    if (c.features.empty() || c.dim <= 0)
+    {
+        return nullptr;
+    }
+    auto d = std::make_shared<Described>();
+    d->features = c.features;
+    d->camera = c.camera;
+    d->baseline = c.baseline;
+    d->descriptors.dim = c.dim;
+    d->descriptors.data.resize(c.codes.size());
+    const auto dim = static_cast<std::size_t>(c.dim);
+    for (std::size_t i = 0; i < c.features.size(); ++i)
+    {
+        float* row = d->descriptors.data.data() + i * dim;
+        double mean = 0;
+        for (std::size_t k = 0; k < dim; ++k)
+        {
+            row[k] = static_cast<float>(c.codes[i * dim + k]) * c.scales[i];
+            mean += row[k];
+        }
+        mean /= static_cast<double>(dim);
+        double norm2 = 0;
+        for (std::size_t k = 0; k < dim; ++k)
+        {
+            row[k] -= static_cast<float>(mean);
+            norm2 += static_cast<double>(row[k]) * row[k];
+        }
+        const auto inv = static_cast<float>(norm2 > 0 ? 1.0 / std::sqrt(norm2) : 0.0);
+        for (std::size_t k = 0; k < dim; ++k)
+        {
+            row[k] *= inv;
+        }
+    }
+    return d;
+}
+
 EgomotionResult EgomotionEstimator::process(const emslam::stereo::StereoFrame& cur)
 {
     auto d = std::make_shared<Described>(describe(cur));

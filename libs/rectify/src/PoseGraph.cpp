@@ -4,6 +4,7 @@
 
 #include <Eigen/Dense>
 #include <Eigen/Sparse>
+#include <algorithm>
 #include <cmath>
 #include <stdexcept>
 #include <string>
@@ -85,7 +86,8 @@ void PoseGraph::addEdge(
     std::size_t from,
     std::size_t to,
     const mrpt::poses::CPose3D& measurement,
-    const ActionCovariance& covariance)
+    const ActionCovariance& covariance,
+    std::size_t tag)
 {
     if (from >= m_nodes.size() || to >= m_nodes.size())
     {
@@ -97,7 +99,24 @@ void PoseGraph::addEdge(
     {
         throw std::invalid_argument("PoseGraph::addEdge: an edge needs two different nodes");
     }
-    m_edges.push_back({from, to, measurement, informationOf(covariance, 6)});
+    m_edges.push_back({from, to, measurement, informationOf(covariance, 6), tag});
+}
+
+std::size_t PoseGraph::removeEdgesIf(const std::function<bool(const Edge&)>& drop)
+{
+    const std::size_t before = m_edges.size();
+    m_edges.erase(std::remove_if(m_edges.begin(), m_edges.end(), drop), m_edges.end());
+    return before - m_edges.size();
+}
+
+void PoseGraph::setEdgeMeasurement(std::size_t index, const mrpt::poses::CPose3D& measurement)
+{
+    m_edges.at(index).measurement = measurement;
+}
+
+void PoseGraph::setNode(std::size_t index, const mrpt::poses::CPose3D& pose)
+{
+    m_nodes.at(index) = pose;
 }
 
 void PoseGraph::addDirectionPrior(

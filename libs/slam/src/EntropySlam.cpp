@@ -148,6 +148,7 @@ EntropySlam::EntropySlam(const TParameters& p)
       m_odometry(p.stereo, p.egomotion),
       m_sampler(p.sampling),
       m_loops(p.loop_closer),
+      m_loop_estimator(p.egomotion),
       m_clouds(static_cast<std::size_t>(std::max(p.rectifier.n_max, 0)), p.mapper.map_cell_size)
 {
     m_cov_keyframe_cur.setZero();
@@ -157,6 +158,11 @@ EntropySlam::EntropySlam(const TParameters& p)
         m_p.rectifier.rectify_every = 0;
     }
     m_runner = emslam::rectify::createRectificationRunner(m_p.rectifier, m_p.map, m_p.insertion);
+    if (m_p.loop_closer.enabled && !m_p.mapper.egomotion_only)
+    {
+        m_loop_worker = std::make_unique<BackgroundWorker>(
+            [this] { m_loops.update(m_loop_estimator, m_stop_check); });
+    }
 }
 
 EntropySlam::~EntropySlam() = default;
@@ -247,11 +253,17 @@ bool EntropySlam::process(const mrpt::obs::CObservation& obs)
     {
         // What registering this keyframe again needs, kept only for loop closing.
         m_loops.addKeyframe(
-            r.index,
-            m_p.loop_closer.enabled && !m_p.mapper.egomotion_only
-                ? m_odometry.estimator().lastDescription()
-                : nullptr,
+            r.index, loopClosing() ? m_odometry.estimator().lastDescription() : nullptr,
             cov_since_keyframe, motion_since_keyframe);
+        if (loopClosing())
+        {
+            m_loop_worker->notify();
+            const std::size_t lag = m_loops.keyframeCount() - m_loops.processedCount();
+            if (lag > static_cast<std::size_t>(m_p.loop_closer.max_lag))
+            {
+                m_loop_worker->drain();
+            }
+        }
         PendingKeyframe k;
         k.index = r.index;
         k.timestamp = r.timestamp;
@@ -275,7 +287,41 @@ bool EntropySlam::process(const mrpt::obs::CObservation& obs)
     r.energy = m_energy;
     r.ms_total = msSince(t0);
     m_records.push_back(r);
+    m_online.push_back({r.timestamp, r.index, onlinePose(r.index)});
     return true;
+}
+
+mrpt::poses::CPose3D EntropySlam::onlinePose(std::size_t index)
+{
+    std::optional<emslam::rectify::TimedPose> anchor;
+    if (loopClosing())
+    {
+        if (const auto k = m_loops.lastPose())
+        {
+            anchor = emslam::rectify::TimedPose{0.0, k->frame_index, k->pose};
+        }
+    }
+    else
+    {
+        // The rectified poses change only when a rectification ends.
+        const std::size_t done = m_runner->progress().rectifications;
+        if (done != m_anchor_rectifications)
+        {
+            m_anchor_rectifications = done;
+            const auto poses = m_runner->framePoses();
+            if (!poses.empty())
+            {
+                m_rectified_anchor = poses.back();
+            }
+        }
+        anchor = m_rectified_anchor;
+    }
+    const mrpt::poses::CPose3D& ego = m_egomotion[index].T_world_frame;
+    if (!anchor)
+    {
+        return ego;
+    }
+    return anchor->T_world_frame + (ego - m_egomotion[anchor->frame_index].T_world_frame);
 }
 
 void EntropySlam::completePendingKeyframe(FrameRecord* record)
@@ -345,7 +391,13 @@ void EntropySlam::finish()
     }
     m_finished = true;
     completePendingKeyframe(nullptr);
+    // The loop closer catches up on its thread meanwhile.
     m_runner->finish();
+    if (m_loop_worker)
+    {
+        m_loop_worker->drain();
+        m_loop_worker->stop();
+    }
     m_rectifications = m_runner->statistics();
     if (m_runner->trajectory().empty())
     {
@@ -370,7 +422,7 @@ void EntropySlam::finish()
         {
             keyframe_poses.push_back(fp.T_world_frame);
         }
-        keyframe_poses = m_loops.close(keyframe_poses, m_odometry.estimator());
+        keyframe_poses = m_loops.close(keyframe_poses, m_loop_estimator, m_stop_check);
         for (std::size_t k = 0; k < poses.size(); ++k)
         {
             poses[k].T_world_frame = keyframe_poses[k];
@@ -408,7 +460,16 @@ const IntensityCloud* EntropySlam::lastAcceptedCloud() const
 
 std::vector<emslam::rectify::TimedPose> EntropySlam::currentSlamPoses() const
 {
-    return m_runner->framePoses();
+    if (!loopClosing() || m_finished)
+    {
+        return m_finished && !m_keyframe_slam.empty() ? m_keyframe_slam : m_runner->framePoses();
+    }
+    std::vector<emslam::rectify::TimedPose> poses;
+    for (const auto& k : m_loops.currentPoses())
+    {
+        poses.push_back({m_records[k.frame_index].timestamp, k.frame_index, k.pose});
+    }
+    return poses;
 }
 
 const emslam::CEntropyVoxelMap& EntropySlam::entropyMap() const

@@ -12,6 +12,7 @@
 #include <cmath>
 #include <map>
 #include <stdexcept>
+#include <unordered_map>
 #include <utility>
 
 namespace emslam::slam
@@ -24,6 +25,18 @@ constexpr double GATE_SIGMAS = 3.0;
 /** The same bulk (99.73 %) of a χ² with 6 degrees of freedom: a gate on the
  * Mahalanobis distance of a 6D pose difference. */
 constexpr double GATE_CHI2_6DOF = 20.06;
+
+/** Edge tags in the pose graph: odometry, local, and loop edges (the loop
+ * edge's index in loopEdges() added to EDGE_LOOP). */
+constexpr std::size_t EDGE_ODOMETRY = 0;
+constexpr std::size_t EDGE_LOCAL = 1;
+constexpr std::size_t EDGE_LOOP = 2;
+/** Levenberg–Marquardt iterations of a solve during the run (from where the
+ * graph is: a few suffice) and of the polish. */
+constexpr int ONLINE_ITERATIONS = 8;
+constexpr int POLISH_ITERATIONS = 30;
+/** Solves after dropping refused loop edges, at most. */
+constexpr int MAX_DROP_PASSES = 3;
 
 Vec3 positionOf(const mrpt::poses::CPose3D& p)
 {
@@ -52,36 +65,42 @@ double rotationTrace(const emslam::rectify::ActionCovariance& c)
  * loop edges are accepted, a path may take one of them as a shortcut: the
  * drift between two keyframes is that of the best such path (an upper bound
  * of the graph's own). */
-class ChainDrift
+}  // namespace
+
+/** How far the egomotion chain between two keyframes may have drifted: its
+ * steps' translation variances plus each step's rotation variance times the
+ * squared lever arm to the end point (first order), via prefix sums grown
+ * one keyframe at a time. A path may take an accepted loop edge as a
+ * shortcut: the drift between two keyframes is that of the best such path
+ * (an upper bound of the graph's own), over the most recent shortcuts only,
+ * which bounds the cost of a query. */
+class LoopCloser::Drift
 {
 public:
-    /** A shortcut: an accepted loop edge between keyframes a and b. */
-    struct Shortcut
-    {
-        std::size_t a{0}, b{0};
-        double variance_t{0}, variance_r{0};
-    };
+    static constexpr std::size_t MAX_SHORTCUTS = 32;
 
-    ChainDrift(
-        const std::vector<mrpt::poses::CPose3D>& poses,
-        const std::vector<emslam::rectify::ActionCovariance>& steps,
-        std::vector<Shortcut> shortcuts)
-        : m_shortcuts(std::move(shortcuts))
+    void append(const Vec3& previous_position, const emslam::rectify::ActionCovariance& step)
     {
-        const std::size_t n = poses.size();
-        m_t.assign(n, 0.0);
-        m_r.assign(n, 0.0);
-        m_rp.assign(n, Vec3::Zero());
-        m_rpp.assign(n, 0.0);
-        for (std::size_t k = 1; k < n; ++k)
+        if (m_t.empty())
         {
-            // Step k turns about keyframe k-1 everything after it.
-            const Vec3 p = positionOf(poses[k - 1]);
-            const double tr = std::max(0.0, rotationTrace(steps[k]));
-            m_t[k] = m_t[k - 1] + std::max(0.0, translationTrace(steps[k]));
-            m_r[k] = m_r[k - 1] + tr;
-            m_rp[k] = m_rp[k - 1] + tr * p;
-            m_rpp[k] = m_rpp[k - 1] + tr * p.squaredNorm();
+            m_t.push_back(0);
+            m_r.push_back(0);
+            m_rp.push_back(Vec3::Zero());
+            m_rpp.push_back(0);
+            return;
+        }
+        const double tr = std::max(0.0, rotationTrace(step));
+        m_t.push_back(m_t.back() + std::max(0.0, translationTrace(step)));
+        m_r.push_back(m_r.back() + tr);
+        m_rp.push_back(m_rp.back() + tr * previous_position);
+        m_rpp.push_back(m_rpp.back() + tr * previous_position.squaredNorm());
+    }
+    void addShortcut(std::size_t a, std::size_t b, double variance_t, double variance_r)
+    {
+        m_shortcuts.push_back({a, b, variance_t, variance_r});
+        if (m_shortcuts.size() > MAX_SHORTCUTS)
+        {
+            m_shortcuts.erase(m_shortcuts.begin());
         }
     }
     /** Variance of the position of `end` [m²] between keyframes a and b. */
@@ -112,6 +131,11 @@ public:
     }
 
 private:
+    struct Shortcut
+    {
+        std::size_t a{0}, b{0};
+        double variance_t{0}, variance_r{0};
+    };
     double chainT(std::size_t a, std::size_t b, const Vec3& end) const
     {
         if (b < a)
@@ -133,20 +157,96 @@ private:
     std::vector<Shortcut> m_shortcuts;
 };
 
+/** The keyframe positions in cubic cells, so that the keyframes near a
+ * place are found without looking at all of them. */
+class LoopCloser::Grid
+{
+public:
+    explicit Grid(double cell) : m_cell(cell) {}
+
+    void insert(std::size_t k, const Vec3& p) { m_cells[keyOf(p)].push_back(k); }
+    void rebuild(const std::vector<mrpt::poses::CPose3D>& nodes)
+    {
+        m_cells.clear();
+        for (std::size_t k = 0; k < nodes.size(); ++k)
+        {
+            insert(k, positionOf(nodes[k]));
+        }
+    }
+    /** Calls `visit(k)` for every keyframe in a cell the ball (c, radius)
+     * touches: the cells of its bounding box, or the occupied cells if
+     * there are fewer of them. */
+    template <typename Visit>
+    void near(const Vec3& c, double radius, Visit&& visit) const
+    {
+        const double cells_per_side = std::ceil(2 * radius / m_cell) + 1;
+        if (cells_per_side * cells_per_side * cells_per_side > static_cast<double>(m_cells.size()))
+        {
+            for (const auto& [key, ks] : m_cells)
+            {
+                for (std::size_t k : ks)
+                {
+                    visit(k);
+                }
+            }
+            return;
+        }
+        const auto lo = cellOf(c - Vec3::Constant(radius));
+        const auto hi = cellOf(c + Vec3::Constant(radius));
+        for (std::int64_t x = lo[0]; x <= hi[0]; ++x)
+        {
+            for (std::int64_t y = lo[1]; y <= hi[1]; ++y)
+            {
+                for (std::int64_t z = lo[2]; z <= hi[2]; ++z)
+                {
+                    const auto it = m_cells.find(pack(x, y, z));
+                    if (it != m_cells.end())
+                    {
+                        for (std::size_t k : it->second)
+                        {
+                            visit(k);
+                        }
+                    }
+                }
+            }
+        }
+    }
+
+private:
+    std::array<std::int64_t, 3> cellOf(const Vec3& p) const
+    {
+        return {
+            static_cast<std::int64_t>(std::floor(p.x() / m_cell)),
+            static_cast<std::int64_t>(std::floor(p.y() / m_cell)),
+            static_cast<std::int64_t>(std::floor(p.z() / m_cell))};
+    }
+    static std::int64_t pack(std::int64_t x, std::int64_t y, std::int64_t z)
+    {
+        constexpr std::int64_t MASK = (std::int64_t{1} << 21) - 1;
+        return ((x & MASK) << 42) | ((y & MASK) << 21) | (z & MASK);
+    }
+    std::int64_t keyOf(const Vec3& p) const
+    {
+        const auto c = cellOf(p);
+        return pack(c[0], c[1], c[2]);
+    }
+
+    double m_cell;
+    std::unordered_map<std::int64_t, std::vector<std::size_t>> m_cells;
+};
+
 /** A registration of keyframe j in keyframe i. */
-struct Registration
+struct LoopCloser::Registration
 {
     std::size_t i{0}, j{0};
-    bool ok{false};
     mrpt::poses::CPose3D z;  //!< pose of j in i
     emslam::rectify::ActionCovariance covariance;
     std::size_t matches{0};
-    bool accepted{false};
-    // Per round:
+    std::size_t tag{0};  //!< once accepted: its edge's
+    // At the current poses:
     double normalized{0};  //!< squared correction over its variance
     Vec3 correction;       //!< where i puts j minus where j is (world)
 };
-}  // namespace
 
 void LoopCloser::TParameters::loadFromConfigFile(
     const mrpt::config::CConfigFileBase& c, const std::string& s)
@@ -156,9 +256,11 @@ void LoopCloser::TParameters::loadFromConfigFile(
     MRPT_LOAD_CONFIG_VAR(max_distance, double, c, s);
     MRPT_LOAD_CONFIG_VAR(max_angle_deg, double, c, s);
     MRPT_LOAD_CONFIG_VAR(max_candidates, int, c, s);
-    MRPT_LOAD_CONFIG_VAR(max_rounds, int, c, s);
     MRPT_LOAD_CONFIG_VAR(local_edges, int, c, s);
     MRPT_LOAD_CONFIG_VAR(vertical_prior, bool, c, s);
+    MRPT_LOAD_CONFIG_VAR(kept_features, int, c, s);
+    MRPT_LOAD_CONFIG_VAR(consensus_window, int, c, s);
+    MRPT_LOAD_CONFIG_VAR(max_lag, int, c, s);
     vertical.loadFromConfigFile(c, s);
     validate();
 }
@@ -171,9 +273,12 @@ void LoopCloser::TParameters::saveToConfigFile(
     MRPT_SAVE_CONFIG_VAR_COMMENT(max_distance, "[m] beyond the drift: views that still overlap");
     MRPT_SAVE_CONFIG_VAR_COMMENT(max_angle_deg, "[deg] between the viewing directions");
     MRPT_SAVE_CONFIG_VAR_COMMENT(max_candidates, "registrations per keyframe, nearest first");
-    MRPT_SAVE_CONFIG_VAR_COMMENT(max_rounds, "rounds of detection and solving");
     MRPT_SAVE_CONFIG_VAR_COMMENT(local_edges, "direct registrations to the keyframes before");
     MRPT_SAVE_CONFIG_VAR_COMMENT(vertical_prior, "level floors: the up each keyframe sees");
+    MRPT_SAVE_CONFIG_VAR_COMMENT(
+        kept_features, "features kept per keyframe, 8-bit (0: all, float)");
+    MRPT_SAVE_CONFIG_VAR_COMMENT(consensus_window, "keyframes whose registrations may agree");
+    MRPT_SAVE_CONFIG_VAR_COMMENT(max_lag, "keyframes loop closing may lag before the mapper waits");
     vertical.saveToConfigFile(c, s);
 }
 
@@ -197,13 +302,21 @@ void LoopCloser::TParameters::validate() const
     {
         bad("max_candidates", "must be >= 1");
     }
-    if (max_rounds < 1)
-    {
-        bad("max_rounds", "must be >= 1");
-    }
     if (local_edges < 0)
     {
         bad("local_edges", "must be >= 0");
+    }
+    if (kept_features < 0)
+    {
+        bad("kept_features", "must be >= 0 (0: every feature)");
+    }
+    if (consensus_window < 1)
+    {
+        bad("consensus_window", "must be >= 1 keyframe");
+    }
+    if (max_lag < 1)
+    {
+        bad("max_lag", "must be >= 1 keyframe");
     }
     try
     {
@@ -215,7 +328,15 @@ void LoopCloser::TParameters::validate() const
     }
 }
 
-LoopCloser::LoopCloser(const TParameters& p) : m_p((p.validate(), p)), m_vertical(m_p.vertical) {}
+LoopCloser::LoopCloser(const TParameters& p)
+    : m_p((p.validate(), p)),
+      m_vertical(m_p.vertical),
+      m_drift(std::make_unique<Drift>()),
+      m_grid(std::make_unique<Grid>(std::max(m_p.max_distance, 0.5)))
+{
+}
+
+LoopCloser::~LoopCloser() = default;
 
 void LoopCloser::addKeyframe(
     std::size_t frame_index,
@@ -223,8 +344,26 @@ void LoopCloser::addKeyframe(
     const emslam::rectify::ActionCovariance& step_covariance,
     const std::optional<mrpt::poses::CPose3D>& step_motion)
 {
-    m_keyframes.push_back(
-        {frame_index, std::move(description), step_covariance, step_motion, std::nullopt});
+    Keyframe k;
+    k.frame_index = frame_index;
+    k.description = std::move(description);
+    k.covariance = step_covariance;
+    k.motion = step_motion;
+    std::lock_guard<std::mutex> lock(m_in_mutex);
+    m_incoming.push_back(std::move(k));
+    ++m_added;
+}
+
+std::size_t LoopCloser::keyframeCount() const
+{
+    std::lock_guard<std::mutex> lock(m_in_mutex);
+    return m_added;
+}
+
+std::size_t LoopCloser::processedCount() const
+{
+    std::lock_guard<std::mutex> lock(m_out_mutex);
+    return m_published.size();
 }
 
 void LoopCloser::observeVertical(
@@ -236,295 +375,532 @@ void LoopCloser::observeVertical(
     {
         return;
     }
-    auto it = std::find_if(
-        m_keyframes.rbegin(), m_keyframes.rend(),
-        [frame_index](const Keyframe& k) { return k.frame_index == frame_index; });
-    if (it == m_keyframes.rend())
-    {
-        return;
-    }
     // Where up should be in this camera: the ups seen so far (world), or
     // the first camera's -y.
     const Vec3 sum(m_up_sum.x, m_up_sum.y, m_up_sum.z);
     const Vec3 g = sum.norm() > 0 ? sum.normalized() : Vec3(0, -1, 0);
     const auto R = pose.getRotationMatrix().asEigen();
     const Vec3 predicted = R.transpose() * g;
-    it->vertical = m_vertical.measure(frame, {predicted.x(), predicted.y(), predicted.z()});
-    if (it->vertical)
-    {
-        const auto& m = *it->vertical;
-        const double var = m.covariance(0, 0) + m.covariance(1, 1) + m.covariance(2, 2);
-        const Vec3 added = sum + R * Vec3(m.up.x, m.up.y, m.up.z) / std::max(var, 1e-12);
-        m_up_sum = {added.x(), added.y(), added.z()};
-    }
-}
-
-void LoopCloser::addLocalEdges(
-    emslam::rectify::PoseGraph& graph,
-    const std::vector<emslam::rectify::ActionCovariance>& steps,
-    const emslam::rectify::ActionCovariance& mean_step,
-    const emslam::egomotion::EgomotionEstimator& estimator)
-{
-    if (m_p.local_edges <= 0)
+    const auto m = m_vertical.measure(frame, {predicted.x(), predicted.y(), predicted.z()});
+    if (!m)
     {
         return;
     }
-    const std::vector<mrpt::poses::CPose3D>& x = graph.nodes();
-    const std::size_t depth = static_cast<std::size_t>(m_p.local_edges);
-    for (std::size_t j = 1; j < x.size(); ++j)
+    const double var = m->covariance(0, 0) + m->covariance(1, 1) + m->covariance(2, 2);
+    const Vec3 added = sum + R * Vec3(m->up.x, m->up.y, m->up.z) / std::max(var, 1e-12);
+    m_up_sum = {added.x(), added.y(), added.z()};
+    std::lock_guard<std::mutex> lock(m_in_mutex);
+    m_incoming_verticals.emplace_back(frame_index, *m);
+}
+
+std::vector<LoopCloser::Keyframe> LoopCloser::takeIncoming()
+{
+    std::vector<Keyframe> taken;
+    std::vector<std::pair<std::size_t, emslam::stereo::VerticalMeasurement>> verticals;
     {
-        if (!m_keyframes[j].description)
+        std::lock_guard<std::mutex> lock(m_in_mutex);
+        taken.swap(m_incoming);
+        verticals.swap(m_incoming_verticals);
+    }
+    for (auto& [frame, v] : verticals)
+    {
+        const auto it = m_keyframe_of_frame.find(frame);
+        if (it != m_keyframe_of_frame.end())
+        {
+            m_keyframes[it->second].vertical = v;
+            continue;
+        }
+        const auto in = std::find_if(
+            taken.begin(), taken.end(),
+            [f = frame](const Keyframe& k) { return k.frame_index == f; });
+        if (in != taken.end())
+        {
+            in->vertical = v;
+        }
+    }
+    return taken;
+}
+
+std::size_t LoopCloser::update(
+    const emslam::egomotion::EgomotionEstimator& estimator, const std::function<bool()>& stop)
+{
+    const auto t0 = std::chrono::steady_clock::now();
+    std::vector<Keyframe> taken = takeIncoming();
+    std::size_t done = 0;
+    for (std::size_t n = 0; n < taken.size(); ++n)
+    {
+        Keyframe& k = taken[n];
+        if (!m_keyframes.empty() && !k.motion)
+        {
+            // Not placeable without the poses close() is given: back in line.
+            std::lock_guard<std::mutex> lock(m_in_mutex);
+            m_incoming.insert(
+                m_incoming.begin(), std::make_move_iterator(taken.begin() + static_cast<long>(n)),
+                std::make_move_iterator(taken.end()));
+            break;
+        }
+        const mrpt::poses::CPose3D T = k.motion ? *k.motion : mrpt::poses::CPose3D();
+        integrate(std::move(k), T, estimator, !(stop && stop()));
+        ++done;
+    }
+    m_stats.ms +=
+        std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
+    return done;
+}
+
+emslam::egomotion::EgomotionEstimator::Description LoopCloser::descriptionOf(std::size_t k) const
+{
+    const Keyframe& kf = m_keyframes[k];
+    return kf.description ? kf.description : emslam::egomotion::EgomotionEstimator::expand(kf.kept);
+}
+
+void LoopCloser::integrate(
+    Keyframe k,
+    const mrpt::poses::CPose3D& T_prev_cur,
+    const emslam::egomotion::EgomotionEstimator& estimator,
+    bool work)
+{
+    using emslam::egomotion::EgomotionEstimator;
+    const std::size_t j = m_keyframes.size();
+    // 1. Node and odometry edge.
+    const mrpt::poses::CPose3D pose =
+        j == 0 ? mrpt::poses::CPose3D() : m_graph.node(j - 1) + T_prev_cur;
+    m_graph.addNode(pose);
+    m_drift->append(j == 0 ? Vec3::Zero() : positionOf(m_graph.node(j - 1)), k.covariance);
+    m_path.push_back(
+        j == 0 ? 0.0 : m_path.back() + (positionOf(pose) - positionOf(m_graph.node(j - 1))).norm());
+    if (j > 0)
+    {
+        m_graph.addEdge(j - 1, j, T_prev_cur, k.covariance, EDGE_ODOMETRY);
+    }
+    m_keyframe_of_frame[k.frame_index] = j;
+    const bool described = k.description != nullptr;
+    if (described && m_p.kept_features > 0)
+    {
+        k.kept =
+            EgomotionEstimator::compact(k.description, static_cast<std::size_t>(m_p.kept_features));
+    }
+    m_keyframes.push_back(std::move(k));
+    bool solved = false;
+    if (work && described)
+    {
+        addLocalEdges(j, estimator);
+        registerCandidates(j, estimator);
+        if (acceptConsensus(j))
+        {
+            // Solve only where the graph disagrees with what was accepted.
+            double worst = 0;
+            for (const auto& e : m_graph.edges())
+            {
+                if (e.tag >= EDGE_LOOP && e.to == j)
+                {
+                    worst = std::max(worst, 2 * m_graph.edgeCost(e));
+                }
+            }
+            if (worst > GATE_CHI2_6DOF)
+            {
+                solve(ONLINE_ITERATIONS);
+                solved = true;
+            }
+        }
+    }
+    // Full descriptions only while a later keyframe's local edges need them.
+    const std::size_t depth = static_cast<std::size_t>(m_p.local_edges);
+    if (m_p.kept_features > 0 && j >= depth)
+    {
+        m_keyframes[j - depth].description = nullptr;
+    }
+    m_stats.kept_bytes += m_keyframes[j].kept.bytes();
+    if (solved)
+    {
+        m_grid->rebuild(m_graph.nodes());
+    }
+    else
+    {
+        m_grid->insert(j, positionOf(pose));
+    }
+    publishPoses(solved);
+}
+
+void LoopCloser::addLocalEdges(
+    std::size_t j, const emslam::egomotion::EgomotionEstimator& estimator)
+{
+    const std::size_t depth = static_cast<std::size_t>(m_p.local_edges);
+    if (depth == 0 || j == 0)
+    {
+        return;
+    }
+    const auto cur = m_keyframes[j].description;
+    for (std::size_t i = j - std::min(j, depth); i < j; ++i)
+    {
+        const auto prev = descriptionOf(i);
+        if (!prev)
         {
             continue;
         }
-        for (std::size_t i = j - std::min(j, depth); i < j; ++i)
+        const auto r = estimator.estimate(prev, cur);
+        ++m_stats.local_registrations;
+        if (!r.ok)
         {
-            if (!m_keyframes[i].description)
-            {
-                continue;
-            }
-            const auto r =
-                estimator.estimate(m_keyframes[i].description, m_keyframes[j].description);
-            ++m_stats.local_registrations;
-            if (!r.ok)
-            {
-                continue;
-            }
-            const emslam::rectify::ActionCovariance cov =
-                r.has_covariance ? r.covariance : mean_step;
-            // Against the egomotion's own chain from i to j and its
-            // covariance composed step by step: a registration must agree
-            // with it in every direction, not only on the whole (an edge
-            // confident across the path but off along it would bend the
-            // path), and not with the rectified chain, which the edge may
-            // have to correct.
-            emslam::rectify::ActionCovariance chain;
-            chain.setZero();
-            mrpt::poses::CPose3D T_i_k;
-            for (std::size_t k = i + 1; k <= j; ++k)
-            {
-                const auto& motion = m_keyframes[k].motion;
-                const mrpt::poses::CPose3D step = motion ? *motion : x[k] - x[k - 1];
-                chain = emslam::rectify::composeCovariance(T_i_k, chain, step, steps[k]);
-                T_i_k = T_i_k + step;
-            }
-            const auto delta = emslam::rectify::actionDifference(T_i_k, r.T_prev_cur);
-            const double d2 = 2 * emslam::rectify::halfMahalanobis(
-                                      delta, emslam::rectify::informationOf(chain + cov, 6));
-            if (!(d2 <= GATE_CHI2_6DOF))
-            {
-                continue;
-            }
-            graph.addEdge(i, j, r.T_prev_cur, cov);
-            ++m_stats.local_edges;
+            continue;
         }
-    }
-    if (m_stats.local_edges > 0)
-    {
-        const auto solved = graph.optimize();
-        m_stats.initial_cost = solved.initial_cost;
-        m_stats.final_cost = solved.final_cost;
+        const emslam::rectify::ActionCovariance cov =
+            r.has_covariance ? r.covariance : m_keyframes[j].covariance;
+        // Against the egomotion's own chain from i to j and its covariance
+        // composed step by step: a registration must agree with it in every
+        // direction, not only on the whole (an edge confident across the path
+        // but off along it would bend the path).
+        emslam::rectify::ActionCovariance chain;
+        chain.setZero();
+        mrpt::poses::CPose3D T_i_k;
+        for (std::size_t k = i + 1; k <= j; ++k)
+        {
+            const auto& motion = m_keyframes[k].motion;
+            const mrpt::poses::CPose3D step =
+                motion ? *motion : m_graph.node(k) - m_graph.node(k - 1);
+            chain =
+                emslam::rectify::composeCovariance(T_i_k, chain, step, m_keyframes[k].covariance);
+            T_i_k = T_i_k + step;
+        }
+        const auto delta = emslam::rectify::actionDifference(T_i_k, r.T_prev_cur);
+        const double d2 = 2 * emslam::rectify::halfMahalanobis(
+                                  delta, emslam::rectify::informationOf(chain + cov, 6));
+        if (!(d2 <= GATE_CHI2_6DOF))
+        {
+            continue;
+        }
+        m_graph.addEdge(i, j, r.T_prev_cur, cov, EDGE_LOCAL);
+        ++m_stats.local_edges;
     }
 }
 
-std::vector<mrpt::poses::CPose3D> LoopCloser::close(
-    const std::vector<mrpt::poses::CPose3D>& poses,
-    const emslam::egomotion::EgomotionEstimator& estimator)
+void LoopCloser::registerCandidates(
+    std::size_t j, const emslam::egomotion::EgomotionEstimator& estimator)
 {
-    const auto t0 = std::chrono::steady_clock::now();
-    m_stats = Stats{};
-    m_edges.clear();
-    const std::size_t n = m_keyframes.size();
-    if (poses.size() != n)
-    {
-        throw std::invalid_argument(
-            "LoopCloser::close: " + std::to_string(poses.size()) + " poses for " +
-            std::to_string(n) + " keyframes");
-    }
-    if (n < 3)
-    {
-        return poses;
-    }
-    emslam::rectify::PoseGraph graph;
-    std::vector<emslam::rectify::ActionCovariance> steps(n);
-    std::vector<double> path(n, 0.0);
-    for (std::size_t k = 0; k < n; ++k)
-    {
-        graph.addNode(poses[k]);
-        steps[k] = m_keyframes[k].covariance;
-        if (k > 0)
-        {
-            graph.addEdge(k - 1, k, poses[k] - poses[k - 1], steps[k]);
-            path[k] = path[k - 1] + (positionOf(poses[k]) - positionOf(poses[k - 1])).norm();
-        }
-    }
-    emslam::rectify::ActionCovariance mean_step;
-    mean_step.setZero();
-    for (std::size_t k = 1; k < n; ++k)
-    {
-        mean_step += steps[k];
-    }
-    mean_step *= 1.0 / static_cast<double>(n - 1);
-    addLocalEdges(graph, steps, mean_step, estimator);
+    const std::vector<mrpt::poses::CPose3D>& x = m_graph.nodes();
+    const Vec3 pj = positionOf(x[j]);
+    const Vec3 vj = viewingDirection(x[j]);
     const double cos_max_angle = std::cos(mrpt::DEG2RAD(m_p.max_angle_deg));
-    std::map<std::pair<std::size_t, std::size_t>, Registration> tried;
-    std::vector<ChainDrift::Shortcut> shortcuts;
-    for (int round = 0; round < m_p.max_rounds; ++round)
+    // The ball that holds every candidate: the drift from the first keyframe
+    // bounds the drift from any (shortened by the loops closed).
+    const double reach =
+        m_p.max_distance + GATE_SIGMAS * std::sqrt(m_drift->translationVariance(0, j, pj));
+    std::vector<std::pair<double, std::size_t>> near;
+    m_grid->near(
+        pj, reach,
+        [&](std::size_t i)
+        {
+            if (i >= j || m_path[j] - m_path[i] < m_p.min_path_length ||
+                (!m_keyframes[i].description && m_keyframes[i].kept.features.empty()) ||
+                viewingDirection(x[i]).dot(vj) < cos_max_angle)
+            {
+                return;
+            }
+            const double d = (positionOf(x[i]) - pj).norm();
+            if (d > reach)
+            {
+                return;
+            }
+            const double sigma = std::sqrt(m_drift->translationVariance(i, j, pj));
+            if (d <= m_p.max_distance + GATE_SIGMAS * sigma)
+            {
+                near.emplace_back(d, i);
+            }
+        });
+    m_stats.candidates += near.size();
+    std::sort(near.begin(), near.end());
+    near.resize(std::min(near.size(), static_cast<std::size_t>(m_p.max_candidates)));
+    const auto cur = m_keyframes[j].description;
+    for (const auto& [d, i] : near)
     {
-        const std::vector<mrpt::poses::CPose3D>& x = graph.nodes();
-        const ChainDrift drift(x, steps, shortcuts);
-        // 1-2. Candidates by the current poses; new pairs are registered.
-        for (std::size_t j = 1; j < n; ++j)
+        const auto r = estimator.estimate(descriptionOf(i), cur);
+        ++m_stats.registrations;
+        if (!r.ok)
         {
-            if (!m_keyframes[j].description)
+            continue;
+        }
+        auto reg = std::make_unique<Registration>();
+        reg->i = i;
+        reg->j = j;
+        reg->z = r.T_prev_cur;
+        // A registration is one more egomotion step: without a curvature of
+        // its own (e.g. a perfect fit), it gets the keyframe's.
+        reg->covariance = r.has_covariance ? r.covariance : m_keyframes[j].covariance;
+        reg->matches = r.final_matches;
+        // Within three standard deviations of the chain, as it is now.
+        const auto delta = emslam::rectify::actionDifference(x[j] - x[i], reg->z);
+        const double dt2 = delta[0] * delta[0] + delta[1] * delta[1] + delta[2] * delta[2];
+        const double dr2 = delta[3] * delta[3] + delta[4] * delta[4] + delta[5] * delta[5];
+        const double var_t =
+            m_drift->translationVariance(i, j, pj) + translationTrace(reg->covariance);
+        const double var_r = m_drift->rotationVariance(i, j) + rotationTrace(reg->covariance);
+        if (dt2 > GATE_SIGMAS * GATE_SIGMAS * var_t || dr2 > GATE_SIGMAS * GATE_SIGMAS * var_r)
+        {
+            continue;
+        }
+        ++m_stats.registered;
+        m_pool.push_back(std::move(reg));
+    }
+}
+
+bool LoopCloser::acceptConsensus(std::size_t j)
+{
+    const std::size_t window = static_cast<std::size_t>(m_p.consensus_window);
+    const auto expired = [&](const std::unique_ptr<Registration>& r) { return r->j + window <= j; };
+    m_pool.erase(std::remove_if(m_pool.begin(), m_pool.end(), expired), m_pool.end());
+    m_accepted.erase(
+        std::remove_if(m_accepted.begin(), m_accepted.end(), expired), m_accepted.end());
+    if (m_pool.empty())
+    {
+        return false;
+    }
+    const std::vector<mrpt::poses::CPose3D>& x = m_graph.nodes();
+    const auto measure = [&](Registration& r)
+    {
+        const Vec3 pj = positionOf(x[r.j]);
+        const auto delta = emslam::rectify::actionDifference(x[r.j] - x[r.i], r.z);
+        const double dt2 = delta[0] * delta[0] + delta[1] * delta[1] + delta[2] * delta[2];
+        const double dr2 = delta[3] * delta[3] + delta[4] * delta[4] + delta[5] * delta[5];
+        const double var_t =
+            m_drift->translationVariance(r.i, r.j, pj) + translationTrace(r.covariance);
+        const double var_r = m_drift->rotationVariance(r.i, r.j) + rotationTrace(r.covariance);
+        r.normalized = dt2 / var_t + dr2 / var_r;
+        r.correction = positionOf(x[r.i] + r.z) - pj;
+    };
+    for (auto& r : m_pool)
+    {
+        measure(*r);
+    }
+    for (auto& r : m_accepted)
+    {
+        measure(*r);
+    }
+    std::sort(
+        m_pool.begin(), m_pool.end(),
+        [](const auto& a, const auto& b) { return a->normalized < b->normalized; });
+    const auto agree = [&](const Registration& a, const Registration& b)
+    {
+        const Vec3 at_j = positionOf(x[std::max(a.j, b.j)]);
+        const Vec3 at_i = positionOf(x[std::max(a.i, b.i)]);
+        const double var = m_drift->translationVariance(a.j, b.j, at_j) +
+                           m_drift->translationVariance(a.i, b.i, at_i) +
+                           translationTrace(a.covariance) + translationTrace(b.covariance);
+        return (a.correction - b.correction).squaredNorm() <= GATE_SIGMAS * GATE_SIGMAS * var;
+    };
+    // The first registration, by normalised correction, that another one
+    // (waiting, or accepted in the window) agrees with, and its group.
+    for (const auto& seed : m_pool)
+    {
+        std::vector<std::size_t> group;
+        for (std::size_t n = 0; n < m_pool.size(); ++n)
+        {
+            if (agree(*seed, *m_pool[n]))
             {
-                continue;
-            }
-            const Vec3 pj = positionOf(x[j]);
-            std::vector<std::pair<double, std::size_t>> near;
-            for (std::size_t i = 0; i < j && path[j] - path[i] >= m_p.min_path_length; ++i)
-            {
-                if (!m_keyframes[i].description ||
-                    viewingDirection(x[i]).dot(viewingDirection(x[j])) < cos_max_angle)
-                {
-                    continue;
-                }
-                const double d = (positionOf(x[i]) - pj).norm();
-                const double sigma = std::sqrt(drift.translationVariance(i, j, pj));
-                if (d <= m_p.max_distance + GATE_SIGMAS * sigma)
-                {
-                    near.emplace_back(d, i);
-                }
-            }
-            m_stats.candidates += near.size();
-            std::sort(near.begin(), near.end());
-            near.resize(std::min(near.size(), static_cast<std::size_t>(m_p.max_candidates)));
-            for (const auto& [d, i] : near)
-            {
-                if (tried.count({i, j}) != 0)
-                {
-                    continue;
-                }
-                Registration reg;
-                reg.i = i;
-                reg.j = j;
-                const auto r =
-                    estimator.estimate(m_keyframes[i].description, m_keyframes[j].description);
-                ++m_stats.registrations;
-                reg.ok = r.ok;
-                reg.z = r.T_prev_cur;
-                // A registration is one more egomotion step: without a
-                // curvature of its own (e.g. a perfect fit), it gets theirs.
-                reg.covariance = r.has_covariance ? r.covariance : mean_step;
-                reg.matches = r.final_matches;
-                tried[{i, j}] = reg;
+                group.push_back(n);
             }
         }
-        // Gate every registration not yet accepted against the current poses.
-        std::vector<Registration*> gated;
-        for (auto& [key, reg] : tried)
+        const auto votes = static_cast<std::size_t>(std::count_if(
+            m_accepted.begin(), m_accepted.end(), [&](const auto& r) { return agree(*seed, *r); }));
+        if (group.size() + votes < 2)
         {
-            if (!reg.ok || reg.accepted)
+            continue;
+        }
+        std::vector<std::unique_ptr<Registration>> rest;
+        std::size_t g = 0;
+        for (std::size_t n = 0; n < m_pool.size(); ++n)
+        {
+            if (g < group.size() && group[g] == n)
             {
-                continue;
+                ++g;
+                Registration& r = *m_pool[n];
+                m_drift->addShortcut(
+                    r.i, r.j, translationTrace(r.covariance), rotationTrace(r.covariance));
+                r.tag = EDGE_LOOP + m_edges.size();
+                m_graph.addEdge(r.i, r.j, r.z, r.covariance, r.tag);
+                m_dropped.push_back(false);
+                m_edges.push_back(
+                    {m_keyframes[r.i].frame_index, m_keyframes[r.j].frame_index, r.z, r.matches});
+                ++m_stats.loop_edges;
+                m_accepted.push_back(std::move(m_pool[n]));
             }
-            const Vec3 pj = positionOf(x[reg.j]);
-            const auto delta = emslam::rectify::actionDifference(x[reg.j] - x[reg.i], reg.z);
-            const double dt2 = delta[0] * delta[0] + delta[1] * delta[1] + delta[2] * delta[2];
-            const double dr2 = delta[3] * delta[3] + delta[4] * delta[4] + delta[5] * delta[5];
-            const double var_t =
-                drift.translationVariance(reg.i, reg.j, pj) + translationTrace(reg.covariance);
-            const double var_r =
-                drift.rotationVariance(reg.i, reg.j) + rotationTrace(reg.covariance);
-            if (dt2 > GATE_SIGMAS * GATE_SIGMAS * var_t || dr2 > GATE_SIGMAS * GATE_SIGMAS * var_r)
+            else
             {
-                continue;
+                rest.push_back(std::move(m_pool[n]));
             }
-            reg.normalized = dt2 / var_t + dr2 / var_r;
-            reg.correction = positionOf(x[reg.i] + reg.z) - pj;
-            gated.push_back(&reg);
         }
-        if (round == 0)
-        {
-            m_stats.registered = gated.size();
-        }
-        std::sort(
-            gated.begin(), gated.end(),
-            [](const Registration* a, const Registration* b)
-            { return a->normalized < b->normalized; });
-        // 3. Consensus: the first registration, by normalised correction,
-        // that another one agrees with.
-        std::vector<Registration*> winners;
-        for (const Registration* seed : gated)
-        {
-            winners.clear();
-            for (Registration* r : gated)
-            {
-                const Vec3 at_j = positionOf(x[std::max(seed->j, r->j)]);
-                const Vec3 at_i = positionOf(x[std::max(seed->i, r->i)]);
-                const double var = drift.translationVariance(seed->j, r->j, at_j) +
-                                   drift.translationVariance(seed->i, r->i, at_i) +
-                                   translationTrace(seed->covariance) +
-                                   translationTrace(r->covariance);
-                if ((r->correction - seed->correction).squaredNorm() <=
-                    GATE_SIGMAS * GATE_SIGMAS * var)
-                {
-                    winners.push_back(r);
-                }
-            }
-            if (winners.size() >= 2)
-            {
-                break;
-            }
-            winners.clear();
-        }
-        if (winners.empty())
-        {
-            break;
-        }
-        // 4. Into the graph, and solve.
-        for (Registration* r : winners)
-        {
-            r->accepted = true;
-            shortcuts.push_back(
-                {r->i, r->j, translationTrace(r->covariance), rotationTrace(r->covariance)});
-            graph.addEdge(r->i, r->j, r->z, r->covariance);
-            m_edges.push_back(
-                {m_keyframes[r->i].frame_index, m_keyframes[r->j].frame_index, r->z, r->matches});
-        }
-        const auto solved = graph.optimize();
-        if (m_stats.rounds == 0 && m_stats.local_edges == 0)
+        m_pool = std::move(rest);
+        return true;
+    }
+    return false;
+}
+
+void LoopCloser::solve(int max_iterations)
+{
+    for (int pass = 0; pass < MAX_DROP_PASSES; ++pass)
+    {
+        const auto solved = m_graph.optimize(max_iterations);
+        if (m_stats.rounds == 0)
         {
             m_stats.initial_cost = solved.initial_cost;
         }
         m_stats.final_cost = solved.final_cost;
-        m_stats.rounds = round + 1;
-    }
-    m_stats.loop_edges = m_edges.size();
-    if (m_p.vertical_prior)
-    {
-        // How far the egomotion may have tilted each keyframe: its chain's
-        // rotation variance, per axis (no loop or local edge counted).
-        std::vector<std::optional<emslam::stereo::VerticalMeasurement>> verticals(n);
-        std::vector<double> tilt_variance(n, 0.0);
-        for (std::size_t k = 0; k < n; ++k)
-        {
-            verticals[k] = m_keyframes[k].vertical;
-            if (k > 0)
+        ++m_stats.rounds;
+        // A loop edge the solved graph still disagrees with beyond the bulk
+        // of its own noise is a look-alike that got through: out.
+        const std::size_t dropped = m_graph.removeEdgesIf(
+            [&](const emslam::rectify::PoseGraph::Edge& e)
             {
-                tilt_variance[k] = tilt_variance[k - 1] + rotationTrace(steps[k]) / 3;
+                const bool drop = e.tag >= EDGE_LOOP && 2 * m_graph.edgeCost(e) > GATE_CHI2_6DOF;
+                if (drop)
+                {
+                    m_dropped[e.tag - EDGE_LOOP] = true;
+                }
+                return drop;
+            });
+        if (dropped == 0)
+        {
+            return;
+        }
+        m_stats.dropped_edges += dropped;
+        m_accepted.erase(
+            std::remove_if(
+                m_accepted.begin(), m_accepted.end(),
+                [&](const auto& r) { return m_dropped[r->tag - EDGE_LOOP]; }),
+            m_accepted.end());
+    }
+}
+
+void LoopCloser::publishPoses(bool all)
+{
+    const std::vector<mrpt::poses::CPose3D>& x = m_graph.nodes();
+    std::lock_guard<std::mutex> lock(m_out_mutex);
+    if (all)
+    {
+        m_published.clear();
+    }
+    for (std::size_t k = m_published.size(); k < x.size(); ++k)
+    {
+        m_published.push_back({m_keyframes[k].frame_index, x[k]});
+    }
+}
+
+std::optional<LoopCloser::KeyframePose> LoopCloser::lastPose() const
+{
+    std::lock_guard<std::mutex> lock(m_out_mutex);
+    if (m_published.empty())
+    {
+        return std::nullopt;
+    }
+    return m_published.back();
+}
+
+std::vector<LoopCloser::KeyframePose> LoopCloser::currentPoses() const
+{
+    std::lock_guard<std::mutex> lock(m_out_mutex);
+    return m_published;
+}
+
+std::vector<mrpt::poses::CPose3D> LoopCloser::close(
+    const std::vector<mrpt::poses::CPose3D>& poses,
+    const emslam::egomotion::EgomotionEstimator& estimator,
+    const std::function<bool()>& stop)
+{
+    const auto t0 = std::chrono::steady_clock::now();
+    const auto stopped = [&] { return stop && stop(); };
+    {
+        std::lock_guard<std::mutex> lock(m_in_mutex);
+        if (poses.size() != m_added)
+        {
+            throw std::invalid_argument(
+                "LoopCloser::close: " + std::to_string(poses.size()) + " poses for " +
+                std::to_string(m_added) + " keyframes");
+        }
+    }
+    for (Keyframe& k : takeIncoming())
+    {
+        const std::size_t j = m_keyframes.size();
+        const mrpt::poses::CPose3D T = k.motion ? *k.motion
+                                       : j == 0 ? mrpt::poses::CPose3D()
+                                                : poses[j] - poses[j - 1];
+        integrate(std::move(k), T, estimator, !stopped());
+    }
+    const std::size_t n = m_keyframes.size();
+    if (n < 2)
+    {
+        return poses;
+    }
+    // The graph's world is its first keyframe; the given poses' may not be
+    // (the rectifier moves a_0 for the Manhattan energies).
+    const mrpt::poses::CPose3D origin = poses[0];
+    for (std::size_t k = 0; k < n; ++k)
+    {
+        m_graph.setNode(k, origin + m_graph.node(k));
+    }
+    if (!stopped())
+    {
+        // The odometry edges take the rectified relative poses.
+        for (std::size_t e = 0; e < m_graph.edges().size(); ++e)
+        {
+            const auto& edge = m_graph.edges()[e];
+            if (edge.tag == EDGE_ODOMETRY)
+            {
+                m_graph.setEdgeMeasurement(e, poses[edge.to] - poses[edge.from]);
             }
         }
-        const LevelFloorsStats level = levelFloors(graph, verticals, tilt_variance);
-        m_stats.verticals_measured = level.measured;
-        m_stats.verticals_used = level.used;
-        m_stats.vertical_drift_deg = level.drift_deg;
-        m_stats.vertical_bias_deg = level.bias_deg;
-        m_stats.vertical_correlation_time = level.correlation_time;
+        solve(POLISH_ITERATIONS);
+        if (m_p.vertical_prior)
+        {
+            levelWithVerticals();
+        }
     }
-    m_stats.ms =
+    const std::size_t accepted = m_stats.loop_edges;
+    if (m_stats.dropped_edges > std::max<std::size_t>(3, accepted / 10))
+    {
+        m_stats.unreliable = std::to_string(m_stats.dropped_edges) + " of " +
+                             std::to_string(accepted) +
+                             " accepted loop edges disagreed with the solved graph (look-alike "
+                             "places?)";
+    }
+    m_stats.loop_edges = accepted - m_stats.dropped_edges;
+    std::vector<LoopEdge> kept;
+    for (std::size_t e = 0; e < m_edges.size(); ++e)
+    {
+        if (!m_dropped[e])
+        {
+            kept.push_back(m_edges[e]);
+        }
+    }
+    m_edges = std::move(kept);
+    m_dropped.assign(m_edges.size(), false);
+    const double ms =
         std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
-    return graph.nodes();
+    m_stats.polish_ms = ms;
+    m_stats.ms += ms;
+    publishPoses(true);
+    return m_graph.nodes();
+}
+
+void LoopCloser::levelWithVerticals()
+{
+    // How far the egomotion may have tilted each keyframe: its chain's
+    // rotation variance, per axis (no loop or local edge counted).
+    const std::size_t n = m_keyframes.size();
+    std::vector<std::optional<emslam::stereo::VerticalMeasurement>> verticals(n);
+    std::vector<double> tilt_variance(n, 0.0);
+    for (std::size_t k = 0; k < n; ++k)
+    {
+        verticals[k] = m_keyframes[k].vertical;
+        if (k > 0)
+        {
+            tilt_variance[k] = tilt_variance[k - 1] + rotationTrace(m_keyframes[k].covariance) / 3;
+        }
+    }
+    const LevelFloorsStats level = levelFloors(m_graph, verticals, tilt_variance);
+    m_stats.verticals_measured = level.measured;
+    m_stats.verticals_used = level.used;
+    m_stats.vertical_drift_deg = level.drift_deg;
+    m_stats.vertical_bias_deg = level.bias_deg;
+    m_stats.vertical_correlation_time = level.correlation_time;
 }
 
 }  // namespace emslam::slam

@@ -29,8 +29,12 @@ struct MapperRunInfo
     /** Why the result is degenerate (degenerateRunWarning()), or "". */
     std::string degenerate;
     double seconds{0.0};  //!< wall time of the run
-    /** Against the ground truth (--gt), when given. */
-    std::optional<eval::TrajectoryMetrics> egomotion_vs_gt, slam_vs_gt;
+    /** Wall time after the last frame: the final rectification and the
+     * loop closer's catching up and polish (EntropySlam::finish()). */
+    double seconds_after_last_frame{0.0};
+    /** Against the ground truth (--gt), when given; `online_vs_gt` for
+     * EntropySlam::onlinePoses() (trajectory_online.tum). */
+    std::optional<eval::TrajectoryMetrics> egomotion_vs_gt, slam_vs_gt, online_vs_gt;
     /** The energy scan around the ground truth (--energy-scan), when made. */
     std::optional<MapperEnergyScan> energy_scan;
 };

@@ -6,7 +6,7 @@
 
 namespace emslam::apps
 {
-/** A process-wide "please stop" flag that SIGINT / SIGTERM raise while a
+/** A process-wide "please stop" flag that SIGINT / SIGTERM / SIGHUP raise while a
  * StopSignalGuard lives, so long loops (grabbing, mapping) can end cleanly
  * and still write what they have. Thread- and signal-safe.
  * \ingroup emslam_apps_grp */
@@ -17,14 +17,14 @@ public:
     static bool requested();
     /** Raises the flag, as a signal does. */
     static void request();
-    /** The signal that raised the flag (SIGINT, SIGTERM), or 0 if none did
+    /** The signal that raised the flag (SIGINT, SIGTERM, SIGHUP), or 0 if none did
      * (not raised, or raised by request()). appMain() exits with 128 + it. */
     static int receivedSignal();
     /** Lowers the flag and forgets the signal (at the start of a run). */
     static void clear();
 };
 
-/** Installs the SIGINT / SIGTERM handlers of StopSignal for its lifetime and
+/** Installs the SIGINT / SIGTERM / SIGHUP handlers of StopSignal for its lifetime and
  * restores the previous ones afterwards. Blocking reads are restarted
  * (SA_RESTART), so a signal never turns into a spurious I/O error.
  * \ingroup emslam_apps_grp */

@@ -10,6 +10,7 @@
 #include <mrpt/config/CLoadableOptions.h>
 #include <mrpt/poses/CPose3D.h>
 
+#include <cstdint>
 #include <functional>
 #include <memory>
 #include <optional>
@@ -171,6 +172,27 @@ public:
      * prediction: e.g. a place seen again after a loop. Throws
      * std::invalid_argument on a null description. */
     EgomotionResult estimate(const Description& prev, const Description& cur) const;
+
+    /** A description kept for registering its frame much later (a loop) in
+     * little memory: at most a given number of features, the strongest
+     * gradients of each image cell first so that they cover the image, with
+     * 8-bit descriptors (one scale per row). bytes() is what it holds. */
+    struct CompactDescription
+    {
+        FeatureList features;
+        int dim{0};                      //!< values per descriptor
+        std::vector<std::int8_t> codes;  //!< features.size() x dim
+        std::vector<float> scales;       //!< per feature: value = code * scale
+        mrpt::img::TCamera camera;       //!< of the intensity image
+        double baseline{0};              //!< stereo baseline [m]
+        std::size_t bytes() const;
+    };
+    /** The compact form of `d` with at most `max_features` features (0: all
+     * of them); a null `d` gives an empty one. */
+    static CompactDescription compact(const Description& d, std::size_t max_features);
+    /** A description to give estimate() again (descriptors re-normalised, so
+     * Pearson's rho is still a dot product); null if `c` has no feature. */
+    static Description expand(const CompactDescription& c);
 
 private:
     Described describe(const emslam::stereo::StereoFrame& f) const;

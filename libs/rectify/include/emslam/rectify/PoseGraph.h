@@ -8,6 +8,7 @@
 #include <mrpt/poses/CPose3D.h>
 
 #include <cstddef>
+#include <functional>
 #include <vector>
 
 namespace emslam::rectify
@@ -40,6 +41,7 @@ public:
         std::size_t from{0}, to{0};
         mrpt::poses::CPose3D measurement;  //!< pose of node `to` in node `from`
         ActionCovariance information;      //!< inverse covariance of `measurement`
+        std::size_t tag{0};                //!< the caller's: what kind of edge, which one
     };
     /** A direction measured in a node that should be the world direction. */
     struct DirectionPrior
@@ -75,7 +77,14 @@ public:
         std::size_t from,
         std::size_t to,
         const mrpt::poses::CPose3D& measurement,
-        const ActionCovariance& covariance);
+        const ActionCovariance& covariance,
+        std::size_t tag = 0);
+    /** Removes every edge for which `drop` is true; returns how many. */
+    std::size_t removeEdgesIf(const std::function<bool(const Edge&)>& drop);
+    /** Replaces the measurement of edge `index` (std::out_of_range otherwise). */
+    void setEdgeMeasurement(std::size_t index, const mrpt::poses::CPose3D& measurement);
+    /** Moves node `index` (std::out_of_range otherwise). */
+    void setNode(std::size_t index, const mrpt::poses::CPose3D& pose);
     /** Adds a direction prior on an existing node (std::out_of_range
      * otherwise); `information` may be singular (a direction has two
      * degrees of freedom). */

@@ -7,6 +7,7 @@
 #include <emslam/rectify/RectificationRunner.h>
 #include <emslam/rectify/RectifierOptions.h>
 #include <emslam/rectify/SpaceSampler.h>
+#include <emslam/slam/BackgroundWorker.h>
 #include <emslam/slam/ElementClouds.h>
 #include <emslam/slam/FrameRecord.h>
 #include <emslam/slam/IntensityCloud.h>
@@ -20,6 +21,7 @@
 #include <mrpt/poses/CPose3D.h>
 
 #include <cstddef>
+#include <functional>
 #include <future>
 #include <limits>
 #include <memory>
@@ -124,6 +126,13 @@ public:
      * trajectory's (ElementClouds::requireSameElementsAs()). */
     void finish();
 
+    /** What says "stop soon" (e.g. a signal): while it returns true, the
+     * background loop closing only places the keyframes and finish() skips
+     * the loop closer's polish, so an interrupted run ends within a second.
+     * Called from the loop-closing thread too; set it before the first
+     * process(). */
+    void setStopCheck(std::function<bool()> stop) { m_stop_check = std::move(stop); }
+
     const TParameters& parameters() const { return m_p; }
 
     /** Frames processed (stereo or RGB-D observations). */
@@ -165,9 +174,15 @@ public:
     const IntensityCloud* lastAcceptedCloud() const;
     /** Frame index (as in frames()) of lastAcceptedCloud(). */
     std::size_t lastAcceptedCloudFrame() const { return m_last_cloud_frame; }
-    /** World poses of the accepted frames as rectified so far (a copy;
-     * thread-safe; AnyTime: buffered frames not yet included). */
+    /** World poses of the keyframes in the current estimate (a copy): with
+     * loop closing, every loop closed so far (keyframes the background has
+     * not reached yet left out); without, as rectified so far (AnyTime:
+     * buffered frames not yet included). */
     std::vector<emslam::rectify::TimedPose> currentSlamPoses() const;
+    /** For each processed frame, the pose the system had for it when it
+     * was processed (causal): the latest keyframe of the current estimate
+     * and the egomotion since. */
+    const std::vector<emslam::rectify::TimedPose>& onlinePoses() const { return m_online; }
     /** @} */
 
     /** @name Results, valid after finish()
@@ -222,12 +237,25 @@ private:
      * times go to `record` (if given). */
     void completePendingKeyframe(FrameRecord* record);
     void addAccepted(const emslam::stereo::StereoFrame& f, const PendingKeyframe& k);
+    bool loopClosing() const { return m_loop_worker != nullptr; }
+    /** The online pose of frame `index` (see onlinePoses()). */
+    mrpt::poses::CPose3D onlinePose(std::size_t index);
 
     TParameters m_p;
     StereoOdometry m_odometry;
     emslam::rectify::SpaceSampler m_sampler;
     std::unique_ptr<emslam::rectify::RectificationRunner> m_runner;
     LoopCloser m_loops;
+    /** The loop closer's own: estimate() of two descriptions only reads it. */
+    emslam::egomotion::EgomotionEstimator m_loop_estimator;
+    std::function<bool()> m_stop_check;
+    /** Runs m_loops.update() beside the frames; after m_loops, so it stops first. */
+    std::unique_ptr<BackgroundWorker> m_loop_worker;
+    std::vector<emslam::rectify::TimedPose> m_online;
+    /** Without loop closing: the last rectified keyframe, and how many
+     * rectifications it is from. */
+    std::optional<emslam::rectify::TimedPose> m_rectified_anchor;
+    std::size_t m_anchor_rectifications{0};
     std::vector<emslam::rectify::TimedPose> m_egomotion, m_slam, m_keyframe_slam;
     /** Where a frame is measured from: its keyframe and the egomotion since. */
     struct KeyframeLink

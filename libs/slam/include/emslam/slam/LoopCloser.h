@@ -11,15 +11,21 @@
 #include <mrpt/poses/CPose3D.h>
 
 #include <cstddef>
+#include <functional>
+#include <map>
+#include <memory>
+#include <mutex>
 #include <optional>
 #include <string>
 #include <vector>
 
 namespace emslam::slam
 {
-/** Loop closing beside the paper's rectification: the places a path comes
- * back to are registered by the egomotion itself, and the keyframe poses are
- * bent to agree with them (a pose graph, emslam::rectify::PoseGraph).
+/** Loop closing beside the paper's rectification, online: each keyframe is
+ * registered, as it arrives, against the few keyframes before it and against
+ * the places it may be seeing again, by the egomotion itself, and the
+ * keyframe poses are bent to agree (a pose graph,
+ * emslam::rectify::PoseGraph).
  *
  * Why: the entropy of a drifting stereo map barely changes when a long loop
  * is closed (doc/rectify.md), while the egomotion registers a place seen
@@ -28,38 +34,46 @@ namespace emslam::slam
  * closer moves every keyframe, including those the compressed trajectory
  * holds rigid.
  *
- * close() runs once the trajectory is final:
- * 1. Candidates: keyframe pairs (i, j) whose path in between is at least
- *    `min_path_length`, whose cameras look within `max_angle_deg` of each
- *    other, and whose estimated distance is within `max_distance` plus three
- *    standard deviations of the chain's drift between them (from the
- *    egomotion's own covariances: translations, and rotations times their
- *    lever arm).
- * 2. Registration: the `max_candidates` nearest of them per keyframe j, by
- *    EgomotionEstimator::estimate() on the kept descriptions (GLM features,
- *    log-polar matching, LWO, Dpp); kept if it succeeds and its correction
- *    of the chain is within three standard deviations.
- * 3. Consensus: a repetitive world (a wallpaper, a row of doors) registers
- *    look-alike places too, each with its own correction. The registrations
- *    are grouped by the world correction they ask for, two agreeing when
- *    their corrections differ by less than three standard deviations of the
- *    drift between them; the group of the registration with the smallest
- *    normalised correction wins if it has at least two members.
- * 4. The winners join the pose graph as edges (their Dpp covariances), which
- *    is solved; steps 1–4 repeat on the corrected poses until no group wins.
+ * Threads: addKeyframe() and observeVertical() come from the producer (the
+ * mapper's frame loop); update() runs on a background thread and does the
+ * work of the keyframes added since its last call; currentPoses() may be
+ * read from any thread; close() ends the run once update() is no longer
+ * called.
  *
- * Before step 1, with `local_edges` > 0, each keyframe is registered
- * against the few keyframes before it and those edges (kept if their
- * Mahalanobis distance to the chain, under the chain's composed covariance
- * plus their own, is within the 99.73 % bulk of a χ²(6))
- * join the graph, which is solved once: this bends the path where no loop
- * does.
+ * update(), per new keyframe j (the work is bounded: a fixed number of
+ * registrations, a spatial index instead of all pairs):
+ * 1. Node: j is placed by the egomotion's motion since the previous
+ *    keyframe, with that motion's covariance as an odometry edge.
+ * 2. Local edges (`local_edges` > 0): j is registered against the few
+ *    keyframes before it; an edge whose Mahalanobis distance to the
+ *    egomotion's chain (its composed covariance plus the edge's own) is
+ *    within the 99.73 % bulk of a χ²(6) joins the graph.
+ * 3. Candidates: keyframes whose path to j is at least `min_path_length`,
+ *    whose cameras look within `max_angle_deg` of j's, and whose estimated
+ *    distance is within `max_distance` plus three standard deviations of the
+ *    chain's drift between them (translations, and rotations times their
+ *    lever arm, shortened by the loops already closed); a grid over the
+ *    keyframe positions finds them.
+ * 4. Registration: the `max_candidates` nearest, by
+ *    EgomotionEstimator::estimate() against the kept compact descriptions
+ *    (`kept_features`); kept if it succeeds and its correction of the chain
+ *    is within three standard deviations.
+ * 5. Consensus: a repetitive world registers look-alike places too, each
+ *    with its own correction. The registrations of the last
+ *    `consensus_window` keyframes are grouped by the world correction they
+ *    ask for, two agreeing when their corrections differ by less than three
+ *    standard deviations of the drift between them; the group of the
+ *    smallest normalised correction wins if it has at least two members
+ *    (loop edges accepted in the window count as members).
+ * 6. Solve: when a new loop edge disagrees with the graph beyond its χ²
+ *    bulk, the graph is solved from where it is (a few Levenberg–Marquardt
+ *    iterations); a loop edge the solved graph still disagrees with beyond
+ *    that bulk is dropped and the graph solved again.
  *
- * After the last round, with `vertical_prior`, the up each keyframe saw in
- * its dense cloud (observeVertical()) levels the graph (levelFloors()).
- *
- * The odometry edges are the relative poses of the keyframes as given (the
- * rectified trajectory) with the egomotion's covariances.
+ * close() polishes: the odometry edges take the rectified relative poses,
+ * the graph is solved once more, inconsistent loop edges dropped, and with
+ * `vertical_prior` the up each keyframe saw in its dense cloud levels the
+ * graph (levelFloors()).
  * \ingroup emslam_slam_grp \sa EntropySlam */
 class LoopCloser
 {
@@ -89,8 +103,6 @@ public:
          * metres the nearest by the estimate are often not the place seen
          * again. A registration costs a few ms at 320×240. (Default: 8) */
         int max_candidates{8};
-        /** Rounds of detection and solving. (Default: 4) */
-        int max_rounds{4};
         /** Each keyframe is also registered directly against this many
          * keyframes before it, and those registrations join the pose graph:
          * one registration in place of a chain of frame-to-frame steps, so
@@ -103,6 +115,18 @@ public:
          * buildings (floors, ceilings, stair treads are level); not for
          * open terrain. (Default: false) */
         bool vertical_prior{false};
+        /** Features kept per keyframe for registering it again later (the
+         * strongest of each image cell, 8-bit descriptors; about 150 bytes
+         * each): what bounds the memory of a long run. 0: every feature at
+         * full precision. (Default: 200) */
+        int kept_features{200};
+        /** Keyframes whose registrations may agree with each other
+         * (consensus, step 5). (Default: 10) */
+        int consensus_window{10};
+        /** Keyframes the background loop closing may lag behind the frames
+         * before the mapper waits for it: bounds the work left at the end
+         * of a run and how old the online estimate may be. (Default: 20) */
+        int max_lag{20};
         /** The `vertical_*` keys of the measurement. */
         emslam::stereo::VerticalFromPlanes::TParameters vertical;
     };
@@ -110,21 +134,37 @@ public:
     /** What close() did. */
     struct Stats
     {
-        std::size_t candidates{0};            //!< pairs within the gates of step 1
-        std::size_t registrations{0};         //!< egomotion registrations tried
-        std::size_t registered{0};            //!< of them: succeeded and within the gate
-        std::size_t loop_edges{0};            //!< accepted into the pose graph
-        std::size_t local_registrations{0};   //!< of `local_edges`, tried
-        std::size_t local_edges{0};           //!< of them: within the gate, in the graph
-        std::size_t verticals_measured{0};    //!< keyframes whose up was measured
-        std::size_t verticals_used{0};        //!< of them: agreed, in the graph
-        double vertical_drift_deg{0};         //!< tilt spread before levelling
-        double vertical_bias_deg{0};          //!< the camera's own tilt of what it sees
-        double vertical_correlation_time{1};  //!< keyframes that share one error
-        int rounds{0};
+        std::size_t candidates{0};              //!< pairs within the gates of step 1
+        std::size_t registrations{0};           //!< egomotion registrations tried
+        std::size_t registered{0};              //!< of them: succeeded and within the gate
+        std::size_t loop_edges{0};              //!< accepted into the pose graph
+        std::size_t local_registrations{0};     //!< of `local_edges`, tried
+        std::size_t local_edges{0};             //!< of them: within the gate, in the graph
+        std::size_t verticals_measured{0};      //!< keyframes whose up was measured
+        std::size_t verticals_used{0};          //!< of them: agreed, in the graph
+        double vertical_drift_deg{0};           //!< tilt spread before levelling
+        double vertical_bias_deg{0};            //!< the camera's own tilt of what it sees
+        double vertical_correlation_time{1};    //!< keyframes that share one error
+        int rounds{0};                          //!< solves of the graph
+        std::size_t dropped_edges{0};           //!< loop edges the solved graph disagreed with
+        std::size_t kept_bytes{0};              //!< kept descriptions, all keyframes
         double initial_cost{0}, final_cost{0};  //!< of the pose graph, first and last solve
-        double ms{0};
+        double ms{0};                           //!< update() and close(), all of it
+        double polish_ms{0};                    //!< close() alone
+        /** Empty, or why the loop closing is not to be trusted (most loop
+         * edges refused by the solved graph). */
+        std::string unreliable;
     };
+
+    /** A keyframe's pose in the current estimate. */
+    struct KeyframePose
+    {
+        std::size_t frame_index{0};
+        mrpt::poses::CPose3D pose;  //!< world
+    };
+
+    /** The last keyframe in the graph at its current pose (any thread). */
+    std::optional<KeyframePose> lastPose() const;
 
     /** An accepted loop edge, for reports. */
     struct LoopEdge
@@ -135,16 +175,17 @@ public:
     };
 
     explicit LoopCloser(const TParameters& p);
+    ~LoopCloser();
+    LoopCloser(const LoopCloser&) = delete;
+    LoopCloser& operator=(const LoopCloser&) = delete;
 
     const TParameters& parameters() const { return m_p; }
 
-    /** Adds the next keyframe: its frame index, its description (may be
-     * null: never registered), the egomotion's covariance of its motion
-     * since the previous keyframe and, if known, that motion itself (both
-     * ignored for the first). The local edges are checked against the
-     * egomotion's own chain of these motions, so that a registration can
-     * undo what the rectifier did wrong; without them, against the poses
-     * given to close(). */
+    /** Adds the next keyframe (producer thread): its frame index, its
+     * description (may be null: never registered), the egomotion's
+     * covariance of its motion since the previous keyframe and that motion
+     * (both ignored for the first). update() takes only keyframes with a
+     * motion; close() places the others by the poses it is given. */
     void addKeyframe(
         std::size_t frame_index,
         emslam::egomotion::EgomotionEstimator::Description description,
@@ -152,45 +193,99 @@ public:
         const std::optional<mrpt::poses::CPose3D>& step_motion = std::nullopt);
     /** Measures the up that keyframe `frame_index` (already added) sees in
      * its dense cloud `frame`, near where `pose` (world, the egomotion's)
-     * says it is; nothing unless `vertical_prior`. */
+     * says it is; nothing unless `vertical_prior`. Producer thread. */
     void observeVertical(
         std::size_t frame_index,
         const emslam::stereo::StereoFrame& frame,
         const mrpt::poses::CPose3D& pose);
-    std::size_t keyframeCount() const { return m_keyframes.size(); }
+    /** Keyframes added so far (any thread). */
+    std::size_t keyframeCount() const;
+    /** Keyframes in the graph so far (any thread). */
+    std::size_t processedCount() const;
+
+    /** Background thread: the work of every keyframe added since the last
+     * call (see the class comment), in order; while `stop` returns true the
+     * keyframes only get their nodes. Returns how many were taken. */
+    std::size_t update(
+        const emslam::egomotion::EgomotionEstimator& estimator,
+        const std::function<bool()>& stop = {});
+    /** The keyframes in the graph at their current poses (any thread; world
+     * = the first keyframe). */
+    std::vector<KeyframePose> currentPoses() const;
 
     /** The keyframe poses (world, one per addKeyframe(), in order) with the
-     * loops closed; `poses` unchanged if none was found. Throws
+     * loops closed, starting from `poses` (the rectified trajectory): the
+     * keyframes update() did not take are taken first, then the graph is
+     * polished (see the class comment); with `stop` true, no more
+     * registrations and no polish (the online estimate, moved to `poses`'
+     * first pose). Call once update() is no longer called. Throws
      * std::invalid_argument if `poses` has another size. */
     std::vector<mrpt::poses::CPose3D> close(
         const std::vector<mrpt::poses::CPose3D>& poses,
-        const emslam::egomotion::EgomotionEstimator& estimator);
+        const emslam::egomotion::EgomotionEstimator& estimator,
+        const std::function<bool()>& stop = {});
 
+    /** After close(), or from the thread that calls update(). */
     const Stats& stats() const { return m_stats; }
     const std::vector<LoopEdge>& loopEdges() const { return m_edges; }
 
 private:
-    /** The `local_edges` registrations into `graph`, which is then solved. */
-    void addLocalEdges(
-        emslam::rectify::PoseGraph& graph,
-        const std::vector<emslam::rectify::ActionCovariance>& steps,
-        const emslam::rectify::ActionCovariance& mean_step,
-        const emslam::egomotion::EgomotionEstimator& estimator);
-
     struct Keyframe
     {
         std::size_t frame_index{0};
+        /** Full while local edges may still register against it. */
         emslam::egomotion::EgomotionEstimator::Description description;
+        emslam::egomotion::EgomotionEstimator::CompactDescription kept;
         emslam::rectify::ActionCovariance covariance;
         std::optional<mrpt::poses::CPose3D> motion;
         std::optional<emslam::stereo::VerticalMeasurement> vertical;
     };
+    struct Registration;
+    class Drift;
+    class Grid;
+
+    /** Steps 1-6 for the next keyframe, `T_prev_cur` placing it. */
+    void integrate(
+        Keyframe k,
+        const mrpt::poses::CPose3D& T_prev_cur,
+        const emslam::egomotion::EgomotionEstimator& estimator,
+        bool work);
+    void addLocalEdges(std::size_t j, const emslam::egomotion::EgomotionEstimator& estimator);
+    void registerCandidates(std::size_t j, const emslam::egomotion::EgomotionEstimator& estimator);
+    /** Step 5 on the pool; returns true if loop edges were accepted. */
+    bool acceptConsensus(std::size_t j);
+    /** Step 6: solve, drop loop edges the solution refuses, solve again. */
+    void solve(int max_iterations);
+    /** The polish's levelling (levelFloors()) with the keyframes' ups. */
+    void levelWithVerticals();
+    emslam::egomotion::EgomotionEstimator::Description descriptionOf(std::size_t k) const;
+    /** Takes the keyframes added since the last call (producer's lock). */
+    std::vector<Keyframe> takeIncoming();
+    void publishPoses(bool all);
+
     TParameters m_p;
+    // Producer side.
     emslam::stereo::VerticalFromPlanes m_vertical;  // with m_p.vertical
     mrpt::math::TVector3D m_up_sum{0, 0, 0};        // ups seen (world), weighted by information
+    mutable std::mutex m_in_mutex;                  // guards the three below
+    std::vector<Keyframe> m_incoming;
+    std::vector<std::pair<std::size_t, emslam::stereo::VerticalMeasurement>> m_incoming_verticals;
+    std::size_t m_added{0};
+    // Background side.
     std::vector<Keyframe> m_keyframes;
+    std::map<std::size_t, std::size_t> m_keyframe_of_frame;
+    emslam::rectify::PoseGraph m_graph;
+    std::unique_ptr<Drift> m_drift;
+    std::unique_ptr<Grid> m_grid;
+    std::vector<double> m_path;                             // along the chain, per keyframe
+    std::vector<std::unique_ptr<Registration>> m_pool;      // gated, waiting for consensus
+    std::vector<std::unique_ptr<Registration>> m_accepted;  // recent loop edges, for consensus
     Stats m_stats;
-    std::vector<LoopEdge> m_edges;
+    std::vector<LoopEdge> m_edges;  // every accepted one; those dropped out at close()
+    std::vector<bool> m_dropped;    // per m_edges
+    // Published.
+    mutable std::mutex m_out_mutex;
+    std::vector<KeyframePose> m_published;
 };
 
 }  // namespace emslam::slam
