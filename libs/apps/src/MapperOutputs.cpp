@@ -244,7 +244,8 @@ void writeSummaryJson(
       << ", \"vertical_correlation_time\": " << io::jsonNumber(lc.vertical_correlation_time)
       << ", \"rounds\": " << lc.rounds << ", \"initial_cost\": " << io::jsonNumber(lc.initial_cost)
       << ", \"final_cost\": " << io::jsonNumber(lc.final_cost)
-      << ", \"dropped_edges\": " << lc.dropped_edges << ", \"kept_bytes\": " << lc.kept_bytes
+      << ", \"dropped_edges\": " << lc.dropped_edges
+      << ", \"refused_groups\": " << lc.refused_groups << ", \"kept_bytes\": " << lc.kept_bytes
       << ", \"unreliable\": "
       << (lc.unreliable.empty() ? std::string("null") : io::jsonString(lc.unreliable))
       << ", \"polish_ms\": " << io::jsonNumber(lc.polish_ms)

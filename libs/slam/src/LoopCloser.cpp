@@ -35,6 +35,8 @@ constexpr std::size_t EDGE_LOOP = 2;
  * graph is: a few suffice) and of the polish. */
 constexpr int ONLINE_ITERATIONS = 8;
 constexpr int POLISH_ITERATIONS = 30;
+/** Registrations that must agree for a loop to close (step 5). */
+constexpr std::size_t CONSENSUS_MIN = 2;
 /** Solves after dropping refused loop edges, at most. */
 constexpr int MAX_DROP_PASSES = 3;
 
@@ -486,14 +488,10 @@ void LoopCloser::integrate(
     {
         addLocalEdges(j, estimator);
         registerCandidates(j, estimator);
-        if (acceptConsensus(j))
+        auto group = takeConsensusGroup(j);
+        if (!group.empty())
         {
-            // A shortcut of the drift holds only once the graph agrees with
-            // it: solved at every acceptance, from where it is (a few
-            // iterations; without, the KITTI pseudo-loop's later keyframes
-            // looked closer than they were and found no candidate).
-            solve(ONLINE_ITERATIONS);
-            solved = true;
+            solved = tryAccept(std::move(group));
         }
     }
     // Full descriptions only while a later keyframe's local edges need them.
@@ -603,8 +601,13 @@ void LoopCloser::registerCandidates(
     std::sort(near.begin(), near.end());
     near.resize(std::min(near.size(), static_cast<std::size_t>(m_p.max_candidates)));
     const auto cur = m_keyframes[j].description;
+    std::size_t gated = 0;
     for (const auto& [d, i] : near)
     {
+        if (gated >= CONSENSUS_MIN)
+        {
+            break;  // enough for a consensus of this keyframe alone: the rest would cost, not add
+        }
         const auto r = estimator.estimate(descriptionOf(i), cur);
         ++m_stats.registrations;
         if (!r.ok)
@@ -631,11 +634,12 @@ void LoopCloser::registerCandidates(
             continue;
         }
         ++m_stats.registered;
+        ++gated;
         m_pool.push_back(std::move(reg));
     }
 }
 
-bool LoopCloser::acceptConsensus(std::size_t j)
+std::vector<std::unique_ptr<LoopCloser::Registration>> LoopCloser::takeConsensusGroup(std::size_t j)
 {
     const std::size_t window = static_cast<std::size_t>(m_p.consensus_window);
     const auto expired = [&](const std::unique_ptr<Registration>& r) { return r->j + window <= j; };
@@ -644,7 +648,7 @@ bool LoopCloser::acceptConsensus(std::size_t j)
         std::remove_if(m_accepted.begin(), m_accepted.end(), expired), m_accepted.end());
     if (m_pool.empty())
     {
-        return false;
+        return {};
     }
     const std::vector<mrpt::poses::CPose3D>& x = m_graph.nodes();
     const auto measure = [&](Registration& r)
@@ -693,27 +697,18 @@ bool LoopCloser::acceptConsensus(std::size_t j)
         }
         const auto votes = static_cast<std::size_t>(std::count_if(
             m_accepted.begin(), m_accepted.end(), [&](const auto& r) { return agree(*seed, *r); }));
-        if (group.size() + votes < 2)
+        if (group.size() + votes < CONSENSUS_MIN)
         {
             continue;
         }
-        std::vector<std::unique_ptr<Registration>> rest;
+        std::vector<std::unique_ptr<Registration>> taken, rest;
         std::size_t g = 0;
         for (std::size_t n = 0; n < m_pool.size(); ++n)
         {
             if (g < group.size() && group[g] == n)
             {
                 ++g;
-                Registration& r = *m_pool[n];
-                m_drift->addShortcut(
-                    r.i, r.j, translationTrace(r.covariance), rotationTrace(r.covariance));
-                r.tag = EDGE_LOOP + m_edges.size();
-                m_graph.addEdge(r.i, r.j, r.z, r.covariance, r.tag);
-                m_dropped.push_back(false);
-                m_edges.push_back(
-                    {m_keyframes[r.i].frame_index, m_keyframes[r.j].frame_index, r.z, r.matches});
-                ++m_stats.loop_edges;
-                m_accepted.push_back(std::move(m_pool[n]));
+                taken.push_back(std::move(m_pool[n]));
             }
             else
             {
@@ -721,9 +716,89 @@ bool LoopCloser::acceptConsensus(std::size_t j)
             }
         }
         m_pool = std::move(rest);
-        return true;
+        return taken;
     }
-    return false;
+    return {};
+}
+
+bool LoopCloser::tryAccept(std::vector<std::unique_ptr<Registration>> group)
+{
+    const std::vector<mrpt::poses::CPose3D> before = m_graph.nodes();
+    const auto squared = [](const emslam::rectify::ActionDelta& d, int from)
+    { return d[from] * d[from] + d[from + 1] * d[from + 1] + d[from + 2] * d[from + 2]; };
+    // What the graph still disagrees with each edge, before it is solved.
+    std::vector<emslam::rectify::ActionDelta> misclosure;
+    bool disagrees = false;
+    const std::size_t first_tag = EDGE_LOOP + m_edges.size();
+    for (std::size_t n = 0; n < group.size(); ++n)
+    {
+        Registration& r = *group[n];
+        misclosure.push_back(emslam::rectify::actionDifference(before[r.j] - before[r.i], r.z));
+        r.tag = first_tag + n;
+        m_graph.addEdge(r.i, r.j, r.z, r.covariance, r.tag);
+    }
+    for (const auto& e : m_graph.edges())
+    {
+        disagrees = disagrees || (e.tag >= first_tag && 2 * m_graph.edgeCost(e) > GATE_CHI2_6DOF);
+    }
+    if (disagrees)
+    {
+        const auto solved = m_graph.optimize(ONLINE_ITERATIONS);
+        if (m_stats.rounds == 0)
+        {
+            m_stats.initial_cost = solved.initial_cost;
+        }
+        m_stats.final_cost = solved.final_cost;
+        ++m_stats.rounds;
+        // The solved graph must agree with the group and still with the loop
+        // edges accepted nearby: otherwise the group is a look-alike that got
+        // through, and the graph goes back to where it was.
+        std::vector<std::size_t> check;
+        for (const auto& r : m_accepted)
+        {
+            check.push_back(r->tag);
+        }
+        bool consistent = true;
+        for (const auto& e : m_graph.edges())
+        {
+            const bool mine =
+                e.tag >= first_tag ||
+                (e.tag >= EDGE_LOOP && std::find(check.begin(), check.end(), e.tag) != check.end());
+            if (mine && 2 * m_graph.edgeCost(e) > GATE_CHI2_6DOF)
+            {
+                consistent = false;
+                break;
+            }
+        }
+        if (!consistent)
+        {
+            m_graph.removeEdgesIf([&](const emslam::rectify::PoseGraph::Edge& e)
+                                  { return e.tag >= first_tag; });
+            for (std::size_t k = 0; k < before.size(); ++k)
+            {
+                m_graph.setNode(k, before[k]);
+            }
+            m_stats.refused_groups += 1;
+            return false;
+        }
+    }
+    for (std::size_t n = 0; n < group.size(); ++n)
+    {
+        Registration& r = *group[n];
+        // A shortcut of the drift, as uncertain as the edge plus the
+        // misclosure it had to absorb: the egomotion drifted that much
+        // beyond what its covariance said (KITTI: corrections 3-4 sigma of
+        // it), and may again on the way from here.
+        m_drift->addShortcut(
+            r.i, r.j, translationTrace(r.covariance) + squared(misclosure[n], 0),
+            rotationTrace(r.covariance) + squared(misclosure[n], 3));
+        m_dropped.push_back(false);
+        m_edges.push_back(
+            {m_keyframes[r.i].frame_index, m_keyframes[r.j].frame_index, r.z, r.matches});
+        ++m_stats.loop_edges;
+        m_accepted.push_back(std::move(group[n]));
+    }
+    return disagrees;
 }
 
 void LoopCloser::solve(int max_iterations)

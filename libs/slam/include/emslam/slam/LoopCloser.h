@@ -147,6 +147,7 @@ public:
         double vertical_correlation_time{1};    //!< keyframes that share one error
         int rounds{0};                          //!< solves of the graph
         std::size_t dropped_edges{0};           //!< loop edges the solved graph disagreed with
+        std::size_t refused_groups{0};          //!< consensus groups the solved graph refused
         std::size_t kept_bytes{0};              //!< kept descriptions, all keyframes
         double initial_cost{0}, final_cost{0};  //!< of the pose graph, first and last solve
         double ms{0};                           //!< update() and close(), all of it
@@ -252,8 +253,13 @@ private:
         bool work);
     void addLocalEdges(std::size_t j, const emslam::egomotion::EgomotionEstimator& estimator);
     void registerCandidates(std::size_t j, const emslam::egomotion::EgomotionEstimator& estimator);
-    /** Step 5 on the pool; returns true if loop edges were accepted. */
-    bool acceptConsensus(std::size_t j);
+    /** Step 5 on the pool: the winning group, taken out of it (or none). */
+    std::vector<std::unique_ptr<Registration>> takeConsensusGroup(std::size_t j);
+    /** Step 6 for a group: its edges join the graph, solved if it disagrees;
+     * a group the solved graph refuses (it, or the loop edges accepted in
+     * the window) is taken out again. Returns true if the graph was solved
+     * and kept. */
+    bool tryAccept(std::vector<std::unique_ptr<Registration>> group);
     /** Step 6: solve, drop loop edges the solution refuses, solve again. */
     void solve(int max_iterations);
     /** The polish's levelling (levelFloors()) with the keyframes' ups. */
