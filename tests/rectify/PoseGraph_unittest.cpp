@@ -43,6 +43,45 @@ TEST(PoseGraph, exactEdgesGiveZeroCostAtTheTruth)
     }
 }
 
+TEST(PoseGraph, aPerturbedThreeDimensionalGraphReturnsToTheTruthInAFewIterations)
+{
+    // A helix turning about every axis, its exact edges and a loop edge;
+    // every node but the first moved by up to 0.3 m and 6 deg: Newton steps
+    // with the right derivatives come back in a few iterations.
+    std::vector<CPose3D> truth;
+    for (int k = 0; k < 30; ++k)
+    {
+        const double a = 0.25 * k;
+        truth.emplace_back(
+            3 * std::cos(a), 0.2 * k, 3 * std::sin(a), a, 0.3 * std::sin(a), 0.2 * std::cos(2 * a));
+    }
+    PoseGraph g;
+    for (std::size_t k = 0; k < truth.size(); ++k)
+    {
+        const double s = k == 0 ? 0.0 : 1.0;
+        const double u = std::sin(7.0 * static_cast<double>(k));
+        g.addNode(
+            truth[k] + CPose3D(
+                           0.3 * s * u, -0.2 * s * u, 0.1 * s, mrpt::DEG2RAD(6 * s * u),
+                           mrpt::DEG2RAD(-4 * s), mrpt::DEG2RAD(5 * s * u)));
+    }
+    const ActionCovariance c = diagonalCovariance(0.02, mrpt::DEG2RAD(0.5));
+    for (std::size_t k = 1; k < truth.size(); ++k)
+    {
+        g.addEdge(k - 1, k, truth[k] - truth[k - 1], c);
+    }
+    g.addEdge(0, 29, truth[29] - truth[0], c);
+    g.addEdge(5, 20, truth[20] - truth[5], c);
+    const auto r = g.optimize(8);
+    std::printf(
+        "helix: cost %.1f -> %.2e in %d iterations\n", r.initial_cost, r.final_cost, r.iterations);
+    EXPECT_LT(r.final_cost, 1e-8);
+    for (std::size_t k = 0; k < truth.size(); ++k)
+    {
+        EXPECT_LT(distance(g.node(k), truth[k]), 1e-5) << k;
+    }
+}
+
 TEST(PoseGraph, oneLoopEdgeSpreadsTheDriftOverTheLoop)
 {
     const auto truth = emslam::test::squareLoop(40);

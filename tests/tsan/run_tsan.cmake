@@ -20,3 +20,8 @@ if(rc)
     message(FATAL_ERROR
         "tsan: the sparse front-end test failed or ThreadSanitizer reported (exit ${rc})")
 endif()
+execute_process(COMMAND ${BIN}/tsan_loop_closing RESULT_VARIABLE rc)
+if(rc)
+    message(FATAL_ERROR
+        "tsan: the loop-closing test failed or ThreadSanitizer reported (exit ${rc})")
+endif()

@@ -245,10 +245,14 @@ void writeSummaryJson(
       << ", \"rounds\": " << lc.rounds << ", \"initial_cost\": " << io::jsonNumber(lc.initial_cost)
       << ", \"final_cost\": " << io::jsonNumber(lc.final_cost)
       << ", \"dropped_edges\": " << lc.dropped_edges
-      << ", \"refused_groups\": " << lc.refused_groups << ", \"kept_bytes\": " << lc.kept_bytes
-      << ", \"unreliable\": "
+      << ", \"refused_groups\": " << lc.refused_groups << ", \"local_solves\": " << lc.local_solves
+      << ", \"latency_ms_mean\": " << io::jsonNumber(lc.latency_ms_mean)
+      << ", \"latency_ms_max\": " << io::jsonNumber(lc.latency_ms_max)
+      << ", \"kept_bytes\": " << lc.kept_bytes << ", \"unreliable\": "
       << (lc.unreliable.empty() ? std::string("null") : io::jsonString(lc.unreliable))
       << ", \"polish_ms\": " << io::jsonNumber(lc.polish_ms)
+      << ", \"polish_solve_ms\": " << io::jsonNumber(lc.polish_solve_ms)
+      << ", \"polish_level_ms\": " << io::jsonNumber(lc.polish_level_ms)
       << ", \"ms\": " << io::jsonNumber(lc.ms) << "},\n"
       << "  \"trajectory_elements\": " << m.trajectoryElements() << ",\n"
       << "  \"compressions\": " << m.compressions() << ",\n"

@@ -381,6 +381,18 @@ void EntropySlam::addAccepted(const emslam::stereo::StereoFrame& f, const Pendin
         m_energy = progress.energy;
         m_has_energy = true;
     }
+    if (loopClosing() && progress.rectifications != m_rectifications_sent)
+    {
+        // A rectification ended: the online graph takes its poses.
+        m_rectifications_sent = progress.rectifications;
+        std::vector<LoopCloser::KeyframePose> poses;
+        for (const auto& p : m_runner->framePoses())
+        {
+            poses.push_back({p.frame_index, p.T_world_frame});
+        }
+        m_loops.setRectifiedPoses(std::move(poses));
+        m_loop_worker->notify();
+    }
 }
 
 void EntropySlam::finish()

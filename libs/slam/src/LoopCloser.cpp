@@ -10,6 +10,7 @@
 #include <algorithm>
 #include <chrono>
 #include <cmath>
+#include <limits>
 #include <map>
 #include <stdexcept>
 #include <unordered_map>
@@ -35,6 +36,16 @@ constexpr std::size_t EDGE_LOOP = 2;
  * graph is: a few suffice) and of the polish. */
 constexpr int ONLINE_ITERATIONS = 8;
 constexpr int POLISH_ITERATIONS = 30;
+/** After new rectified odometry: the rectifier moves the path a little. */
+constexpr int RECTIFIED_ITERATIONS = 3;
+/** No keyframe waits for a solve. */
+constexpr std::size_t NONE_UNSOLVED = std::numeric_limits<std::size_t>::max();
+/** A rectified odometry edge that moved less than this Mahalanobis² from
+ * what the graph had does not make its keyframes free in that solve. */
+constexpr double RECTIFIED_CHANGE_MIN = 0.01;
+/** A solve stops once an iteration lowers the cost by less than this
+ * fraction: far below the noise of any edge. */
+constexpr double SOLVE_TOLERANCE = 1e-6;
 /** Registrations that must agree for a loop to close (step 5). */
 constexpr std::size_t CONSENSUS_MIN = 2;
 /** Solves after dropping refused loop edges, at most. */
@@ -351,6 +362,7 @@ void LoopCloser::addKeyframe(
     k.description = std::move(description);
     k.covariance = step_covariance;
     k.motion = step_motion;
+    k.added = std::chrono::steady_clock::now();
     std::lock_guard<std::mutex> lock(m_in_mutex);
     m_incoming.push_back(std::move(k));
     ++m_added;
@@ -423,11 +435,56 @@ std::vector<LoopCloser::Keyframe> LoopCloser::takeIncoming()
     return taken;
 }
 
+void LoopCloser::setRectifiedPoses(std::vector<KeyframePose> poses)
+{
+    std::lock_guard<std::mutex> lock(m_in_mutex);
+    m_incoming_rectified = std::move(poses);
+}
+
+std::size_t LoopCloser::applyRectified(const std::vector<KeyframePose>& poses)
+{
+    std::vector<const mrpt::poses::CPose3D*> by_keyframe(m_keyframes.size(), nullptr);
+    for (const auto& p : poses)
+    {
+        const auto it = m_keyframe_of_frame.find(p.frame_index);
+        if (it != m_keyframe_of_frame.end())
+        {
+            by_keyframe[it->second] = &p.pose;
+        }
+    }
+    // The first keyframe whose odometry edge changes by more than a small
+    // fraction of its own noise: those before it need not move.
+    std::size_t first_changed = m_keyframes.size();
+    for (std::size_t e = 0; e < m_graph.edges().size(); ++e)
+    {
+        const auto& edge = m_graph.edges()[e];
+        if (edge.tag != EDGE_ODOMETRY || !by_keyframe[edge.from] || !by_keyframe[edge.to])
+        {
+            continue;
+        }
+        const mrpt::poses::CPose3D z = *by_keyframe[edge.to] - *by_keyframe[edge.from];
+        const double d2 =
+            2 * emslam::rectify::halfMahalanobis(
+                    emslam::rectify::actionDifference(z, edge.measurement), edge.information);
+        if (d2 > RECTIFIED_CHANGE_MIN)
+        {
+            first_changed = std::min(first_changed, edge.to);
+        }
+        m_graph.setEdgeMeasurement(e, z);
+    }
+    return first_changed;
+}
+
 std::size_t LoopCloser::update(
     const emslam::egomotion::EgomotionEstimator& estimator, const std::function<bool()>& stop)
 {
     const auto t0 = std::chrono::steady_clock::now();
     std::vector<Keyframe> taken = takeIncoming();
+    std::optional<std::vector<KeyframePose>> rectified;
+    {
+        std::lock_guard<std::mutex> lock(m_in_mutex);
+        rectified.swap(m_incoming_rectified);
+    }
     std::size_t done = 0;
     for (std::size_t n = 0; n < taken.size(); ++n)
     {
@@ -444,6 +501,22 @@ std::size_t LoopCloser::update(
         const mrpt::poses::CPose3D T = k.motion ? *k.motion : mrpt::poses::CPose3D();
         integrate(std::move(k), T, estimator, !(stop && stop()));
         ++done;
+    }
+    const std::size_t first_changed =
+        rectified && !(stop && stop()) ? applyRectified(*rectified) : m_keyframes.size();
+    if (first_changed < m_keyframes.size())
+    {
+        // The rectifier moves the path a little at a time: a few iterations
+        // from where the graph is, of the keyframes it moved (and those the
+        // local edges added since the last solve reach).
+        const std::size_t first_free = std::min(first_changed, m_unsolved_from);
+        const auto solved = m_graph.optimize(RECTIFIED_ITERATIONS, first_free, SOLVE_TOLERANCE);
+        m_unsolved_from = NONE_UNSOLVED;
+        m_stats.final_cost = solved.final_cost;
+        ++m_stats.rounds;
+        m_stats.local_solves += first_free > 1 ? 1 : 0;
+        m_grid->rebuild(m_graph.nodes());
+        publishPoses(true);
     }
     m_stats.ms +=
         std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
@@ -560,6 +633,7 @@ void LoopCloser::addLocalEdges(
             continue;
         }
         m_graph.addEdge(i, j, r.T_prev_cur, cov, EDGE_LOCAL);
+        m_unsolved_from = std::min(m_unsolved_from, std::max<std::size_t>(i, 1));
         ++m_stats.local_edges;
     }
 }
@@ -723,7 +797,6 @@ std::vector<std::unique_ptr<LoopCloser::Registration>> LoopCloser::takeConsensus
 
 bool LoopCloser::tryAccept(std::vector<std::unique_ptr<Registration>> group)
 {
-    const std::vector<mrpt::poses::CPose3D> before = m_graph.nodes();
     const auto squared = [](const emslam::rectify::ActionDelta& d, int from)
     { return d[from] * d[from] + d[from + 1] * d[from + 1] + d[from + 2] * d[from + 2]; };
     // What the graph still disagrees with each edge, before it is solved.
@@ -733,7 +806,8 @@ bool LoopCloser::tryAccept(std::vector<std::unique_ptr<Registration>> group)
     for (std::size_t n = 0; n < group.size(); ++n)
     {
         Registration& r = *group[n];
-        misclosure.push_back(emslam::rectify::actionDifference(before[r.j] - before[r.i], r.z));
+        misclosure.push_back(
+            emslam::rectify::actionDifference(m_graph.node(r.j) - m_graph.node(r.i), r.z));
         r.tag = first_tag + n;
         m_graph.addEdge(r.i, r.j, r.z, r.covariance, r.tag);
     }
@@ -743,45 +817,78 @@ bool LoopCloser::tryAccept(std::vector<std::unique_ptr<Registration>> group)
     }
     if (disagrees)
     {
-        const auto solved = m_graph.optimize(ONLINE_ITERATIONS);
-        if (m_stats.rounds == 0)
+        // With loop edges accepted in the window, the map behind them is
+        // consistent: only the keyframes since the oldest of them drifted,
+        // and a local solve moves them (its cost follows the window, not the
+        // run). Otherwise a new loop closes: every keyframe may move.
+        std::size_t first_free = 1;
+        if (!m_accepted.empty())
         {
-            m_stats.initial_cost = solved.initial_cost;
+            first_free = group.front()->j;
+            for (const auto& r : m_accepted)
+            {
+                first_free = std::min(first_free, r->j);
+            }
+            for (const auto& r : group)
+            {
+                first_free = std::min(first_free, r->j);
+            }
         }
-        m_stats.final_cost = solved.final_cost;
-        ++m_stats.rounds;
         // The solved graph must agree with the group and still with the loop
-        // edges accepted nearby: otherwise the group is a look-alike that got
-        // through, and the graph goes back to where it was.
+        // edges accepted nearby; a local solve that cannot is tried again
+        // with every keyframe free (the correction may need the whole loop),
+        // and if that cannot either, the group is a look-alike that got
+        // through: out, and the graph back where it was.
         std::vector<std::size_t> check;
         for (const auto& r : m_accepted)
         {
             check.push_back(r->tag);
         }
-        bool consistent = true;
-        for (const auto& e : m_graph.edges())
+        const auto solveConsistently = [&](std::size_t free_from)
         {
-            const bool mine =
-                e.tag >= first_tag ||
-                (e.tag >= EDGE_LOOP && std::find(check.begin(), check.end(), e.tag) != check.end());
-            if (mine && 2 * m_graph.edgeCost(e) > GATE_CHI2_6DOF)
+            const std::vector<mrpt::poses::CPose3D> before(
+                m_graph.nodes().begin() + static_cast<long>(free_from), m_graph.nodes().end());
+            const auto solved = m_graph.optimize(ONLINE_ITERATIONS, free_from, SOLVE_TOLERANCE);
+            m_stats.local_solves += free_from > 1 ? 1 : 0;
+            if (m_stats.rounds == 0)
             {
-                consistent = false;
-                break;
+                m_stats.initial_cost = solved.initial_cost;
             }
-        }
-        if (!consistent)
+            m_stats.final_cost = solved.final_cost;
+            ++m_stats.rounds;
+            for (const auto& e : m_graph.edges())
+            {
+                const bool mine = e.tag >= first_tag ||
+                                  (e.tag >= EDGE_LOOP &&
+                                   std::find(check.begin(), check.end(), e.tag) != check.end());
+                if (mine && 2 * m_graph.edgeCost(e) > GATE_CHI2_6DOF)
+                {
+                    for (std::size_t k = 0; k < before.size(); ++k)
+                    {
+                        m_graph.setNode(free_from + k, before[k]);
+                    }
+                    return false;
+                }
+            }
+            return true;
+        };
+        if (!solveConsistently(first_free) && (first_free == 1 || !solveConsistently(1)))
         {
             m_graph.removeEdgesIf([&](const emslam::rectify::PoseGraph::Edge& e)
                                   { return e.tag >= first_tag; });
-            for (std::size_t k = 0; k < before.size(); ++k)
-            {
-                m_graph.setNode(k, before[k]);
-            }
             m_stats.refused_groups += 1;
             return false;
         }
     }
+    const double latency_ms =
+        std::chrono::duration<double, std::milli>(
+            std::chrono::steady_clock::now() - m_keyframes[group.front()->j].added)
+            .count();
+    m_stats.latency_ms_mean =
+        (m_stats.latency_ms_mean * static_cast<double>(m_stats.latency_count) + latency_ms) /
+        static_cast<double>(m_stats.latency_count + 1);
+    m_stats.latency_ms_max = std::max(m_stats.latency_ms_max, latency_ms);
+    ++m_stats.latency_count;
     for (std::size_t n = 0; n < group.size(); ++n)
     {
         Registration& r = *group[n];
@@ -801,11 +908,13 @@ bool LoopCloser::tryAccept(std::vector<std::unique_ptr<Registration>> group)
     return disagrees;
 }
 
-void LoopCloser::solve(int max_iterations)
+void LoopCloser::solve(int max_iterations, std::size_t first_free)
 {
+    first_free = std::min(first_free, m_unsolved_from);
+    m_unsolved_from = NONE_UNSOLVED;
     for (int pass = 0; pass < MAX_DROP_PASSES; ++pass)
     {
-        const auto solved = m_graph.optimize(max_iterations);
+        const auto solved = m_graph.optimize(max_iterations, first_free, SOLVE_TOLERANCE);
         if (m_stats.rounds == 0)
         {
             m_stats.initial_cost = solved.initial_cost;
@@ -905,20 +1014,26 @@ std::vector<mrpt::poses::CPose3D> LoopCloser::close(
     }
     if (!stopped())
     {
-        // The odometry edges take the rectified relative poses.
-        for (std::size_t e = 0; e < m_graph.edges().size(); ++e)
+        // The odometry edges take the rectified relative poses; the
+        // keyframes before the first that moved need not.
+        std::vector<KeyframePose> rectified;
+        for (std::size_t k = 0; k < n; ++k)
         {
-            const auto& edge = m_graph.edges()[e];
-            if (edge.tag == EDGE_ODOMETRY)
-            {
-                m_graph.setEdgeMeasurement(e, poses[edge.to] - poses[edge.from]);
-            }
+            rectified.push_back({m_keyframes[k].frame_index, poses[k]});
         }
-        solve(POLISH_ITERATIONS);
+        const std::size_t first_changed = applyRectified(rectified);
+        const auto t_solve = std::chrono::steady_clock::now();
+        solve(POLISH_ITERATIONS, std::min(first_changed, n - 1));
+        const auto t_level = std::chrono::steady_clock::now();
         if (m_p.vertical_prior)
         {
             levelWithVerticals();
         }
+        m_stats.polish_solve_ms =
+            std::chrono::duration<double, std::milli>(t_level - t_solve).count();
+        m_stats.polish_level_ms =
+            std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t_level)
+                .count();
     }
     const std::size_t accepted = m_stats.loop_edges;
     if (m_stats.dropped_edges > 3 && 2 * m_stats.dropped_edges > accepted)

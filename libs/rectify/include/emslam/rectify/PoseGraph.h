@@ -109,8 +109,13 @@ public:
     /** ½ δᵀ Ω δ of one edge at the current nodes. */
     double edgeCost(const Edge& e) const;
     /** Levenberg–Marquardt until the relative decrease of E falls below
-     * 1e-9 or `max_iterations`; node 0 stays where it is. */
-    Result optimize(int max_iterations = 30);
+     * `min_relative_decrease` or `max_iterations`; node 0 and every node
+     * before `first_free` stay where they are (a local solve: only the
+     * edges that reach a free node are looked at, so its cost follows them,
+     * not the graph). Direction priors need `first_free` <= 1
+     * (std::invalid_argument otherwise). Result costs are of those edges. */
+    Result optimize(
+        int max_iterations = 30, std::size_t first_free = 1, double min_relative_decrease = 1e-9);
 
 private:
     std::vector<mrpt::poses::CPose3D> m_nodes;

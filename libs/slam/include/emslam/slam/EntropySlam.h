@@ -256,6 +256,8 @@ private:
      * rectifications it is from. */
     std::optional<emslam::rectify::TimedPose> m_rectified_anchor;
     std::size_t m_anchor_rectifications{0};
+    /** Rectifications whose poses the loop closer was given. */
+    std::size_t m_rectifications_sent{0};
     std::vector<emslam::rectify::TimedPose> m_egomotion, m_slam, m_keyframe_slam;
     /** Where a frame is measured from: its keyframe and the egomotion since. */
     struct KeyframeLink

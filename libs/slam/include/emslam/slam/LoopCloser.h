@@ -10,6 +10,7 @@
 #include <mrpt/config/CLoadableOptions.h>
 #include <mrpt/poses/CPose3D.h>
 
+#include <chrono>
 #include <cstddef>
 #include <functional>
 #include <map>
@@ -134,24 +135,30 @@ public:
     /** What close() did. */
     struct Stats
     {
-        std::size_t candidates{0};              //!< pairs within the gates of step 1
-        std::size_t registrations{0};           //!< egomotion registrations tried
-        std::size_t registered{0};              //!< of them: succeeded and within the gate
-        std::size_t loop_edges{0};              //!< accepted into the pose graph
-        std::size_t local_registrations{0};     //!< of `local_edges`, tried
-        std::size_t local_edges{0};             //!< of them: within the gate, in the graph
-        std::size_t verticals_measured{0};      //!< keyframes whose up was measured
-        std::size_t verticals_used{0};          //!< of them: agreed, in the graph
-        double vertical_drift_deg{0};           //!< tilt spread before levelling
-        double vertical_bias_deg{0};            //!< the camera's own tilt of what it sees
-        double vertical_correlation_time{1};    //!< keyframes that share one error
-        int rounds{0};                          //!< solves of the graph
+        std::size_t candidates{0};            //!< pairs within the gates of step 1
+        std::size_t registrations{0};         //!< egomotion registrations tried
+        std::size_t registered{0};            //!< of them: succeeded and within the gate
+        std::size_t loop_edges{0};            //!< accepted into the pose graph
+        std::size_t local_registrations{0};   //!< of `local_edges`, tried
+        std::size_t local_edges{0};           //!< of them: within the gate, in the graph
+        std::size_t verticals_measured{0};    //!< keyframes whose up was measured
+        std::size_t verticals_used{0};        //!< of them: agreed, in the graph
+        double vertical_drift_deg{0};         //!< tilt spread before levelling
+        double vertical_bias_deg{0};          //!< the camera's own tilt of what it sees
+        double vertical_correlation_time{1};  //!< keyframes that share one error
+        int rounds{0};                        //!< solves of the graph
+        std::size_t local_solves{0};          //!< of them: the recent keyframes only
+        /** From a keyframe's addKeyframe() to its loop edges in the
+         * current poses [ms], over the keyframes that closed a loop. */
+        double latency_ms_mean{0}, latency_ms_max{0};
+        std::size_t latency_count{0};
         std::size_t dropped_edges{0};           //!< loop edges the solved graph disagreed with
         std::size_t refused_groups{0};          //!< consensus groups the solved graph refused
         std::size_t kept_bytes{0};              //!< kept descriptions, all keyframes
         double initial_cost{0}, final_cost{0};  //!< of the pose graph, first and last solve
         double ms{0};                           //!< update() and close(), all of it
         double polish_ms{0};                    //!< close() alone
+        double polish_solve_ms{0}, polish_level_ms{0};  //!< of it: the solve, the levelling
         /** Empty, or why the loop closing is not to be trusted (most loop
          * edges refused by the solved graph). */
         std::string unreliable;
@@ -199,6 +206,12 @@ public:
         std::size_t frame_index,
         const emslam::stereo::StereoFrame& frame,
         const mrpt::poses::CPose3D& pose);
+    /** The rectifier's current keyframe poses (producer thread; world):
+     * the next update() makes their relative poses the odometry edges of
+     * the keyframes it holds and solves the graph, so that the online
+     * estimate has the rectification as well as the loops. Only the latest
+     * set waits. */
+    void setRectifiedPoses(std::vector<KeyframePose> poses);
     /** Keyframes added so far (any thread). */
     std::size_t keyframeCount() const;
     /** Keyframes in the graph so far (any thread). */
@@ -240,6 +253,7 @@ private:
         emslam::rectify::ActionCovariance covariance;
         std::optional<mrpt::poses::CPose3D> motion;
         std::optional<emslam::stereo::VerticalMeasurement> vertical;
+        std::chrono::steady_clock::time_point added;  //!< by addKeyframe()
     };
     struct Registration;
     class Drift;
@@ -260,14 +274,19 @@ private:
      * the window) is taken out again. Returns true if the graph was solved
      * and kept. */
     bool tryAccept(std::vector<std::unique_ptr<Registration>> group);
-    /** Step 6: solve, drop loop edges the solution refuses, solve again. */
-    void solve(int max_iterations);
+    /** Solve (the keyframes from `first_free` on), drop loop edges the
+     * solution refuses, solve again. */
+    void solve(int max_iterations, std::size_t first_free = 1);
     /** The polish's levelling (levelFloors()) with the keyframes' ups. */
     void levelWithVerticals();
     emslam::egomotion::EgomotionEstimator::Description descriptionOf(std::size_t k) const;
     /** Takes the keyframes added since the last call (producer's lock). */
     std::vector<Keyframe> takeIncoming();
     void publishPoses(bool all);
+    /** The odometry edges take these poses' relative poses (where both ends
+     * are there); returns the first keyframe whose edge changed beyond a
+     * small fraction of its noise (keyframeCount(): none). */
+    std::size_t applyRectified(const std::vector<KeyframePose>& poses);
 
     TParameters m_p;
     // Producer side.
@@ -277,13 +296,17 @@ private:
     std::vector<Keyframe> m_incoming;
     std::vector<std::pair<std::size_t, emslam::stereo::VerticalMeasurement>> m_incoming_verticals;
     std::size_t m_added{0};
+    std::optional<std::vector<KeyframePose>> m_incoming_rectified;
     // Background side.
     std::vector<Keyframe> m_keyframes;
     std::map<std::size_t, std::size_t> m_keyframe_of_frame;
     emslam::rectify::PoseGraph m_graph;
     std::unique_ptr<Drift> m_drift;
     std::unique_ptr<Grid> m_grid;
-    std::vector<double> m_path;                             // along the chain, per keyframe
+    std::vector<double> m_path;  // along the chain, per keyframe
+    /** The first keyframe a local edge added since the last solve that
+     * covered it reaches (max: none). */
+    std::size_t m_unsolved_from{static_cast<std::size_t>(-1)};
     std::vector<std::unique_ptr<Registration>> m_pool;      // gated, waiting for consensus
     std::vector<std::unique_ptr<Registration>> m_accepted;  // recent loop edges, for consensus
     Stats m_stats;
