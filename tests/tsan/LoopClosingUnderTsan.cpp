@@ -68,7 +68,7 @@ TEST(LoopClosingUnderTsan, producerWorkerAndReaderDoNotRace)
     // A circle of 24 keyframes walked twice: the second lap sees the first's
     // textures again, so registrations, consensus and solves all run.
     const auto cov = emslam::rectify::diagonalCovariance(0.02, mrpt::DEG2RAD(1.0));
-    const CPose3D step(0, 0, 0.5, mrpt::DEG2RAD(15.0), 0, 0);
+    const CPose3D step(0, 0, 0.5, 0, mrpt::DEG2RAD(15.0), 0);  // a turn about the vertical (y)
     std::vector<LoopCloser::KeyframePose> rectified;
     CPose3D pose;
     for (std::size_t k = 0; k < 48; ++k)
@@ -100,4 +100,5 @@ TEST(LoopClosingUnderTsan, producerWorkerAndReaderDoNotRace)
     EXPECT_EQ(closed.size(), 48u);
     EXPECT_EQ(closer.processedCount(), 48u);
     EXPECT_GT(closer.stats().registrations, 0u);
+    EXPECT_GT(closer.stats().loop_edges, 0u);
 }
