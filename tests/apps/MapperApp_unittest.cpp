@@ -925,6 +925,38 @@ TEST(MapperApp, chancellorLoop6dofRectificationShrinksGapAndAte)
     EXPECT_LE(slam.ate_rmse_m, 0.5 * ego.ate_rmse_m);
 }
 
+// Two identical floors stacked, walked one after the other and never
+// revisited: every place of the upper floor looks like the one below, 3.2 m
+// away. No accepted loop edge may join places truly more than 1 m apart,
+// and SLAM must not end worse than the egomotion.
+TEST(MapperApp, lookAlikeFloorsCloseNoFalseLoop)
+{
+    const std::string dir = emslam::test::makeTempDir("mapper_lookalike");
+    const auto [ego, slam] = mapSimulatedWorld("lookalike_floors", 2, "6dof-structured", dir);
+    const auto truth = emslam::io::TumTrajectory::fromFile(dir + "/world.tum");
+    std::ifstream edges(dir + "/map/loop_closures.txt");
+    ASSERT_TRUE(edges.good());
+    std::string line;
+    std::size_t accepted = 0;
+    while (std::getline(edges, line))
+    {
+        if (line.empty() || line[0] == '#')
+        {
+            continue;
+        }
+        std::istringstream in(line);
+        std::size_t from = 0, to = 0;
+        in >> from >> to;
+        ASSERT_LT(std::max(from, to), truth.size());
+        const auto& a = truth.poses[from].pose;
+        const auto& b = truth.poses[to].pose;
+        EXPECT_LE(a.distanceTo(b), 1.0) << "loop edge " << from << " -> " << to;
+        ++accepted;
+    }
+    std::printf("look-alike floors: %zu loop edges accepted\n", accepted);
+    EXPECT_LE(slam.ate_rmse_m, ego.ate_rmse_m);
+}
+
 namespace
 {
 /** Imports the KITTI 06 excerpt of ../shared/data into `dir`/k06.rawlog (and
