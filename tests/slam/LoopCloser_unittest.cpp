@@ -330,6 +330,7 @@ TEST(LoopCloser, closesTheLoopOnlineBeforeTheEnd)
     // (drifting) motion, update() after each, as the background thread does.
     LoopCloser::TParameters p;
     p.enabled = true;
+    p.consensus_window = 3;  // the new loop is decided two keyframes after its first registration
     LoopCloser closer(p);
     const std::vector<CPose3D> truth = emslam::test::squareLoop(43);
     EgomotionEstimator e;

@@ -561,7 +561,7 @@ void LoopCloser::integrate(
     {
         addLocalEdges(j, estimator);
         registerCandidates(j, estimator);
-        auto group = takeConsensusGroup(j);
+        auto group = takeConsensusGroup(j, false);
         if (!group.empty())
         {
             solved = tryAccept(std::move(group));
@@ -713,11 +713,11 @@ void LoopCloser::registerCandidates(
     }
 }
 
-std::vector<std::unique_ptr<LoopCloser::Registration>> LoopCloser::takeConsensusGroup(std::size_t j)
+std::vector<std::unique_ptr<LoopCloser::Registration>> LoopCloser::takeConsensusGroup(
+    std::size_t j, bool last_call)
 {
     const std::size_t window = static_cast<std::size_t>(m_p.consensus_window);
     const auto expired = [&](const std::unique_ptr<Registration>& r) { return r->j + window <= j; };
-    m_pool.erase(std::remove_if(m_pool.begin(), m_pool.end(), expired), m_pool.end());
     m_accepted.erase(
         std::remove_if(m_accepted.begin(), m_accepted.end(), expired), m_accepted.end());
     if (m_pool.empty())
@@ -744,6 +744,33 @@ std::vector<std::unique_ptr<LoopCloser::Registration>> LoopCloser::takeConsensus
     for (auto& r : m_accepted)
     {
         measure(*r);
+    }
+    // A registration asking for a correction c could be a look-alike of a
+    // place truly revisited anywhere within c (plus max_distance) further
+    // on: it is decided on, and leaves the pool, only once the path went
+    // that far past it and the window is over, so that a look-alike seen
+    // first (a repeated corridor ahead of the real revisit) competes with
+    // the revisit, whose correction is the smaller, as it would in a batch.
+    const auto ready = [&](const Registration& r)
+    { return m_path[j] - m_path[r.j] >= r.correction.norm() + m_p.max_distance; };
+    // Decided on and still alone: out (after the decision below).
+    const auto drop = [&]
+    {
+        m_pool.erase(
+            std::remove_if(
+                m_pool.begin(), m_pool.end(),
+                [&](const std::unique_ptr<Registration>& r) { return expired(r) && ready(*r); }),
+            m_pool.end());
+    };
+    if (m_accepted.empty() && !last_call)
+    {
+        // A new loop (none accepted nearby) waits for its oldest registration.
+        const auto oldest = std::min_element(
+            m_pool.begin(), m_pool.end(), [](const auto& a, const auto& b) { return a->j < b->j; });
+        if (!ready(**oldest))
+        {
+            return {};
+        }
     }
     std::sort(
         m_pool.begin(), m_pool.end(),
@@ -790,8 +817,10 @@ std::vector<std::unique_ptr<LoopCloser::Registration>> LoopCloser::takeConsensus
             }
         }
         m_pool = std::move(rest);
+        drop();
         return taken;
     }
+    drop();
     return {};
 }
 
@@ -1004,6 +1033,15 @@ std::vector<mrpt::poses::CPose3D> LoopCloser::close(
     if (n < 2)
     {
         return poses;
+    }
+    if (!stopped())
+    {
+        // A loop still waiting for its window to end is decided now.
+        auto group = takeConsensusGroup(n - 1, true);
+        if (!group.empty())
+        {
+            tryAccept(std::move(group));
+        }
     }
     // The graph's world is its first keyframe; the given poses' may not be
     // (the rectifier moves a_0 for the Manhattan energies).

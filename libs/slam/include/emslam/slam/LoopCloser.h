@@ -65,7 +65,10 @@ namespace emslam::slam
  *    ask for, two agreeing when their corrections differ by less than three
  *    standard deviations of the drift between them; the group of the
  *    smallest normalised correction wins if it has at least two members
- *    (loop edges accepted in the window count as members).
+ *    (loop edges accepted in the window count as members). A new loop (none
+ *    accepted in the window) is decided only when its first registration
+ *    leaves the window, so that a look-alike seen first competes with the
+ *    place truly revisited.
  * 6. Solve: when a new loop edge disagrees with the graph beyond its χ²
  *    bulk, the graph is solved from where it is (a few Levenberg–Marquardt
  *    iterations); a loop edge the solved graph still disagrees with beyond
@@ -267,8 +270,9 @@ private:
         bool work);
     void addLocalEdges(std::size_t j, const emslam::egomotion::EgomotionEstimator& estimator);
     void registerCandidates(std::size_t j, const emslam::egomotion::EgomotionEstimator& estimator);
-    /** Step 5 on the pool: the winning group, taken out of it (or none). */
-    std::vector<std::unique_ptr<Registration>> takeConsensusGroup(std::size_t j);
+    /** Step 5 on the pool: the winning group, taken out of it (or none);
+     * a new loop waits for the window to end unless `last_call`. */
+    std::vector<std::unique_ptr<Registration>> takeConsensusGroup(std::size_t j, bool last_call);
     /** Step 6 for a group: its edges join the graph, solved if it disagrees;
      * a group the solved graph refuses (it, or the loop edges accepted in
      * the window) is taken out again. Returns true if the graph was solved
