@@ -370,6 +370,7 @@ MapperReportData makeReportData(
     d.title = info.rawlog;
     d.egomotion = tumTrajectoryOf(m.egomotionPoses());
     d.slam = tumTrajectoryOf(m.slamPoses());
+    d.online = tumTrajectoryOf(m.onlinePoses());
     d.ground_truth = ground_truth;
     d.frames = m.frames();
     d.rectifications = m.rectifications();

@@ -27,6 +27,10 @@ std::vector<TrajectoryTrack> tracks(const MapperReportData& d)
 {
     std::vector<TrajectoryTrack> t{
         {&d.egomotion, "egomotion", EGO_COLOUR, ""}, {&d.slam, "SLAM", SLAM_COLOUR, ""}};
+    if (!d.online.empty())
+    {
+        t.push_back({&d.online, "online (causal)", ONLINE_COLOUR, "2,3"});
+    }
     if (!d.ground_truth.empty())
     {
         t.push_back({&d.ground_truth, "ground truth", GT_COLOUR, "6,4"});

@@ -20,6 +20,9 @@ struct MapperReportData
     std::string title;  //!< e.g. the rawlog's file name
     /** Camera trajectories in the world (first camera) frame. */
     emslam::io::TumTrajectory egomotion, slam;
+    /** Optional: each frame's pose when it was processed
+     * (EntropySlam::onlinePoses(); empty: not drawn). */
+    emslam::io::TumTrajectory online;
     /** Optional ground truth, already expressed in the same world frame
      * (empty: not drawn). */
     emslam::io::TumTrajectory ground_truth;

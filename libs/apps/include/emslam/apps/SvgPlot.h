@@ -29,6 +29,8 @@ constexpr std::size_t MAX_POINTS = 5000;
 inline const char* const EGO_COLOUR = "#d62728";
 inline const char* const SLAM_COLOUR = "#2ca02c";
 inline const char* const GT_COLOUR = "#000000";
+/** The online (causal) trajectory: what the system had while it ran. */
+inline const char* const ONLINE_COLOUR = "#1f77b4";
 
 struct Point
 {
