@@ -353,7 +353,7 @@ void EntropySlam::addAccepted(const emslam::stereo::StereoFrame& f, const Pendin
     const double t = k.timestamp;
     const emslam::rectify::ActionCovariance& covariance = k.covariance;
     m_runner->addFrame(action, toWeightedCloud(f, m_p.insertion), t, index, covariance);
-    if (m_p.loop_closer.enabled && !m_p.mapper.egomotion_only)
+    if (loopClosing())
     {
         // The keyframe is the last or, with the sparse front-end, the one
         // before the last egomotion pose.
@@ -420,7 +420,7 @@ void EntropySlam::finish()
     m_entropy = m_runner->trajectory().entropy();
     m_keyframes.clear();
     auto poses = m_runner->framePoses();
-    if (m_p.loop_closer.enabled && !m_p.mapper.egomotion_only)
+    if (loopClosing())
     {
         if (poses.size() != m_loops.keyframeCount())
         {
