@@ -26,7 +26,7 @@ cmake -S examples -B "$scratch/examples" -DCMAKE_PREFIX_PATH="$prefix" \
 cmake --build "$scratch/examples" -j2 >/dev/null
 "$scratch/examples/entropy_map_from_ini"
 "$prefix/bin/emslam-sim" "$prefix/share/emslam/config/sim/hall_double_loop.ini" \
-    --frames 12 -o "$scratch/hall.rawlog" -q
+    --max-frames 12 -o "$scratch/hall.rawlog" -q
 "$scratch/examples/map_rawlog" "$prefix/share/emslam/config/mapper/3dof-low-structured.ini" \
     "$scratch/hall.rawlog"
 

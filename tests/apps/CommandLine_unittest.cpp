@@ -14,6 +14,9 @@
 
 #include <gtest/gtest.h>
 
+#include <filesystem>
+#include <fstream>
+#include <iterator>
 #include <string>
 #include <vector>
 
@@ -44,6 +47,12 @@ void expectInitFails(
 {
     App app;
     emslam::test::expectThrowContaining([&] { initWith(app, program, args); }, parts);
+}
+
+std::string readFile(const std::string& file)
+{
+    std::ifstream f(file, std::ios::binary);
+    return {std::istreambuf_iterator<char>(f), {}};
 }
 
 /** The --help text of an App. */
@@ -185,4 +194,107 @@ TEST(CommandLine, helpShowsTheProgramNameAndDefaults)
     EXPECT_NE(odo.find("(default: 0)"), std::string::npos) << odo;
     const std::string stereo = helpOf<emslam::apps::StereoApp>("emslam-stereo");
     EXPECT_NE(stereo.find("(default: CAMERA)"), std::string::npos) << stereo;
+}
+
+// An unknown flag is named as unknown, before TCLAP complains about a
+// required argument it never reached (on 80c9fba, `emslam-sim W.ini --bogus
+// -o x.rawlog` said "missing required argument --output").
+TEST(CommandLine, anUnknownFlagIsNamedInEveryApp)
+{
+    const std::vector<std::string> bogus = {"W.ini", "--bogus", "-o", "x.rawlog"};
+    const std::initializer_list<std::string> expected = {"unknown option '--bogus'", "--help"};
+    expectInitFails<emslam::apps::SimApp>("emslam-sim", bogus, expected);
+    expectInitFails<emslam::apps::MapperApp>("emslam-mapper", bogus, expected);
+    expectInitFails<emslam::apps::OdometryApp>("emslam-odometry", bogus, expected);
+    expectInitFails<emslam::apps::StereoApp>("emslam-stereo", bogus, expected);
+    expectInitFails<emslam::apps::EvalApp>("emslam-eval", bogus, expected);
+    expectInitFails<emslam::apps::ImportApp>("emslam-import", {"kitti", "--bogus=3"}, expected);
+    expectInitFails<emslam::apps::GrabberApp>("emslam-grabber", bogus, expected);
+    expectInitFails<emslam::apps::ExperimentsApp>("emslam-experiments", bogus, expected);
+    expectInitFails<emslam::apps::SimApp>("emslam-sim", {"W.ini", "-x"}, {"unknown option '-x'"});
+}
+
+TEST(CommandLine, knownOptionsPassWithValuesThatLookLikeOptions)
+{
+    TCLAP::CmdLine cmd("test", ' ', "0");
+    TCLAP::ValueArg<double> offset("", "time-offset", "", false, 0.0, "S", cmd);
+    TCLAP::ValueArg<std::string> out("o", "output", "", false, "", "F", cmd);
+    TCLAP::SwitchArg quiet("q", "quiet", "", cmd);
+    TCLAP::SwitchArg verbose("v", "verbose", "", cmd);
+    using V = std::vector<std::string>;
+    EXPECT_EQ(
+        emslam::apps::requireKnownOptions(
+            cmd, "p", {"--time-offset", "-5", "-o", "-dash.rawlog", "-qv", "-.5", "--", "--x"}),
+        (V{"--time-offset", "-5", "-o", "-dash.rawlog", "-qv", "-.5", "--", "--x"}));
+    // GNU style --name=value is split for TCLAP.
+    EXPECT_EQ(
+        emslam::apps::requireKnownOptions(cmd, "p", {"--output=a=b.rawlog", "--time-offset=-1"}),
+        (V{"--output", "a=b.rawlog", "--time-offset", "-1"}));
+    emslam::test::expectThrowContaining(
+        [&] { emslam::apps::requireKnownOptions(cmd, "p", {"--quiet=1"}); },
+        {"--quiet takes no value"});
+    emslam::test::expectThrowContaining(
+        [&] { emslam::apps::requireKnownOptions(cmd, "p", {"-qx"}); }, {"unknown option '-qx'"});
+}
+
+// One spelling of the frame limit: --max-frames everywhere; emslam-sim's and
+// emslam-grabber's old --frames N is still taken, with a warning.
+TEST(CommandLine, maxFramesIsTheFrameLimitOfEveryApp)
+{
+    for (const char* program : {"emslam-sim", "emslam-grabber"})
+    {
+        const std::string help = std::string(program) == "emslam-sim"
+                                     ? helpOf<emslam::apps::SimApp>(program)
+                                     : helpOf<emslam::apps::GrabberApp>(program);
+        EXPECT_NE(help.find("--max-frames <N>"), std::string::npos) << help;
+    }
+    EXPECT_NE(
+        helpOf<emslam::apps::MapperApp>("emslam-mapper").find("--max-frames <N>"),
+        std::string::npos);
+    EXPECT_NE(
+        helpOf<emslam::apps::OdometryApp>("emslam-odometry").find("--max-frames <N>"),
+        std::string::npos);
+    const std::string dir = emslam::test::makeTempDir("max_frames_alias");
+    emslam::apps::SimApp sim;
+    testing::internal::CaptureStderr();
+    initWith(
+        sim, "emslam-sim",
+        {emslam::test::sourceDir() + "/config/sim/hall_double_loop.ini", "-o", dir + "/a.rawlog",
+         "--frames", "7"});
+    const std::string warning = testing::internal::GetCapturedStderr();
+    EXPECT_NE(warning.find("--frames is deprecated"), std::string::npos) << warning;
+    ASSERT_TRUE(sim.max_frames.has_value());
+    EXPECT_EQ(*sim.max_frames, 7u);
+}
+
+// An output that is one of the inputs is refused before any work, naming
+// both (on 80c9fba each was overwritten, exit 0).
+TEST(CommandLine, anOutputThatIsAnInputIsRefusedInEveryApp)
+{
+    const std::string dir = emslam::test::makeTempDir("outputs_are_inputs");
+    const std::string world = dir + "/W.ini";
+    std::filesystem::copy_file(
+        emslam::test::sourceDir() + "/config/sim/hall_double_loop.ini", world);
+    const std::string gt = dir + "/gt.tum";
+    emslam::test::writeFile(gt, "0 0 0 0 0 0 0 1\n1 1 0 0 0 0 0 1\n");
+    const std::string before = readFile(world);
+    expectInitFails<emslam::apps::SimApp>(
+        "emslam-sim", {world, "-o", world}, {"output rawlog '" + world + "' is the world file"});
+    expectInitFails<emslam::apps::SimApp>(
+        "emslam-sim",
+        {world, "-o", dir + "/a.rawlog", "--gt-out",
+         dir + "/../" + std::filesystem::path(dir).filename().string() + "/W.ini"},
+        {"--gt-out", "is the world file '" + world + "'"});
+    EXPECT_EQ(readFile(world), before);
+    expectInitFails<emslam::apps::EvalApp>(
+        "emslam-eval", {gt, gt, "--json", gt}, {"--json", "is the ground truth"});
+    expectInitFails<emslam::apps::OdometryApp>(
+        "emslam-odometry", {gt, "-o", gt}, {"output trajectory", "is the rawlog"});
+    // A trajectory of an earlier run given as ground truth of the next one.
+    std::filesystem::copy_file(gt, dir + "/trajectory_slam.tum");
+    expectInitFails<emslam::apps::MapperApp>(
+        "emslam-mapper",
+        {emslam::test::sourceDir() + "/config/mapper/3dof-low-structured.ini", gt, "-o", dir,
+         "--gt", dir + "/trajectory_slam.tum"},
+        {"output '" + dir + "/trajectory_slam.tum' is the ground truth (--gt)"});
 }

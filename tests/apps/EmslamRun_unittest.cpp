@@ -135,9 +135,9 @@ TEST(EmslamRun, rawlogEditReadsASimulatedRawlog)
     const std::string dir = emslam::test::makeTempDir("emslam_run_sim");
     emslam::apps::SimApp sim;
     const std::vector<std::string> args = {
-        "emslam-sim", emslam::test::sourceDir() + "/config/sim/hall_double_loop.ini",
-        "-o",         dir + "/sim.rawlog",
-        "--frames",   "3",
+        "emslam-sim",   emslam::test::sourceDir() + "/config/sim/hall_double_loop.ini",
+        "-o",           dir + "/sim.rawlog",
+        "--max-frames", "3",
         "--quiet"};
     std::vector<const char*> argv;
     for (const auto& a : args)

@@ -162,6 +162,28 @@ TEST(EvalApp, badInputFailsWithMessage)
     EXPECT_EQ(runEval({gt, dir + "/late.tum", "--max-dt", "61"}).exit_code, 0);
 }
 
+// Found on 80c9fba: an estimate with 1e300 coordinates gave "ATE n/a", JSON
+// null and exit 0; the no-overlap message rounded stamps to 6 digits.
+TEST(EvalApp, absurdCoordinatesAndExactNumbersInMessages)
+{
+    const std::string dir = emslam::test::makeTempDir("eval_app_absurd");
+    const std::string gt = dir + "/gt.tum";
+    line(1.0).saveToFile(gt);
+    emslam::test::writeFile(
+        dir + "/huge.tum", "0 0 0 0 0 0 0 1\n0.1 1e300 0 0 0 0 0 1\n0.2 0.2 0 0 0 0 0 1\n");
+    expectFailure(
+        {gt, dir + "/huge.tum"},
+        {"estimate file", "huge.tum", "pose 2 (t = 0.1 s)", "beyond 1000000000 m"});
+    expectFailure({dir + "/huge.tum", gt}, {"ground-truth file", "pose 2"});
+    emslam::test::writeFile(
+        dir + "/late.tum", "2317340800.123456 0 0 0 0 0 0 1\n2317340801.5 1 0 0 0 0 0 1\n");
+    expectFailure(
+        {gt, dir + "/late.tum", "--max-dt", "0.0001"},
+        {"max_dt = 0.0001 s", "estimate [2317340800.123456, 2317340801.5] s"});
+    // The output may not be one of the inputs.
+    expectFailure({gt, gt, "--json", gt}, {"--json", "is the ground truth"});
+}
+
 // KITTI 06 frames 0-50 (59.9 m): the ground truth against itself and against a
 // copy scaled by 1.01.
 TEST(EvalApp, kitti06GroundTruth)

@@ -213,7 +213,7 @@ TEST(GrabberApp, shippedSimulatedConfigWritesExactly30StereoFrames)
     GrabberApp app;
     {
         const WorkingDir wd(emslam::test::sourceDir());  // the INI's paths are relative to it
-        initApp(app, {"config/grabber/simulated.ini", "-o", out, "--frames", "30", "-q"});
+        initApp(app, {"config/grabber/simulated.ini", "-o", out, "--max-frames", "30", "-q"});
         app.params.write("SIM_STEREO", "process_rate", 50);  // faster; the count is what matters
         app.run();
     }
@@ -270,7 +270,7 @@ TEST(GrabberApp, mixesStockMrptSensorsWithOursInTimestampOrder)
             "end_index = 5\n" +
             simSensorSection("process_rate = 20\nloop = true\nmax_frames = 4\n"));
     GrabberApp app;
-    initApp(app, {dir + "/g.ini", "-o", dir + "/o.rawlog", "--frames", "12", "-q"});
+    initApp(app, {dir + "/g.ini", "-o", dir + "/o.rawlog", "--max-frames", "12", "-q"});
     app.run();
     EXPECT_EQ(app.frames_written, 12U);
     bool clean = false;
@@ -675,12 +675,12 @@ TEST(GrabberApp, badArgumentsAndConfigsThrow)
         expectThrowContaining([&] { initApp(app, {}); }, {"CONFIG.ini"});
         expectThrowContaining(
             [&] {
-                initApp(app, {dir + "/g.ini", "--frames", "0"});
+                initApp(app, {dir + "/g.ini", "--max-frames", "-1"});
             },
-            {"--frames"});
+            {"--max-frames"});
         expectThrowContaining(
             [&] {
-                initApp(app, {dir + "/g.ini", "--frames", "3", "--seconds", "2"});
+                initApp(app, {dir + "/g.ini", "--max-frames", "3", "--seconds", "2"});
             },
             {"not both"});
         expectThrowContaining(
@@ -718,7 +718,7 @@ TEST(GrabberApp, grabbedSimulatedFileIsMappedByTheMapper)
     GrabberApp app;
     {
         const WorkingDir wd(emslam::test::sourceDir());
-        initApp(app, {"config/grabber/simulated.ini", "-o", out, "--frames", "30", "-q"});
+        initApp(app, {"config/grabber/simulated.ini", "-o", out, "--max-frames", "30", "-q"});
         app.params.write("SIM_STEREO", "process_rate", 50);
         app.run();
     }

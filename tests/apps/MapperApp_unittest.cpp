@@ -89,10 +89,10 @@ std::string simulatedHall(std::size_t frames)
     {
         emslam::apps::SimApp sim;
         const std::vector<std::string> args = {
-            "emslam-sim", emslam::test::sourceDir() + "/config/sim/hall_double_loop.ini",
-            "-o",         file,
-            "--gt-out",   dir + "/hall" + std::to_string(frames) + ".tum",
-            "--frames",   std::to_string(frames),
+            "emslam-sim",   emslam::test::sourceDir() + "/config/sim/hall_double_loop.ini",
+            "-o",           file,
+            "--gt-out",     dir + "/hall" + std::to_string(frames) + ".tum",
+            "--max-frames", std::to_string(frames),
             "--quiet"};
         auto argv = argvOf(args);
         sim.initialize(static_cast<int>(argv.size()), argv.data());
@@ -807,6 +807,20 @@ TEST(MapperApp, sigintStopsAndWritesTheOutputs)
     {
         EXPECT_TRUE(mrpt::system::fileExists(out + "/" + f)) << f;
     }
+}
+
+// `emslam-mapper ... | true`: the console text is lost, the run is not (on
+// 80c9fba SIGPIPE killed it: exit 141 although every output was complete).
+TEST(MapperApp, aClosedStdoutPipeChangesNeitherTheRunNorItsExitCode)
+{
+    const std::string rawlog = simulatedHall(20);
+    const std::string out = emslam::test::makeTempDir("mapper_sigpipe");
+    EXPECT_EQ(
+        emslam::test::runWithStdoutReaderGone(
+            EMSLAM_MAPPER_EXE, {config("3dof-low-structured"), rawlog, "--out", out}),
+        0);
+    EXPECT_EQ(emslam::io::TumTrajectory::fromFile(out + "/trajectory_slam.tum").size(), 20U);
+    EXPECT_NE(readText(out + "/summary.json").find("\"interrupted\": false"), std::string::npos);
 }
 
 // A signal after the last frame, while the rectifier finishes and the loop

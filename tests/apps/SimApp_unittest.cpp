@@ -89,7 +89,7 @@ TEST(SimApp, writesRawlogAndGroundTruthThatReadBack)
     SimApp app;
     initApp(
         app, {emslam::test::sourceDir() + HALL, "-o", out + "/h.rawlog", "--gt-out", out + "/h.tum",
-              "--frames", "6", "--png", out + "/png", "--quiet"});
+              "--max-frames", "6", "--png", out + "/png", "--quiet"});
     app.run();
     EXPECT_EQ(app.frames_written, 6U);
     EXPECT_EQ(app.poses_written, 6U);
@@ -124,7 +124,7 @@ TEST(SimApp, sameSeedSameBytesOtherSeedOtherBytes)
         SimApp app;
         initApp(
             app, {world, "-o", out + "/" + name + ".rawlog", "--gt-out", out + "/" + name + ".tum",
-                  "--frames", "4", "--seed", std::string(name) == "c" ? "5" : "4", "-q"});
+                  "--max-frames", "4", "--seed", std::string(name) == "c" ? "5" : "4", "-q"});
         app.run();
     }
     EXPECT_EQ(readFile(out + "/a.rawlog"), readFile(out + "/b.rawlog"));
@@ -180,7 +180,7 @@ TEST(SimApp, badIniFailsNamingTheKeyAndLeavesNoOutput)
     SimApp app2;
     EXPECT_THROW(initApp(app2, {out + "/missing.ini", "-o", out + "/x.rawlog"}), std::exception);
     EXPECT_THROW(
-        initApp(app2, {out + "/el.ini", "-o", out + "/x.rawlog", "--frames", "0"}),
+        initApp(app2, {out + "/el.ini", "-o", out + "/x.rawlog", "--max-frames", "-1"}),
         std::invalid_argument);
 }
 
@@ -194,7 +194,7 @@ TEST(SimApp, outputFifoIsRefusedAndASymbolicLinkIsWrittenThrough)
     ASSERT_EQ(::mkfifo(fifo.c_str(), 0600), 0);
     {
         SimApp app;
-        initApp(app, {world, "-o", fifo, "--frames", "2", "-q"});
+        initApp(app, {world, "-o", fifo, "--max-frames", "2", "-q"});
         emslam::test::expectThrowContaining(
             [&] { app.run(); }, {"pipe.rawlog' exists and is a FIFO", "not a regular file"});
         EXPECT_EQ(app.frames_written, 0U);
@@ -203,14 +203,14 @@ TEST(SimApp, outputFifoIsRefusedAndASymbolicLinkIsWrittenThrough)
     {
         // --gt-out naming a folder fails before the rawlog is written.
         SimApp app;
-        initApp(app, {world, "-o", out + "/a.rawlog", "--gt-out", out, "--frames", "2", "-q"});
+        initApp(app, {world, "-o", out + "/a.rawlog", "--gt-out", out, "--max-frames", "2", "-q"});
         emslam::test::expectThrowContaining([&] { app.run(); }, {"exists and is a folder"});
         EXPECT_FALSE(fs::exists(out + "/a.rawlog"));
     }
     fs::create_directory(out + "/runs");
     fs::create_symlink("runs/hall.rawlog", out + "/latest.rawlog");
     SimApp app;
-    initApp(app, {world, "-o", out + "/latest.rawlog", "--frames", "2", "-q"});
+    initApp(app, {world, "-o", out + "/latest.rawlog", "--max-frames", "2", "-q"});
     app.run();
     EXPECT_TRUE(fs::is_symlink(out + "/latest.rawlog"));
     EXPECT_EQ(readRawlog(out + "/runs/hall.rawlog").size(), 2U);
@@ -228,7 +228,7 @@ TEST(SimApp, sigintKeepsACompleteRawlogOfTheFramesRendered)
     const auto run = emslam::test::interruptedRun(
         EMSLAM_SIM_EXE,
         {emslam::test::sourceDir() + HALL, "-o", out + "/hall.rawlog", "--gt-out",
-         out + "/hall.tum", "--frames", "400"},
+         out + "/hall.tum", "--max-frames", "400"},
         "frame ", SIGINT);
     ASSERT_TRUE(run.exited) << run.stderr_text;
     EXPECT_EQ(run.exit_code, 130) << run.stderr_text;

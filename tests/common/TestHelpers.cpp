@@ -69,22 +69,32 @@ double maxPoseDifference(const mrpt::poses::CPose3D& a, const mrpt::poses::CPose
     return d;
 }
 
-InterruptedRun interruptedRun(
-    const std::string& exe,
-    const std::vector<std::string>& args,
-    const std::string& wait_for,
-    int signum)
+namespace
 {
-    char err_template[] = "/tmp/emslam_interrupted_XXXXXX";
-    const int err_fd = ::mkstemp(err_template);
-    const std::string err_file = err_template;
-    const auto readErr = [&]
+/** A private temporary file (for a child's stdout or stderr). */
+struct CapturedFile
+{
+    std::string name;
+    int fd{-1};
+    CapturedFile()
     {
-        std::ifstream f(err_file);
+        char name_template[] = "/tmp/emslam_captured_XXXXXX";
+        fd = ::mkstemp(name_template);
+        name = name_template;
+    }
+    ~CapturedFile() { std::remove(name.c_str()); }
+    std::string text() const
+    {
+        std::ifstream f(name);
         std::stringstream s;
         s << f.rdbuf();
         return s.str();
-    };
+    }
+};
+
+/** Starts `exe args` with stdout on `out_fd` and stderr on `err_fd`. */
+pid_t spawn(const std::string& exe, const std::vector<std::string>& args, int out_fd, int err_fd)
+{
     std::vector<char*> argv;
     argv.push_back(const_cast<char*>(exe.c_str()));
     for (const auto& a : args)
@@ -92,23 +102,43 @@ InterruptedRun interruptedRun(
         argv.push_back(const_cast<char*>(a.c_str()));
     }
     argv.push_back(nullptr);
-    InterruptedRun r;
     const pid_t pid = ::fork();
+    if (pid == 0)
+    {
+        ::dup2(out_fd, 1);
+        ::dup2(err_fd, 2);
+        ::execv(exe.c_str(), argv.data());
+        ::_exit(127);
+    }
+    return pid;
+}
+
+/** The exit code of `status`, or 128 + the signal that killed the process. */
+int exitCodeOf(int status)
+{
+    return WIFEXITED(status) ? WEXITSTATUS(status) : 128 + WTERMSIG(status);
+}
+}  // namespace
+
+InterruptedRun interruptedRun(
+    const std::string& exe,
+    const std::vector<std::string>& args,
+    const std::string& wait_for,
+    int signum)
+{
+    const CapturedFile out, err;
+    InterruptedRun r;
+    const pid_t pid = spawn(exe, args, out.fd, err.fd);
     if (pid < 0)
     {
         ADD_FAILURE() << "fork failed";
         return r;
     }
-    if (pid == 0)
-    {
-        ::dup2(err_fd, 2);
-        std::freopen("/dev/null", "w", stdout);
-        ::execv(exe.c_str(), argv.data());
-        ::_exit(127);
-    }
-    ::close(err_fd);
+    ::close(out.fd);
+    ::close(err.fd);
     const auto t0 = std::chrono::steady_clock::now();
-    while (readErr().find(wait_for) == std::string::npos &&
+    while (err.text().find(wait_for) == std::string::npos &&
+           out.text().find(wait_for) == std::string::npos &&
            std::chrono::steady_clock::now() - t0 < std::chrono::seconds(120))
     {
         std::this_thread::sleep_for(std::chrono::milliseconds(20));
@@ -121,9 +151,27 @@ InterruptedRun interruptedRun(
         std::chrono::duration<double>(std::chrono::steady_clock::now() - t_signal).count();
     r.exited = WIFEXITED(status);
     r.exit_code = r.exited ? WEXITSTATUS(status) : -1;
-    r.stderr_text = readErr();
-    std::remove(err_file.c_str());
+    r.stderr_text = err.text();
+    r.stdout_text = out.text();
     return r;
+}
+
+int runWithStdoutReaderGone(const std::string& exe, const std::vector<std::string>& args)
+{
+    int fds[2];
+    if (::pipe(fds) != 0)
+    {
+        ADD_FAILURE() << "pipe failed";
+        return -1;
+    }
+    ::close(fds[0]);  // the reader is gone before the first write, as with `| true`
+    const CapturedFile err;
+    const pid_t pid = spawn(exe, args, fds[1], err.fd);
+    ::close(fds[1]);
+    ::close(err.fd);
+    int status = 0;
+    ::waitpid(pid, &status, 0);
+    return exitCodeOf(status);
 }
 
 }  // namespace emslam::test

@@ -33,16 +33,22 @@ struct InterruptedRun
     bool exited{false};  //!< exited normally (not killed by the signal)
     int exit_code{-1};
     std::string stderr_text;
+    std::string stdout_text;
     double seconds_to_exit{0};  //!< from the signal to the end of the process
 };
 
-/** Runs the program `exe` with `args` (stdout discarded), waits until its
- * stderr contains `wait_for` (or 120 s pass), sends it `signum` and waits for
- * it to end. For the apps' Ctrl-C behaviour. */
+/** Runs the program `exe` with `args`, waits until its stderr or stdout
+ * contains `wait_for` (or 120 s pass), sends it `signum` and waits for it to
+ * end. For the apps' Ctrl-C behaviour. */
 InterruptedRun interruptedRun(
     const std::string& exe,
     const std::vector<std::string>& args,
     const std::string& wait_for,
     int signum);
+
+/** Runs `exe args` with stdout a pipe whose reader is already gone (as in
+ * `exe args | true`) and returns its exit code, 128 + the signal if one
+ * killed it (141: SIGPIPE). */
+int runWithStdoutReaderGone(const std::string& exe, const std::vector<std::string>& args);
 
 }  // namespace emslam::test

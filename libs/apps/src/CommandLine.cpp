@@ -4,6 +4,8 @@
 #include <emslam/io/InputFileChecks.h>
 
 #include <algorithm>
+#include <cctype>
+#include <cstddef>
 #include <cstdio>
 #include <fstream>
 #include <iterator>
@@ -78,7 +80,94 @@ std::optional<std::string> inlineValue(const std::string& arg, const std::string
     }
     return std::nullopt;
 }
+
+/** The argument of `cmd` spelled `word` ("--name" or "-f"), or nullptr. */
+const TCLAP::Arg* findOption(TCLAP::CmdLine& cmd, const std::string& word)
+{
+    for (const TCLAP::Arg* a : cmd.getArgList())
+    {
+        if ((!a->getName().empty() && word == "--" + a->getName()) ||
+            (!a->getFlag().empty() && word == "-" + a->getFlag()))
+        {
+            return a;
+        }
+    }
+    return nullptr;
+}
+
+/** True for "-5", "-.5": a negative number given as a value, not an option. */
+bool isNegativeNumber(const std::string& word)
+{
+    return word.size() > 1 && word[0] == '-' &&
+           (std::isdigit(static_cast<unsigned char>(word[1])) || word[1] == '.');
+}
+
+/** True for "-qv": single-letter switches of `cmd` written together. */
+bool isCombinedSwitches(TCLAP::CmdLine& cmd, const std::string& word)
+{
+    if (word.size() < 3 || word[1] == '-')
+    {
+        return false;
+    }
+    for (std::size_t i = 1; i < word.size(); ++i)
+    {
+        const TCLAP::Arg* a = findOption(cmd, std::string("-") + word[i]);
+        if (a == nullptr || a->isValueRequired())
+        {
+            return false;
+        }
+    }
+    return true;
+}
 }  // namespace
+
+std::vector<std::string> requireKnownOptions(
+    TCLAP::CmdLine& cmd, const std::string& program, const std::vector<std::string>& args)
+{
+    std::vector<std::string> out;
+    for (std::size_t i = 0; i < args.size(); ++i)
+    {
+        const std::string& word = args[i];
+        if (word == "--")
+        {
+            out.insert(out.end(), args.begin() + static_cast<std::ptrdiff_t>(i), args.end());
+            break;
+        }
+        if (word.size() < 2 || word[0] != '-' || isNegativeNumber(word))
+        {
+            out.push_back(word);
+            continue;
+        }
+        const auto eq = word.find('=');
+        const std::string name = word.substr(0, eq);
+        const TCLAP::Arg* a = findOption(cmd, name);
+        if (a == nullptr && eq == std::string::npos && isCombinedSwitches(cmd, word))
+        {
+            out.push_back(word);
+            continue;
+        }
+        if (a == nullptr)
+        {
+            throw std::invalid_argument(
+                "unknown option '" + name + "'; try " + program + " --help");
+        }
+        out.push_back(name);
+        if (eq != std::string::npos)
+        {
+            if (!a->isValueRequired())
+            {
+                throw std::invalid_argument(
+                    name + " takes no value (got '" + word + "'); try " + program + " --help");
+            }
+            out.push_back(word.substr(eq + 1));  // --name=value, as GNU tools take it
+        }
+        else if (a->isValueRequired() && i + 1 < args.size())
+        {
+            out.push_back(args[++i]);  // its value, whatever it looks like
+        }
+    }
+    return out;
+}
 
 std::vector<std::string> rewriteDeprecatedSpellings(
     const std::string& program,
@@ -162,7 +251,8 @@ bool parseCommandLine(
     const std::vector<DeprecatedSpelling>& deprecated)
 {
     const std::vector<std::string> given(argv + std::min(argc, 1), argv + std::max(argc, 0));
-    std::vector<std::string> args = rewriteDeprecatedSpellings(program, given, deprecated);
+    std::vector<std::string> args =
+        requireKnownOptions(cmd, program, rewriteDeprecatedSpellings(program, given, deprecated));
     args.insert(args.begin(), program);
     ThrowingOutput out;
     // setOutput() does not free the default output object; take it over.

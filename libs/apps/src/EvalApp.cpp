@@ -1,6 +1,7 @@
 // SPDX-License-Identifier: BSD-3-Clause
 #include <emslam/apps/CommandLine.h>
 #include <emslam/apps/EvalApp.h>
+#include <emslam/io/InputOutputClash.h>
 #include <emslam/io/TrajectoryInput.h>
 #include <emslam/stereo/ExceptionMessage.h>
 
@@ -125,6 +126,12 @@ bool EvalApp::parseArguments(int argc, const char** argv)
         throw std::invalid_argument("--max-dt must be a positive number of seconds");
     }
     options.segment_step = countOption(step.getValue(), "--segment-step", 1, PROGRAM);
+    io::requireOutputsAreNotInputs(
+        {{"the JSON output (--json)", m_json}},
+        {{"the ground truth", m_gt},
+         {"the estimate", m_est},
+         {"the ground-truth times (--gt-times)", m_gt_options.times_file},
+         {"the estimate's times (--est-times)", m_est_options.times_file}});
     return true;
 }
 

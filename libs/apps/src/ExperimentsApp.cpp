@@ -4,6 +4,7 @@
 #include <emslam/apps/ExperimentsApp.h>
 #include <emslam/apps/ProgressLine.h>
 #include <emslam/apps/StopSignal.h>
+#include <emslam/io/InputOutputClash.h>
 #include <emslam/io/OutputPathChecks.h>
 
 #include <mrpt/core/bits_math.h>
@@ -86,6 +87,19 @@ bool ExperimentsApp::parseArguments(int argc, const char** argv)
     // Before hours of runs: an --out that cannot take the reports fails now.
     io::requireOutputFolder(m_out, "output folder");
     io::requireReplaceableFiles(m_out, {"experiments.md", "experiments.json", "experiments.html"});
+    std::vector<io::RolePath> inputs{{"the suite", m_suite_file}};
+    for (const auto& e : m_experiments)
+    {
+        inputs.push_back({"the world of [" + e.name + "]", e.world});
+        for (const auto& m : e.mappers)
+        {
+            inputs.push_back({"a mapper config of [" + e.name + "]", m});
+        }
+    }
+    io::requireOutputsAreNotInputs(
+        io::filesOfOutputFolder(
+            m_out, {"experiments.md", "experiments.json", "experiments.html"}, "report"),
+        inputs);
     return true;
 }
 

@@ -11,6 +11,7 @@
 #include <emslam/hwdrivers/CStereoImageFolderCamera.h>
 #include <emslam/hwdrivers/DeviceList.h>
 #include <emslam/hwdrivers/SensorStatus.h>
+#include <emslam/io/InputOutputClash.h>
 #include <emslam/io/RawlogOutput.h>
 #include <emslam/stereo/ExceptionMessage.h>
 #include <emslam/stereo/StereoMatcher.h>
@@ -71,9 +72,9 @@ bool GrabberApp::parseArguments(int argc, const char** argv)
         "Records stereo cameras (CDigiclopsStereoCamera, CSimulatedStereoCamera, "
         "CStereoImageFolderCamera) and stock MRPT sensors of a rawlog-grabber INI file into one "
         "gz-compressed rawlog, every observation in timestamp order. Stops on SIGINT/SIGTERM, "
-        "after --frames stereo frames or --seconds, or when every sensor has stopped. Example: "
+        "after --max-frames stereo frames or --seconds, or when every sensor has stopped. Example: "
         "'" +
-            std::string(PROGRAM) + " config/grabber/simulated.ini -o sim.rawlog --frames 30'.",
+            std::string(PROGRAM) + " config/grabber/simulated.ini -o sim.rawlog --max-frames 30'.",
         ' ', std::string("emslam-grabber (") + mrpt::system::MRPT_getVersion() + ")");
     // A multi-arg: an optional UnlabeledValueArg sets a process-wide TCLAP flag
     // that makes every later command line with an unlabeled argument fail.
@@ -83,8 +84,10 @@ bool GrabberApp::parseArguments(int argc, const char** argv)
         "o", "output", "Output rawlog (default: <[global] rawlog_prefix>.rawlog).", false, "",
         "OUT.rawlog", cmd);
     TCLAP::ValueArg<long long> arg_frames(
-        "", "frames", "Stop after N stereo frames (CObservationStereoImages) were written.", false,
-        0, "N", cmd);
+        "", "max-frames",
+        "Stop after N stereo frames (CObservationStereoImages) were written (default 0: no "
+        "limit).",
+        false, 0, "N", cmd);
     TCLAP::ValueArg<double> arg_seconds(
         "", "seconds", "Stop after S seconds.", false, 0.0, "S", cmd);
     TCLAP::SwitchArg arg_list(
@@ -94,7 +97,7 @@ bool GrabberApp::parseArguments(int argc, const char** argv)
     TCLAP::SwitchArg arg_quiet("q", "quiet", "No status line or summary.", cmd, false);
     TCLAP::SwitchArg arg_viewer(
         "", "viewer", "Show the left images live in a window (no display: a warning).", cmd, false);
-    if (!parseCommandLine(cmd, argc, argv))
+    if (!parseCommandLine(cmd, argc, argv, {{"--frames", "--max-frames", 0, "N"}}))
     {
         return false;
     }
@@ -117,15 +120,11 @@ bool GrabberApp::parseArguments(int argc, const char** argv)
     {
         usageError("a CONFIG.ini file is required (or --list-devices)");
     }
-    if (arg_frames.isSet() && arg_seconds.isSet())
+    if (countOption(arg_frames.getValue(), "--max-frames", 0, PROGRAM) > 0)
     {
-        usageError("give --frames or --seconds, not both");
-    }
-    if (arg_frames.isSet())
-    {
-        if (arg_frames.getValue() < 1)
+        if (arg_seconds.isSet())
         {
-            usageError("--frames must be >= 1");
+            usageError("give --max-frames or --seconds, not both");
         }
         max_frames = static_cast<std::size_t>(arg_frames.getValue());
     }
@@ -176,6 +175,8 @@ void GrabberApp::execute()
     }
     const std::string out_file = output_file.empty() ? prefix + ".rawlog" : output_file;
 
+    io::requireOutputsAreNotInputs(
+        {{"output rawlog", out_file}}, {{"the config file", config_file}});
     // Create, configure and initialize every sensor before anything is written.
     auto slots = createSensors(cfg, config_file);
     initializeSensors(slots);

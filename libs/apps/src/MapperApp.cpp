@@ -10,6 +10,7 @@
 #include <emslam/apps/StopSignal.h>
 #include <emslam/io/AtomicTextFile.h>
 #include <emslam/io/InputFileChecks.h>
+#include <emslam/io/InputOutputClash.h>
 #include <emslam/io/OutputPathChecks.h>
 #include <emslam/io/RawlogInput.h>
 #include <emslam/io/RawlogReadAhead.h>
@@ -224,6 +225,12 @@ bool MapperApp::parseArguments(int argc, const char** argv)
     io::requireInputFile(m_rawlog, "rawlog");
     io::requireOutputFolder(m_out, "output folder");
     io::requireReplaceableFiles(m_out, outputNames());
+    io::requireOutputsAreNotInputs(
+        io::filesOfOutputFolder(m_out, outputNames(), "output"),
+        {{"the config file", m_config},
+         {"the rawlog", m_rawlog},
+         {"the ground truth (--gt)", m_gt},
+         {"the ground-truth times (--gt-times)", m_gt_options.times_file}});
     m_ground_truth = {};
     if (!m_gt.empty())
     {

@@ -3,6 +3,7 @@
 #include <emslam/apps/ConfigValidation.h>
 #include <emslam/apps/OdometryApp.h>
 #include <emslam/egomotion/EgomotionEstimator.h>
+#include <emslam/io/InputOutputClash.h>
 #include <emslam/io/RawlogInput.h>
 #include <emslam/io/TrajectoryWriter.h>
 #include <emslam/slam/StereoOdometry.h>
@@ -91,6 +92,13 @@ bool OdometryApp::parseArguments(int argc, const char** argv)
     {
         throw std::invalid_argument(std::string("--trajectory-format: ") + e.what());
     }
+    std::vector<io::RolePath> outputs;
+    for (const auto& f : io::trajectoryFiles(m_output, m_trajectory_output))
+    {
+        outputs.push_back({"output trajectory", f});
+    }
+    io::requireOutputsAreNotInputs(
+        outputs, {{"the rawlog", m_rawlog}, {"the config file", config.getValue()}});
     const auto known = knownParameters();
     loadParameters(config.getValue(), &known);
     checkConfig(params);

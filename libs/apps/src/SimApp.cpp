@@ -6,6 +6,7 @@
 #include <emslam/apps/SimApp.h>
 #include <emslam/apps/StopSignal.h>
 #include <emslam/io/InputFileChecks.h>
+#include <emslam/io/InputOutputClash.h>
 #include <emslam/io/RawlogOutput.h>
 #include <emslam/io/TumTrajectory.h>
 #include <emslam/sim/StereoSimulator.h>
@@ -55,8 +56,8 @@ bool SimApp::parseArguments(int argc, const char** argv)
     TCLAP::ValueArg<std::string> arg_gt(
         "", "gt-out", "Write the ground truth here (TUM format).", false, "", "GT.tum", cmd);
     TCLAP::ValueArg<long long> arg_frames(
-        "", "frames", "Render only the first N frames (default: the whole trajectory).", false, 0,
-        "N", cmd);
+        "", "max-frames", "Render only the first N frames (default 0: the whole trajectory).",
+        false, 0, "N", cmd);
     TCLAP::ValueArg<long long> arg_seed(
         "", "seed", "World seed (overrides [World] seed).", false, 1, "S", cmd);
     TCLAP::ValueArg<std::string> arg_png(
@@ -65,7 +66,7 @@ bool SimApp::parseArguments(int argc, const char** argv)
     TCLAP::ValueArg<int> arg_gz(
         "", "gz-level", "gzip level of the rawlog, 0..9 (default 1).", false, 1, "0..9", cmd);
     TCLAP::SwitchArg arg_quiet("q", "quiet", "No progress or summary output.", cmd, false);
-    if (!parseCommandLine(cmd, argc, argv))
+    if (!parseCommandLine(cmd, argc, argv, {{"--frames", "--max-frames", 0, "N"}}))
     {
         return false;
     }
@@ -80,12 +81,8 @@ bool SimApp::parseArguments(int argc, const char** argv)
         usageError("--gz-level must be in 0..9");
     }
     max_frames.reset();
-    if (arg_frames.isSet())
+    if (countOption(arg_frames.getValue(), "--max-frames", 0, PROGRAM) > 0)
     {
-        if (arg_frames.getValue() < 1)
-        {
-            usageError("--frames must be >= 1");
-        }
         max_frames = static_cast<std::size_t>(arg_frames.getValue());
     }
     if (!gt_out_file.empty() &&
@@ -94,6 +91,9 @@ bool SimApp::parseArguments(int argc, const char** argv)
         usageError("--gt-out and --output name the same file");
     }
     io::requireInputFile(world_file, "world file", io::MAX_INI_BYTES);
+    io::requireOutputsAreNotInputs(
+        {{"output rawlog", output_file}, {"ground-truth output (--gt-out)", gt_out_file}},
+        {{"the world file", world_file}});
     std::ifstream in(world_file);
     std::stringstream ss;
     ss << in.rdbuf();

@@ -3,6 +3,7 @@
 #include <emslam/apps/ConfigValidation.h>
 #include <emslam/apps/StereoApp.h>
 #include <emslam/io/InputFileChecks.h>
+#include <emslam/io/InputOutputClash.h>
 #include <emslam/io/RawlogInput.h>
 #include <emslam/io/RawlogOutput.h>
 #include <emslam/stereo/RangeScanConversion.h>
@@ -176,6 +177,16 @@ bool StereoApp::parseArguments(int argc, const char** argv)
     m_out_rawlog = out_rawlog.getValue();
     m_ply = ply.getValue();
     m_disparity_png = disp_png.getValue();
+    io::requireOutputsAreNotInputs(
+        {{"output rawlog", m_out_rawlog},
+         {"output point cloud (--ply)", m_ply},
+         {"output disparity image", m_disparity_png}},
+        {{"the rawlog", m_rawlog},
+         {"the left image", m_left},
+         {"the right image", m_right},
+         {"the calibration", m_calib},
+         {"the ground-truth disparity", m_gt_disparity},
+         {"the config file", config.getValue()}});
     mrpt::config::CConfigFileMemory known;
     emslam::stereo::StereoMatcher::TParameters().saveToConfigFile(known, STEREO_SECTION);
     loadParameters(config.getValue(), &known);

@@ -2,6 +2,7 @@
 #include <emslam/eval/SegmentErrors.h>
 #include <emslam/eval/TrajectoryMetrics.h>
 #include <emslam/io/Json.h>
+#include <emslam/io/NumberText.h>
 
 #include <mrpt/math/CMatrixFixed.h>
 
@@ -240,14 +241,13 @@ TrajectoryMetrics TrajectoryMetrics::compute(
             const auto [lo, hi] = std::minmax_element(
                 t.poses.begin(), t.poses.end(),
                 [](const auto& p, const auto& q) { return p.t < q.t; });
-            std::ostringstream s;
-            s.precision(15);
-            s << "[" << lo->t << ", " << hi->t << "] s";
-            return s.str();
+            return "[" + emslam::io::shortestFixed(lo->t) + ", " +
+                   emslam::io::shortestFixed(hi->t) + "] s";
         };
         std::ostringstream s;
-        s << "no timestamp of the estimate matches the ground truth within max_dt = " << opts.max_dt
-          << " s (estimate " << span(est) << ", ground truth " << span(gt) << ")";
+        s << "no timestamp of the estimate matches the ground truth within max_dt = "
+          << emslam::io::shortestFixed(opts.max_dt) << " s (estimate " << span(est)
+          << ", ground truth " << span(gt) << ")";
         throw std::runtime_error(s.str());
     }
 
@@ -261,6 +261,12 @@ TrajectoryMetrics TrajectoryMetrics::compute(
         sq += aligned.back().sqrDistanceTo(a.gt[i]);
     }
     m.ate_rmse_m = std::sqrt(sq / static_cast<double>(a.size()));
+    if (!std::isfinite(m.ate_rmse_m))
+    {
+        // Only absurd coordinates get here (loadTrajectoryInput() refuses them).
+        throw std::runtime_error(
+            "the ATE is not finite: a position of the estimate or the ground truth is absurd");
+    }
     m.rel = relativeErrors(a.gt, aligned, opts.segment_step);
     m.segment_errors =
         segmentErrors(a.gt, aligned, segmentLengthsFor(pathLength(a.gt)), opts.segment_step);

@@ -1,13 +1,13 @@
 // SPDX-License-Identifier: BSD-3-Clause
 #include <emslam/io/DataFile.h>
 #include <emslam/io/KittiTrajectory.h>
+#include <emslam/io/NumberText.h>
 #include <emslam/io/TextParsing.h>
 
 #include <mrpt/core/exceptions.h>
 #include <mrpt/math/CMatrixFixed.h>
 
 #include <Eigen/Dense>
-#include <charconv>
 #include <cmath>
 #include <filesystem>
 #include <fstream>
@@ -18,13 +18,6 @@ namespace emslam::io
 {
 namespace
 {
-std::string shortestFixed(double v)
-{
-    char buf[400];
-    const auto res = std::to_chars(buf, buf + sizeof(buf), v, std::chars_format::fixed);
-    return std::string(buf, res.ptr);
-}
-
 std::ifstream openForReading(const std::string& file, const char* what)
 {
     return openTextFile(file, std::string("KITTI ") + what + " file");

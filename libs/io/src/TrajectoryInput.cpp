@@ -1,7 +1,9 @@
 // SPDX-License-Identifier: BSD-3-Clause
+#include <emslam/io/NumberText.h>
 #include <emslam/io/TrajectoryInput.h>
 #include <emslam/stereo/ExceptionMessage.h>
 
+#include <cmath>
 #include <filesystem>
 #include <stdexcept>
 
@@ -37,7 +39,29 @@ emslam::io::LoadedTrajectory loadTrajectoryInput(
     {
         throw std::runtime_error(what + " file '" + file + "' has no poses");
     }
+    requirePlausiblePositions(t.trajectory, file, what);
     return t;
+}
+
+void requirePlausiblePositions(
+    const emslam::io::TumTrajectory& t, const std::string& file, const std::string& what)
+{
+    for (std::size_t i = 0; i < t.poses.size(); ++i)
+    {
+        const auto& p = t.poses[i].pose;
+        for (const double c : {p.x(), p.y(), p.z()})
+        {
+            if (!(std::abs(c) <= MAX_POSITION_M))
+            {
+                throw std::runtime_error(
+                    what + " file '" + file + "': pose " + std::to_string(i + 1) + " (t = " +
+                    shortestFixed(t.poses[i].t) + " s) lies at (" + shortestFixed(p.x()) + ", " +
+                    shortestFixed(p.y()) + ", " + shortestFixed(p.z()) +
+                    ") m; a coordinate beyond " + shortestFixed(MAX_POSITION_M) +
+                    " m is no trajectory (wrong columns or units?)");
+            }
+        }
+    }
 }
 
 void requireTimes(

@@ -35,25 +35,38 @@ std::string kittiFileBeside(const std::string& tum_file)
     return (p.parent_path() / (p.stem().string() + "_kitti.txt")).string();
 }
 
-std::vector<std::string> saveTrajectory(
-    const TumTrajectory& t, const std::string& file, TrajectoryOutput output)
+std::vector<std::string> trajectoryFiles(const std::string& file, TrajectoryOutput output)
 {
-    std::vector<std::string> written;
+    std::vector<std::string> files;
     std::string kitti = file;
     if (output != TrajectoryOutput::Kitti)
     {
-        t.saveToFile(file);
-        written.push_back(file);
+        files.push_back(file);
         kitti = kittiFileBeside(file);
     }
     if (output != TrajectoryOutput::Tum)
     {
-        const std::string times = KittiTrajectory::timesFileFor(kitti);
-        KittiTrajectory::save(t, kitti, times);
-        written.push_back(kitti);
-        written.push_back(times);
+        files.push_back(kitti);
+        files.push_back(KittiTrajectory::timesFileFor(kitti));
     }
-    return written;
+    return files;
+}
+
+std::vector<std::string> saveTrajectory(
+    const TumTrajectory& t, const std::string& file, TrajectoryOutput output)
+{
+    const std::vector<std::string> files = trajectoryFiles(file, output);
+    if (output == TrajectoryOutput::Kitti)
+    {
+        KittiTrajectory::save(t, files[0], files[1]);
+        return files;
+    }
+    t.saveToFile(files[0]);
+    if (output == TrajectoryOutput::Both)
+    {
+        KittiTrajectory::save(t, files[1], files[2]);
+    }
+    return files;
 }
 
 }  // namespace emslam::io

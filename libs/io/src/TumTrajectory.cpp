@@ -1,12 +1,12 @@
 // SPDX-License-Identifier: BSD-3-Clause
 #include <emslam/io/DataFile.h>
+#include <emslam/io/NumberText.h>
 #include <emslam/io/TextParsing.h>
 #include <emslam/io/TumTrajectory.h>
 
 #include <mrpt/core/exceptions.h>
 #include <mrpt/math/CQuaternion.h>
 
-#include <charconv>
 #include <cmath>
 #include <cstdio>
 #include <fstream>
@@ -15,18 +15,6 @@
 
 namespace emslam::io
 {
-namespace
-{
-/** Shortest fixed-point text that reads back to the same double (no exponent:
- * some tools split numbers at `e`). */
-std::string shortestFixed(double v)
-{
-    char buf[400];  // the longest fixed form of a double (a denormal) fits
-    const auto res = std::to_chars(buf, buf + sizeof(buf), v, std::chars_format::fixed);
-    return std::string(buf, res.ptr);
-}
-}  // namespace
-
 std::string formatTimestamp(double t)
 {
     // UNIX times need 10 integer digits: the shortest form would be "1.7e+09"

@@ -6,6 +6,7 @@
 #include <emslam/slam/FrameMemoryPolicy.h>
 #include <emslam/stereo/ExceptionMessage.h>
 
+#include <csignal>
 #include <iostream>
 #include <type_traits>
 
@@ -30,12 +31,16 @@ struct HasExitCode<App, std::void_t<decltype(std::declval<const App&>().exitCode
  * 128 + the signal, as shells report a process the signal killed: 130 after
  * Ctrl-C (SIGINT), 143 after SIGTERM, so scripts can tell it from a full run.
  * Otherwise an App with `exitCode()` decides (e.g. EXIT_DEGENERATE), else 0.
+ * SIGPIPE is ignored: stdout piped into a reader that quits (`| head`,
+ * `| true`) loses the rest of the console text, never the run or its exit
+ * code (the outputs are files).
  * \ingroup emslam_apps_grp */
 template <class App>
 int appMain(const char* name, int argc, char** argv)
 {
     try
     {
+        std::signal(SIGPIPE, SIG_IGN);
         emslam::slam::keepFrameBuffersInProcess();
         registerAllClasses();
         App app;

@@ -55,6 +55,16 @@ std::vector<std::string> rewriteDeprecatedSpellings(
     const std::vector<std::string>& args,
     const std::vector<DeprecatedSpelling>& deprecated);
 
+/** `args` (without the program name) checked against the options of `cmd`
+ * before TCLAP sees them: a word that looks like an option ("-x", "--name",
+ * "--name=value"; not a negative number, nor the value of the option before
+ * it, nor anything after "--") and is none of `cmd`'s throws
+ * std::invalid_argument "unknown option '--bogus'; try PROGRAM --help" (TCLAP
+ * would report a required argument it never reached instead). Returns `args`
+ * with `--name=value` split into `--name value`. \ingroup emslam_apps_grp */
+std::vector<std::string> requireKnownOptions(
+    TCLAP::CmdLine& cmd, const std::string& program, const std::vector<std::string>& args);
+
 /** "bad command line: MESSAGE; try PROGRAM --help", thrown as
  * std::invalid_argument. \ingroup emslam_apps_grp \sa App::usageError() */
 [[noreturn]] void usageError(const std::string& program, const std::string& message);

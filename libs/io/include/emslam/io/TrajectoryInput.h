@@ -11,12 +11,25 @@ namespace emslam::io
  * emslam::io::loadTrajectory() (TUM, KITTI + times, EuRoC CSV) and says in
  * every error which input it was (`what`: "ground-truth", "estimate") and why:
  * the file does not exist, is a directory, cannot be read (the reader's message
- * names the file and line), or holds no pose.
+ * names the file and line), holds no pose, or a position beyond
+ * MAX_POSITION_M (requirePlausiblePositions()).
  * \ingroup emslam_io_grp \sa requireTimes(), requireComparableTimes() */
 emslam::io::LoadedTrajectory loadTrajectoryInput(
     const std::string& file,
     const std::string& what,
     const emslam::io::TrajectoryReadOptions& options);
+
+/** The largest coordinate of a trajectory position [m]: a million km, beyond
+ * any UTM or ECEF frame, so only a wrong column or unit reaches it (1e300
+ * would make the ATE overflow to "n/a"). \ingroup emslam_io_grp */
+constexpr double MAX_POSITION_M = 1e9;
+
+/** Throws std::runtime_error naming `what`, `file`, the pose and its time
+ * unless every position of `t` is finite and within ±MAX_POSITION_M.
+ * loadTrajectoryInput() checks every trajectory with it.
+ * \ingroup emslam_io_grp */
+void requirePlausiblePositions(
+    const emslam::io::TumTrajectory& t, const std::string& file, const std::string& what);
 
 /** Throws if `t` (read from `file`) is KITTI without times: the message names
  * the times files looked for and the option that gives one (`times_option`).

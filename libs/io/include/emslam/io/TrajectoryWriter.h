@@ -27,6 +27,10 @@ TrajectoryOutput parseTrajectoryOutput(const std::string& s);
  * `out/trajectory_slam_kitti.txt`). \ingroup emslam_io_grp */
 std::string kittiFileBeside(const std::string& tum_file);
 
+/** The files saveTrajectory() writes for `file` and `output`, in its order.
+ * \ingroup emslam_io_grp */
+std::vector<std::string> trajectoryFiles(const std::string& file, TrajectoryOutput output);
+
 /** Writes `t` to `file` in the chosen format(s) and returns the files
  * written: Tum: `file` (TUM); Kitti: `file` (KITTI poses) and
  * KittiTrajectory::timesFileFor(file); Both: `file` (TUM), then
