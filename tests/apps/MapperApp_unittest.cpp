@@ -1,6 +1,7 @@
 // SPDX-License-Identifier: BSD-3-Clause
 // emslam-mapper end to end: a small simulated rawlog through the app, every
 // output read back; truncated rawlogs; Ctrl-C; each bad input.
+#include "SimulatedHall.h"
 #include "TestData.h"
 #include "TestHelpers.h"
 
@@ -37,6 +38,7 @@
 #include <filesystem>
 #include <fstream>
 #include <functional>
+#include <limits>
 #include <opencv2/imgcodecs.hpp>
 #include <opencv2/imgproc.hpp>
 #include <sstream>
@@ -49,6 +51,8 @@
 namespace
 {
 using emslam::apps::MapperApp;
+using emslam::test::simulatedHall;
+using emslam::test::writeEditedHall;
 
 std::vector<const char*> argvOf(const std::vector<std::string>& args)
 {
@@ -80,27 +84,6 @@ std::string readText(const std::string& file)
     return s.str();
 }
 
-/** The first `frames` frames of the simulated hall, rendered once per size. */
-std::string simulatedHall(std::size_t frames)
-{
-    static const std::string dir = emslam::test::makeTempDir("mapper_app");
-    const std::string file = dir + "/hall" + std::to_string(frames) + ".rawlog";
-    if (!mrpt::system::fileExists(file))
-    {
-        emslam::apps::SimApp sim;
-        const std::vector<std::string> args = {
-            "emslam-sim",   emslam::test::sourceDir() + "/config/sim/hall_double_loop.ini",
-            "-o",           file,
-            "--gt-out",     dir + "/hall" + std::to_string(frames) + ".tum",
-            "--max-frames", std::to_string(frames),
-            "--quiet"};
-        auto argv = argvOf(args);
-        sim.initialize(static_cast<int>(argv.size()), argv.data());
-        sim.run();
-    }
-    return file;
-}
-
 std::string groundTruthOf(const std::string& rawlog)
 {
     return rawlog.substr(0, rawlog.size() - 7) + ".tum";
@@ -130,26 +113,6 @@ std::size_t countLinesStartingWith(const std::string& text, const std::string& p
         n += line.rfind(prefix, 0) == 0;
     }
     return n;
-}
-/** Writes the first `frames` frames of the simulated hall to `rawlog`, each
- * stereo observation passed through `edit(frame_index, observation)` first. */
-void writeEditedHall(
-    const std::string& rawlog,
-    std::size_t frames,
-    const std::function<void(std::size_t, mrpt::obs::CObservationStereoImages&)>& edit)
-{
-    emslam::io::RawlogInput in(simulatedHall(frames));
-    mrpt::io::CFileGZOutputStream out(rawlog);
-    auto arch = mrpt::serialization::archiveFrom(out);
-    std::vector<mrpt::obs::CObservation::Ptr> batch;
-    for (std::size_t i = 0; in.next(batch); i++)
-    {
-        ASSERT_EQ(batch.size(), 1U);
-        auto stereo = std::dynamic_pointer_cast<mrpt::obs::CObservationStereoImages>(batch[0]);
-        ASSERT_TRUE(stereo);
-        edit(i, *stereo);
-        arch << *stereo;
-    }
 }
 }  // namespace
 
@@ -678,7 +641,7 @@ TEST(MapperApp, badInputsFailWithAClearMessage)
     }
     runFails(
         {cfg, dir + "/nocalib.rawlog", "--out", dir + "/o3"},
-        {"no usable stereo", "1 unusable ones skipped", "record 0", "calibration"});
+        {"no usable stereo", "1 frame skipped (1 unusable)", "record 0", "calibration"});
     // A run that fails before writing leaves no output folder behind.
     EXPECT_FALSE(std::filesystem::exists(dir + "/o1"));
     EXPECT_FALSE(std::filesystem::exists(dir + "/o2"));
@@ -726,6 +689,177 @@ TEST(MapperApp, unusableFramesAreSkippedAndTheOthersMapped)
     EXPECT_EQ(emslam::io::TumTrajectory::fromFile(out + "/trajectory_slam.tum").size(), 28U);
     EXPECT_NE(
         readText(out + "/report.html").find("unusable observations skipped"), std::string::npos);
+}
+
+/** Runs the mapper (egomotion only: the frames are the point) on `rawlog`
+ * into `out`, its stderr returned. */
+std::string mapCapturingStderr(MapperApp& app, const std::string& rawlog, const std::string& out)
+{
+    initApp(app, {config("3dof-low-structured"), rawlog, "--out", out, "-q", "--egomotion-only"});
+    testing::internal::CaptureStderr();
+    try
+    {
+        app.run();
+    }
+    catch (...)
+    {
+        testing::internal::GetCapturedStderr();
+        throw;
+    }
+    return testing::internal::GetCapturedStderr();
+}
+
+/** Every trajectory the mapper wrote has `n` poses, strictly increasing in time. */
+void expectStrictlyIncreasingTrajectories(const std::string& out, std::size_t n)
+{
+    for (const char* name : {"trajectory_egomotion", "trajectory_slam", "trajectory_online"})
+    {
+        const auto t = emslam::test::trajectoryTimes(out + "/" + name + ".tum");
+        EXPECT_EQ(t.size(), n) << name;
+        for (std::size_t i = 1; i < t.size(); ++i)
+        {
+            EXPECT_GT(t[i], t[i - 1]) << name << " line " << i;
+        }
+    }
+}
+
+// Frame 10 repeats frame 9's stamp, frame 15 goes back 1 s, frame 20 has no
+// stamp, frame 22 the one a NaN becomes: each is skipped and named, the
+// trajectories are strictly increasing in time.
+TEST(MapperApp, badTimestampsAreSkippedAndTheTrajectoriesIncrease)
+{
+    const std::string dir = emslam::test::makeTempDir("mapper_stamps");
+    const std::string rawlog = dir + "/stamps.rawlog";
+    mrpt::Clock::time_point previous;
+    writeEditedHall(
+        rawlog, 30,
+        [&](std::size_t i, mrpt::obs::CObservationStereoImages& stereo)
+        {
+            const auto own = stereo.timestamp;
+            if (i == 10)
+            {
+                stereo.timestamp = previous;
+            }
+            if (i == 15)
+            {
+                stereo.timestamp = own - std::chrono::seconds(1);
+            }
+            if (i == 20)
+            {
+                stereo.timestamp = INVALID_TIMESTAMP;
+            }
+            if (i == 22)
+            {
+                // What Clock::fromDouble(NaN) stores on x86-64 (year 31198).
+                stereo.timestamp = mrpt::Clock::time_point(mrpt::Clock::duration(
+                    std::numeric_limits<std::int64_t>::min() + 116444736000000000LL));
+            }
+            previous = own;
+        });
+    const std::string out = dir + "/out";
+    MapperApp app;
+    const std::string err = mapCapturingStderr(app, rawlog, out);
+    EXPECT_EQ(app.mapper().frameCount(), 26U);
+    EXPECT_EQ(app.runInfo().skipped_observations, 4U);
+    EXPECT_EQ(app.runInfo().skipped_bad_stamps, 4U);
+    for (const char* warning :
+         {"emslam-mapper: warning: skipping frame at record 10: its timestamp 1700000001.800000000 "
+          "is the same as record 9's (the last frame used)\n",
+          "emslam-mapper: warning: skipping frame at record 15: its timestamp 1700000002.000000000 "
+          "is 0.8 s before record 14's (the last frame used)\n",
+          "emslam-mapper: warning: skipping frame at record 20: its timestamp is INVALID_TIMESTAMP "
+          "(never set)\n",
+          "emslam-mapper: warning: skipping frame at record 22: its timestamp 9.223372037e+11 s "
+          "is after 2100\n"})
+    {
+        EXPECT_NE(err.find(warning), std::string::npos) << warning << "\nin:\n" << err;
+    }
+    const std::string json = readText(out + "/summary.json");
+    EXPECT_NE(json.find("\"skipped_observations\": 4,"), std::string::npos) << json;
+    EXPECT_NE(json.find("\"skipped_bad_stamps\": 4,"), std::string::npos) << json;
+    EXPECT_NE(json.find("\"skipped_camera_changes\": 0,"), std::string::npos) << json;
+    EXPECT_NE(json.find("\"camera_change\": null,"), std::string::npos) << json;
+    EXPECT_NE(json.find("\"skipped_reasons\": [\"record 10: its timestamp"), std::string::npos);
+    expectStrictlyIncreasingTrajectories(out, 26);
+}
+
+// Frames 8, 9 and 17 come from a 640x480 camera (a valid calibration of
+// their own): skipped, and reported as a camera that came and went.
+TEST(MapperApp, interleavedImageSizesAreSkipped)
+{
+    const std::string dir = emslam::test::makeTempDir("mapper_interleaved");
+    const std::string rawlog = dir + "/interleaved.rawlog";
+    writeEditedHall(
+        rawlog, 30,
+        [](std::size_t i, mrpt::obs::CObservationStereoImages& stereo)
+        {
+            if (i == 8 || i == 9 || i == 17)
+            {
+                emslam::test::resizeStereoFrame(stereo, 640, 480);
+            }
+        });
+    const std::string out = dir + "/out";
+    MapperApp app;
+    const std::string err = mapCapturingStderr(app, rawlog, out);
+    EXPECT_EQ(app.mapper().frameCount(), 27U);
+    EXPECT_EQ(app.runInfo().skipped_camera_changes, 3U);
+    EXPECT_EQ(app.exitCode(), 0);
+    EXPECT_NE(
+        err.find("emslam-mapper: warning: skipping frame at record 8: its camera 640x480 (fx 400, "
+                 "fy 400, cx 319, cy 239, baseline 0.1 m) differs from the session's 320x240 "
+                 "(fx 200, fy 200, cx 159.5, cy 119.5, baseline 0.1 m)\n"),
+        std::string::npos)
+        << err;
+    EXPECT_NE(
+        err.find("emslam-mapper: warning: 3 frames skipped: their camera differed from the "
+                 "session's 320x240 (fx 200, fy 200, cx 159.5, cy 119.5, baseline 0.1 m) in 2 runs "
+                 "(the first at record 8: 640x480"),
+        std::string::npos)
+        << err;
+    const std::string json = readText(out + "/summary.json");
+    EXPECT_NE(json.find("\"skipped_camera_changes\": 3,"), std::string::npos) << json;
+    EXPECT_NE(json.find("\"camera_change\": {\"record\": 8, "), std::string::npos) << json;
+    EXPECT_NE(json.find("\"for_good\": false, \"runs\": 2"), std::string::npos) << json;
+    expectStrictlyIncreasingTrajectories(out, 27);
+}
+
+// From frame 15 on, another camera: the first 15 frames are mapped, the run
+// ends with one warning saying where the camera changed, and exits 0 (not
+// "degenerate": no egomotion step failed).
+TEST(MapperApp, cameraChangedForGoodIsMappedAsFarAsTheFirstCameraGoes)
+{
+    const std::string dir = emslam::test::makeTempDir("mapper_camera_change");
+    const std::string rawlog = dir + "/change.rawlog";
+    writeEditedHall(
+        rawlog, 30,
+        [](std::size_t i, mrpt::obs::CObservationStereoImages& stereo)
+        {
+            if (i >= 15)
+            {
+                emslam::test::resizeStereoFrame(stereo, 640, 480);
+            }
+        });
+    const std::string out = dir + "/out";
+    MapperApp app;
+    const std::string err = mapCapturingStderr(app, rawlog, out);
+    EXPECT_EQ(app.mapper().frameCount(), 15U);
+    EXPECT_EQ(app.runInfo().skipped_camera_changes, 15U);
+    EXPECT_EQ(app.exitCode(), 0);
+    EXPECT_EQ(err.find("degenerate"), std::string::npos) << err;
+    const std::string end =
+        "15 frames skipped: camera changed from 320x240 (fx 200, fy 200, cx 159.5, cy 119.5, "
+        "baseline 0.1 m) to 640x480 (fx 400, fy 400, cx 319, cy 239, baseline 0.1 m) at "
+        "record 15; only the 15 frames before it were used";
+    EXPECT_NE(err.find("emslam-mapper: warning: " + end + "\n"), std::string::npos) << err;
+    // The first 5 named, the others only counted.
+    EXPECT_EQ(countLinesStartingWith(err, "emslam-mapper: warning: skipping frame at record"), 5U);
+    const std::string json = readText(out + "/summary.json");
+    EXPECT_NE(
+        json.find("\"for_good\": true, \"runs\": 1, \"frames_before\": 15"), std::string::npos)
+        << json;
+    EXPECT_NE(json.find(end), std::string::npos) << json;
+    EXPECT_NE(readText(out + "/report.html").find("camera change"), std::string::npos);
+    expectStrictlyIncreasingTrajectories(out, 15);
 }
 
 // Every input and output is checked in initialize(), before any work, and a

@@ -1,4 +1,5 @@
 // SPDX-License-Identifier: BSD-3-Clause
+#include "SimulatedHall.h"
 #include "TestData.h"
 #include "TestHelpers.h"
 
@@ -14,6 +15,9 @@
 
 #include <gtest/gtest.h>
 
+#include <chrono>
+#include <cstdint>
+#include <limits>
 #include <opencv2/core.hpp>
 #include <string>
 #include <vector>
@@ -43,6 +47,37 @@ std::string writeKittiRawlog(const std::string& seq_dir, std::size_t n, const st
         arch << *seq.frame(i).obs;
     }
     return file;
+}
+/** Runs emslam-odometry on `rawlog` (the hall's [Stereo] / [Egomotion])
+ * into `out`; returns its stderr. */
+std::string runOdometry(
+    emslam::apps::OdometryApp& app, const std::string& rawlog, const std::string& out)
+{
+    initApp(
+        app, {rawlog, "-o", out, "--config",
+              emslam::test::sourceDir() + "/config/mapper/3dof-low-structured.ini", "--quiet"});
+    testing::internal::CaptureStderr();
+    try
+    {
+        app.run();
+    }
+    catch (...)
+    {
+        testing::internal::GetCapturedStderr();
+        throw;
+    }
+    return testing::internal::GetCapturedStderr();
+}
+
+/** The trajectory file holds `n` poses, strictly increasing in time. */
+void expectStrictlyIncreasing(const std::string& tum_file, std::size_t n)
+{
+    const auto t = emslam::test::trajectoryTimes(tum_file);
+    EXPECT_EQ(t.size(), n);
+    for (std::size_t i = 1; i < t.size(); ++i)
+    {
+        EXPECT_GT(t[i], t[i - 1]) << "line " << i;
+    }
 }
 }  // namespace
 
@@ -201,4 +236,115 @@ TEST(OdometryApp, writesKittiTrajectories)
             initApp(bad, {"--rawlog", rawlog, "-o", dir + "/x.tum", "--trajectory-format", "ply"});
         },
         {"--trajectory-format", "'ply'"});
+}
+
+// Frame 5's right image is 160x120 while its left is 320x240: the frame is
+// skipped with a warning, as emslam-mapper does, and the trajectory written.
+TEST(OdometryApp, rawlogWithOneBadFrameStillGivesTheTrajectory)
+{
+    const std::string dir = emslam::test::makeTempDir("odometry_bad_frame");
+    const std::string rawlog = dir + "/bad_frame.rawlog";
+    emslam::test::writeEditedHall(
+        rawlog, 12,
+        [](std::size_t i, mrpt::obs::CObservationStereoImages& stereo)
+        {
+            if (i == 5)
+            {
+                emslam::test::shrinkRightImage(stereo);
+            }
+        });
+    emslam::apps::OdometryApp app;
+    const std::string err = runOdometry(app, rawlog, dir + "/t.tum");
+    EXPECT_EQ(app.frames_processed, 11U);
+    EXPECT_EQ(app.skipped.unusable, 1U);
+    EXPECT_EQ(app.skipped.total(), 1U);
+    EXPECT_NE(
+        err.find("emslam-odometry: warning: skipping unusable observation at record 5: stereo "
+                 "observation 'STEREO': left image is 320x240 but right image is 160x120\n"),
+        std::string::npos)
+        << err;
+    expectStrictlyIncreasing(dir + "/t.tum", 11);
+}
+
+// A repeated stamp (frame 4), one 1 s back (frame 7) and the stamp a NaN
+// becomes (frame 9): skipped and counted; the trajectory increases.
+TEST(OdometryApp, badTimestampsAreSkippedAndTheTrajectoryIncreases)
+{
+    const std::string dir = emslam::test::makeTempDir("odometry_stamps");
+    const std::string rawlog = dir + "/stamps.rawlog";
+    mrpt::Clock::time_point previous;
+    emslam::test::writeEditedHall(
+        rawlog, 12,
+        [&](std::size_t i, mrpt::obs::CObservationStereoImages& stereo)
+        {
+            const auto own = stereo.timestamp;
+            if (i == 4)
+            {
+                stereo.timestamp = previous;
+            }
+            if (i == 7)
+            {
+                stereo.timestamp = own - std::chrono::seconds(1);
+            }
+            if (i == 9)
+            {
+                stereo.timestamp = mrpt::Clock::time_point(mrpt::Clock::duration(
+                    std::numeric_limits<std::int64_t>::min() + 116444736000000000LL));
+            }
+            previous = own;
+        });
+    emslam::apps::OdometryApp app;
+    const std::string err = runOdometry(app, rawlog, dir + "/t.tum");
+    EXPECT_EQ(app.frames_processed, 9U);
+    EXPECT_EQ(app.skipped.bad_stamps, 3U);
+    ASSERT_EQ(app.skipped_reasons.size(), 3U);
+    EXPECT_EQ(
+        app.skipped_reasons[0],
+        "record 4: its timestamp 1700000000.600000000 is the same as record 3's (the last frame "
+        "used)");
+    EXPECT_EQ(
+        app.skipped_reasons[1],
+        "record 7: its timestamp 1700000000.400000000 is 0.8 s before record 6's (the last frame "
+        "used)");
+    EXPECT_EQ(app.skipped_reasons[2], "record 9: its timestamp 9.223372037e+11 s is after 2100");
+    EXPECT_NE(err.find("emslam-odometry: warning: skipping frame at record 7: "), std::string::npos)
+        << err;
+    expectStrictlyIncreasing(dir + "/t.tum", 9);
+}
+
+// Frames of a 640x480 camera between 320x240 ones are skipped; a rawlog
+// whose camera changes for good is followed as far as the first camera goes.
+TEST(OdometryApp, framesOfAnotherCameraAreSkipped)
+{
+    const std::string dir = emslam::test::makeTempDir("odometry_camera");
+    for (const bool for_good : {false, true})
+    {
+        const std::string rawlog = dir + (for_good ? "/for_good.rawlog" : "/interleaved.rawlog");
+        emslam::test::writeEditedHall(
+            rawlog, 12,
+            [&](std::size_t i, mrpt::obs::CObservationStereoImages& stereo)
+            {
+                if (for_good ? i >= 8 : (i == 3 || i == 6))
+                {
+                    emslam::test::resizeStereoFrame(stereo, 640, 480);
+                }
+            });
+        emslam::apps::OdometryApp app;
+        const std::string out = rawlog + ".tum";
+        const std::string err = runOdometry(app, rawlog, out);
+        EXPECT_EQ(app.frames_processed, for_good ? 8U : 10U);
+        EXPECT_EQ(app.skipped.camera_changes, for_good ? 4U : 2U);
+        EXPECT_EQ(app.failures, 0U);
+        EXPECT_EQ(app.exitCode(), 0);
+        const std::string end =
+            for_good ? "4 frames skipped: camera changed from 320x240 (fx 200, fy 200, cx 159.5, "
+                       "cy 119.5, baseline 0.1 m) to 640x480 (fx 400, fy 400, cx 319, cy "
+                       "239, baseline 0.1 m) at record 8; only the 8 frames before it were used"
+                     : "2 frames skipped: their camera differed from the session's 320x240 (fx "
+                       "200, fy 200, cx 159.5, cy 119.5, baseline 0.1 m) in 2 runs (the first at "
+                       "record 3: 640x480";
+        EXPECT_EQ(app.camera_change.rfind(end, 0), 0U) << app.camera_change;
+        EXPECT_NE(err.find("emslam-odometry: warning: " + end), std::string::npos) << err;
+        expectStrictlyIncreasing(out, app.frames_processed);
+    }
 }

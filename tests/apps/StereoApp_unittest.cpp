@@ -1,7 +1,9 @@
 // SPDX-License-Identifier: BSD-3-Clause
+#include "SimulatedHall.h"
 #include "TestData.h"
 
 #include <emslam/apps/StereoApp.h>
+#include <emslam/io/RawlogInput.h>
 
 #include <mrpt/io/CFileGZInputStream.h>
 #include <mrpt/obs/CObservation3DRangeScan.h>
@@ -10,6 +12,7 @@
 
 #include <gtest/gtest.h>
 
+#include <chrono>
 #include <fstream>
 #include <string>
 #include <vector>
@@ -130,4 +133,99 @@ TEST(StereoApp, helpDoesNotRun)
     runApp(app, {"--help"});
     EXPECT_TRUE(app.helpRequested());
     EXPECT_EQ(app.frames_processed, 0u);
+}
+
+// A rawlog with a repeated stamp (frame 2), a frame of another camera (4), a
+// frame the front-end refuses (6: right image 160x120) and a stamp 1 s back
+// (8): those four are skipped and counted, the others written in time order.
+// A camera changed for good (from frame 6 on) is followed as far as the first
+// one goes.
+TEST(StereoApp, rawlogFramesWithBadStampsOrCamerasAreSkipped)
+{
+    const std::string dir = emslam::test::makeTempDir("stereo_app_skip");
+    const std::string rawlog = dir + "/in.rawlog";
+    mrpt::Clock::time_point previous;
+    emslam::test::writeEditedHall(
+        rawlog, 12,
+        [&](std::size_t i, mrpt::obs::CObservationStereoImages& stereo)
+        {
+            const auto own = stereo.timestamp;
+            if (i == 2)
+            {
+                stereo.timestamp = previous;
+            }
+            if (i == 4)
+            {
+                emslam::test::resizeStereoFrame(stereo, 640, 480);
+            }
+            if (i == 6)
+            {
+                emslam::test::shrinkRightImage(stereo);
+            }
+            if (i == 8)
+            {
+                stereo.timestamp = own - std::chrono::seconds(1);
+            }
+            previous = own;
+        });
+    emslam::apps::StereoApp app;
+    testing::internal::CaptureStdout();
+    testing::internal::CaptureStderr();
+    runApp(app, {rawlog, "--out-rawlog", dir + "/out.rawlog"});
+    testing::internal::GetCapturedStdout();
+    const std::string err = testing::internal::GetCapturedStderr();
+    EXPECT_EQ(app.frames_processed, 8U);
+    EXPECT_EQ(app.skipped.bad_stamps, 2U);
+    EXPECT_EQ(app.skipped.camera_changes, 1U);
+    EXPECT_EQ(app.skipped.unusable, 1U);
+    ASSERT_EQ(app.skipped_reasons.size(), 4U);
+    EXPECT_EQ(app.skipped_reasons[0].rfind("record 2: its timestamp", 0), 0U);
+    EXPECT_EQ(app.skipped_reasons[1].rfind("record 4: its camera 640x480", 0), 0U);
+    EXPECT_EQ(app.skipped_reasons[2].rfind("record 6: stereo observation", 0), 0U);
+    EXPECT_EQ(app.skipped_reasons[3].rfind("record 8: its timestamp", 0), 0U);
+    EXPECT_NE(
+        err.find("emslam-stereo: warning: skipping unusable observation at record 6: "),
+        std::string::npos)
+        << err;
+    EXPECT_NE(
+        err.find("emslam-stereo: warning: 1 frame skipped: their camera differed"),
+        std::string::npos)
+        << err;
+
+    emslam::io::RawlogInput out(dir + "/out.rawlog");
+    std::vector<mrpt::obs::CObservation::Ptr> batch;
+    std::vector<double> stamps;
+    while (out.next(batch))
+    {
+        for (const auto& o : batch)
+        {
+            stamps.push_back(mrpt::Clock::toDouble(o->timestamp));
+        }
+    }
+    ASSERT_EQ(stamps.size(), 8U);
+    for (std::size_t i = 1; i < stamps.size(); ++i)
+    {
+        EXPECT_GT(stamps[i], stamps[i - 1]) << i;
+    }
+
+    const std::string changed = dir + "/changed.rawlog";
+    emslam::test::writeEditedHall(
+        changed, 12,
+        [](std::size_t i, mrpt::obs::CObservationStereoImages& stereo)
+        {
+            if (i >= 6)
+            {
+                emslam::test::resizeStereoFrame(stereo, 640, 480);
+            }
+        });
+    emslam::apps::StereoApp app2;
+    testing::internal::CaptureStdout();
+    testing::internal::CaptureStderr();
+    runApp(app2, {changed});
+    testing::internal::GetCapturedStdout();
+    testing::internal::GetCapturedStderr();
+    EXPECT_EQ(app2.frames_processed, 6U);
+    EXPECT_EQ(app2.skipped.camera_changes, 6U);
+    EXPECT_EQ(app2.camera_change.rfind("6 frames skipped: camera changed from 320x240", 0), 0U)
+        << app2.camera_change;
 }

@@ -9,6 +9,7 @@
 #include <emslam/apps/ProgressLine.h>
 #include <emslam/apps/StopSignal.h>
 #include <emslam/io/AtomicTextFile.h>
+#include <emslam/io/FrameStreamGuard.h>
 #include <emslam/io/InputFileChecks.h>
 #include <emslam/io/InputOutputClash.h>
 #include <emslam/io/OutputPathChecks.h>
@@ -40,9 +41,6 @@ std::string joinPath(const std::string& dir, const std::string& name)
 {
     return dir + "/" + name;
 }
-
-/** How many skipped observations are named on stderr and in summary.json. */
-constexpr std::size_t SKIPS_NAMED = 5;
 
 /** Every file the mapper may write into its output folder. */
 const std::vector<std::string>& outputNames()
@@ -273,6 +271,8 @@ void MapperApp::execute()
     const auto live = m_viewer ? std::make_unique<MapperLiveFeed>(PROGRAM) : nullptr;
     std::vector<mrpt::obs::CObservation::Ptr> batch;
     bool done = false;
+    // Frames with a bad timestamp or another camera never reach the mapper.
+    io::FrameStreamGuard guard;
     io::RawlogReadAhead reader(in);  // the next record is read while this one is mapped
     while (!done && reader.next(batch))
     {
@@ -285,9 +285,16 @@ void MapperApp::execute()
                 break;
             }
             const std::size_t record = reader.recordsRead() - 1;
+            const auto decision = guard.check(*o, record);
+            if (decision.verdict == io::FrameStreamGuard::Verdict::Skip)
+            {
+                warnSkipped(decision.warning, progress);
+                continue;
+            }
             try
             {
-                if (!m_mapper->process(*o))
+                if (decision.verdict == io::FrameStreamGuard::Verdict::NotAFrame ||
+                    !m_mapper->process(*o))
                 {
                     ++m_info.ignored_observations;
                     continue;
@@ -295,7 +302,7 @@ void MapperApp::execute()
             }
             catch (const slam::EntropySlam::UnusableObservation& e)
             {
-                skipObservation(record, e.what(), progress);
+                warnSkipped(guard.skipUnusable(record, e.what()), progress);
                 continue;
             }
             catch (const std::exception& e)
@@ -306,6 +313,7 @@ void MapperApp::execute()
                 done = true;
                 break;
             }
+            guard.accept();
             if (live)
             {
                 live->update(*m_mapper);
@@ -316,6 +324,7 @@ void MapperApp::execute()
         done = done || StopSignal::requested();
     }
     progress.finish();
+    recordSkips(guard);
     m_info.interrupted = StopSignal::requested();
     if (reader.endedEarly())
     {
@@ -355,8 +364,7 @@ void MapperApp::execute()
         std::string skipped;
         if (m_info.skipped_observations > 0)
         {
-            skipped = "; " + std::to_string(m_info.skipped_observations) +
-                      " unusable ones skipped, first: " + m_info.skipped_reasons.front();
+            skipped = "; " + guard.skippedText() + ", first: " + m_info.skipped_reasons.front();
         }
         throw std::runtime_error(
             "no usable stereo or RGB-D observation in rawlog '" + m_rawlog + "' (" +
@@ -414,22 +422,26 @@ void MapperApp::execute()
         " frames before it are in '" + m_out + "'");
 }
 
-void MapperApp::skipObservation(
-    std::size_t record, const std::string& reason, ProgressLine& progress)
+void MapperApp::warnSkipped(const std::string& warning, ProgressLine& progress)
 {
-    const std::string named = "record " + std::to_string(record) + ": " + reason;
-    if (m_info.skipped_reasons.size() < SKIPS_NAMED)
-    {
-        m_info.skipped_reasons.push_back(named);
-    }
-    ++m_info.skipped_observations;
-    if (m_info.skipped_observations <= SKIPS_NAMED)
+    if (!warning.empty())
     {
         progress.finish();  // a warning never lands in the middle of the progress line
-        std::fprintf(
-            stderr, "%s: warning: skipping unusable observation at %s%s\n", PROGRAM, named.c_str(),
-            m_info.skipped_observations == SKIPS_NAMED ? " (further ones are only counted)" : "");
+        std::fprintf(stderr, "%s: warning: %s\n", PROGRAM, warning.c_str());
     }
+}
+
+void MapperApp::recordSkips(const io::FrameStreamGuard& guard)
+{
+    const auto& n = guard.counts();
+    m_info.skipped_observations = n.total();
+    m_info.skipped_bad_stamps = n.bad_stamps;
+    m_info.skipped_camera_changes = n.camera_changes;
+    m_info.skipped_unusable = n.unusable;
+    m_info.skipped_reasons = guard.namedSkips();
+    m_info.skipped_text = guard.skippedText();
+    m_info.camera_change = guard.cameraChange();
+    m_info.camera_change_warning = guard.cameraChangeWarning();
 }
 
 void MapperApp::writeOutputs(const emslam::io::TumTrajectory& ground_truth)
@@ -500,7 +512,7 @@ void MapperApp::writeOutputs(const emslam::io::TumTrajectory& ground_truth)
     }
     if (m_info.skipped_observations > 0)
     {
-        std::printf(", %zu unusable observations skipped", m_info.skipped_observations);
+        std::printf(", %s", m_info.skipped_text.c_str());
     }
     std::printf(
         "), %zu rectifications, final energy %.4f, %.1f s\n", m.rectifications().size(),
@@ -556,6 +568,11 @@ void MapperApp::writeOutputs(const emslam::io::TumTrajectory& ground_truth)
     }
     std::printf(
         "outputs in '%s' (report: %s)\n", m_out.c_str(), joinPath(m_out, "report.html").c_str());
+    if (!m_info.camera_change_warning.empty())
+    {
+        std::fflush(stdout);  // the summary first
+        std::fprintf(stderr, "%s: warning: %s\n", PROGRAM, m_info.camera_change_warning.c_str());
+    }
     if (!scan_error.empty())
     {
         throw std::runtime_error(scan_error + " (the other outputs are in '" + m_out + "')");

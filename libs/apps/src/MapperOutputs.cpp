@@ -54,6 +54,24 @@ std::string jsonStringArray(const std::vector<std::string>& items)
     return out + "]";
 }
 
+/** summary.json's camera_change: null, or where the camera first changed and
+ * whether it changed for good. */
+std::string cameraChangeJson(const MapperRunInfo& info)
+{
+    if (!info.camera_change)
+    {
+        return "null";
+    }
+    const auto& c = *info.camera_change;
+    return "{\"record\": " + std::to_string(c.record) +
+           ", \"from\": " + io::jsonString(c.from.toString()) +
+           ", \"to\": " + io::jsonString(c.to.toString()) +
+           ", \"for_good\": " + (c.for_good ? "true" : "false") +
+           ", \"runs\": " + std::to_string(c.runs) +
+           ", \"frames_before\": " + std::to_string(c.used_before) +
+           ", \"warning\": " + io::jsonString(info.camera_change_warning) + "}";
+}
+
 std::string fixed(double v, int decimals)
 {
     char buf[64];
@@ -206,7 +224,11 @@ void writeSummaryJson(
       << "  \"guided_fallbacks\": " << m.guidedFallbacks() << ",\n"
       << "  \"ignored_observations\": " << info.ignored_observations << ",\n"
       << "  \"skipped_observations\": " << info.skipped_observations << ",\n"
+      << "  \"skipped_bad_stamps\": " << info.skipped_bad_stamps << ",\n"
+      << "  \"skipped_camera_changes\": " << info.skipped_camera_changes << ",\n"
+      << "  \"skipped_unusable\": " << info.skipped_unusable << ",\n"
       << "  \"skipped_reasons\": " << jsonStringArray(info.skipped_reasons) << ",\n"
+      << "  \"camera_change\": " << cameraChangeJson(info) << ",\n"
       << "  \"stopped_by_error\": "
       << (info.stopped_by_error.empty() ? "null" : io::jsonString(info.stopped_by_error)) << ",\n"
       << "  \"interrupted\": " << (info.interrupted ? "true" : "false") << ",\n"
@@ -431,9 +453,15 @@ MapperReportData makeReportData(
         {
             first += (first.empty() ? "" : "; ") + r;
         }
-        s.emplace_back(
-            "unusable observations skipped",
-            std::to_string(info.skipped_observations) + " (first: " + first + ")");
+        s.emplace_back("frames skipped", info.skipped_text + " (first: " + first + ")");
+    }
+    if (info.skipped_unusable > 0)
+    {
+        s.emplace_back("unusable observations skipped", std::to_string(info.skipped_unusable));
+    }
+    if (!info.camera_change_warning.empty())
+    {
+        s.emplace_back("camera change", info.camera_change_warning);
     }
     if (!info.stopped_by_error.empty())
     {

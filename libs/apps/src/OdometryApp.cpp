@@ -3,16 +3,19 @@
 #include <emslam/apps/ConfigValidation.h>
 #include <emslam/apps/OdometryApp.h>
 #include <emslam/egomotion/EgomotionEstimator.h>
+#include <emslam/io/FrameStreamGuard.h>
 #include <emslam/io/InputOutputClash.h>
 #include <emslam/io/RawlogInput.h>
 #include <emslam/io/TrajectoryWriter.h>
 #include <emslam/slam/StereoOdometry.h>
+#include <emslam/stereo/ExceptionMessage.h>
 
 #include <mrpt/img/CImage.h>
 #include <mrpt/serialization/CArchive.h>
 
 #include <chrono>
 #include <cstdio>
+#include <new>
 #include <stdexcept>
 #include <vector>
 
@@ -131,6 +134,8 @@ void OdometryApp::execute()
 
     trajectory = {};
     degenerate.clear();
+    camera_change.clear();
+    skipped_reasons.clear();
     frames_processed = failures = 0;
     double sum_stereo = 0, sum_feat = 0, sum_desc = 0, sum_match = 0, sum_lwo = 0, sum_pose = 0,
            sum_ego = 0, sum_init = 0, sum_final = 0;
@@ -178,22 +183,64 @@ void OdometryApp::execute()
 
     std::vector<mrpt::obs::CObservation::Ptr> batch;
     std::size_t ignored = 0;
+    // Frames with a bad timestamp or another camera, or that the front-end
+    // refuses, are skipped: the trajectory stays strictly increasing in time.
+    io::FrameStreamGuard guard;
+    const auto warn = [](const std::string& warning)
+    {
+        if (!warning.empty())
+        {
+            std::fflush(stdout);
+            std::fprintf(stderr, "%s: warning: %s\n", PROGRAM, warning.c_str());
+        }
+    };
     while ((maxFrames() == 0 || frames_processed < maxFrames()) && in.next(batch))
     {
+        const std::size_t record = in.recordsRead() - 1;
         for (const auto& o : batch)
         {
             if (maxFrames() != 0 && frames_processed >= maxFrames())
             {
                 break;
             }
-            ignored += !handle(*o);
+            const auto decision = guard.check(*o, record);
+            if (decision.verdict == io::FrameStreamGuard::Verdict::Skip)
+            {
+                warn(decision.warning);
+                continue;
+            }
+            try
+            {
+                if (decision.verdict == io::FrameStreamGuard::Verdict::NotAFrame || !handle(*o))
+                {
+                    ++ignored;
+                    continue;
+                }
+            }
+            catch (const std::bad_alloc&)
+            {
+                throw;  // not the observation's fault
+            }
+            catch (const std::exception& e)
+            {
+                // StereoOdometry changed nothing: the frame is skipped.
+                warn(guard.skipUnusable(record, emslam::stereo::shortExceptionMessage(e)));
+                continue;
+            }
+            guard.accept();
         }
     }
-    in.warnIfEndedEarly("emslam-odometry");
+    in.warnIfEndedEarly(PROGRAM);
+    skipped = guard.counts();
+    skipped_reasons = guard.namedSkips();
+    camera_change = guard.cameraChangeWarning();
     if (frames_processed == 0)
     {
         throw std::runtime_error(
-            "no stereo or RGB-D observation found in rawlog '" + m_rawlog + "'");
+            "no usable stereo or RGB-D observation in rawlog '" + m_rawlog + "'" +
+            (skipped.total() > 0
+                 ? " (" + guard.skippedText() + ", first: " + skipped_reasons.front() + ")"
+                 : std::string()));
     }
     const auto written = emslam::io::saveTrajectory(trajectory, m_output, m_trajectory_output);
 
@@ -212,6 +259,10 @@ void OdometryApp::execute()
     {
         std::printf("ignored %zu observations of other classes\n", ignored);
     }
+    if (skipped.total() > 0)
+    {
+        std::printf("%s\n", guard.skippedText().c_str());
+    }
     if (odometry.estimator().parameters().guided_matching)
     {
         std::printf(
@@ -228,6 +279,11 @@ void OdometryApp::execute()
         frames_processed, failures, mean_initial_matches, mean_final_matches, mean_ms_stereo,
         mean_ms_features, mean_ms_descriptors, mean_ms_matching, mean_ms_lwo, mean_ms_pose,
         mean_ms_egomotion, T.x(), T.y(), T.z(), T.norm(), quotedList(written).c_str());
+    if (!camera_change.empty())
+    {
+        std::fflush(stdout);
+        std::fprintf(stderr, "%s: warning: %s\n", PROGRAM, camera_change.c_str());
+    }
     degenerate = degenerateRunWarning(steps, failures, std::nullopt);
     if (!degenerate.empty())
     {

@@ -2,10 +2,12 @@
 #include <emslam/apps/CommandLine.h>
 #include <emslam/apps/ConfigValidation.h>
 #include <emslam/apps/StereoApp.h>
+#include <emslam/io/FrameStreamGuard.h>
 #include <emslam/io/InputFileChecks.h>
 #include <emslam/io/InputOutputClash.h>
 #include <emslam/io/RawlogInput.h>
 #include <emslam/io/RawlogOutput.h>
+#include <emslam/stereo/ExceptionMessage.h>
 #include <emslam/stereo/RangeScanConversion.h>
 #include <emslam/stereo/StereoCalibration.h>
 #include <emslam/stereo/StereoFrontEnd.h>
@@ -17,6 +19,7 @@
 #include <cstdio>
 #include <fstream>
 #include <iostream>
+#include <new>
 #include <opencv2/imgcodecs.hpp>
 #include <opencv2/imgproc.hpp>
 #include <optional>
@@ -218,6 +221,10 @@ void StereoApp::execute()
         out.emplace(m_out_rawlog, 1);
     }
 
+    frames_processed = total_points = 0;
+    skipped = {};
+    skipped_reasons.clear();
+    camera_change.clear();
     double total_ms = 0, total_density = 0;
     auto handle = [&](const emslam::stereo::StereoFrame& f, double ms)
     {
@@ -308,24 +315,62 @@ void StereoApp::execute()
             io::RawlogInput in(m_rawlog);
             std::vector<mrpt::obs::CObservation::Ptr> batch;
             std::size_t ignored = 0;
+            // The same frames as emslam-mapper and emslam-odometry use.
+            io::FrameStreamGuard guard;
+            const auto warn = [](const std::string& warning)
+            {
+                if (!warning.empty())
+                {
+                    std::fflush(stdout);
+                    std::fprintf(stderr, "%s: warning: %s\n", PROGRAM, warning.c_str());
+                }
+            };
             while ((maxFrames() == 0 || frames_processed < maxFrames()) && in.next(batch))
             {
+                const std::size_t record = in.recordsRead() - 1;
                 for (const auto& o : batch)
                 {
-                    emslam::stereo::StereoFrame f;
-                    const auto t0 = clock::now();
-                    if (!front.process(*o, f))
+                    const auto decision = guard.check(*o, record);
+                    if (decision.verdict == io::FrameStreamGuard::Verdict::Skip)
                     {
-                        ++ignored;
+                        warn(decision.warning);
                         continue;
                     }
+                    emslam::stereo::StereoFrame f;
+                    const auto t0 = clock::now();
+                    try
+                    {
+                        if (decision.verdict == io::FrameStreamGuard::Verdict::NotAFrame ||
+                            !front.process(*o, f))
+                        {
+                            ++ignored;
+                            continue;
+                        }
+                    }
+                    catch (const std::bad_alloc&)
+                    {
+                        throw;
+                    }
+                    catch (const std::exception& e)
+                    {
+                        warn(guard.skipUnusable(record, emslam::stereo::shortExceptionMessage(e)));
+                        continue;
+                    }
+                    guard.accept();
                     handle(f, msSince(t0));
                 }
             }
-            in.warnIfEndedEarly("emslam-stereo");
+            in.warnIfEndedEarly(PROGRAM);
             if (ignored > 0)
             {
                 std::printf("ignored %zu observations of other classes\n", ignored);
+            }
+            skipped = guard.counts();
+            skipped_reasons = guard.namedSkips();
+            camera_change = guard.cameraChangeWarning();
+            if (skipped.total() > 0)
+            {
+                std::printf("%s\n", guard.skippedText().c_str());
             }
         }
     }
@@ -341,7 +386,11 @@ void StereoApp::execute()
     }
     if (frames_processed == 0)
     {
-        throw std::runtime_error("no stereo or RGB-D observation found in the input");
+        throw std::runtime_error(
+            "no usable stereo or RGB-D observation found in the input" +
+            (skipped_reasons.empty() ? std::string()
+                                     : " (" + std::to_string(skipped.total()) +
+                                           " skipped, first: " + skipped_reasons.front() + ")"));
     }
     mean_density = total_density / frames_processed;
     mean_ms_per_frame = total_ms / frames_processed;
@@ -349,6 +398,11 @@ void StereoApp::execute()
         "%zu frame(s), %.0f points per frame on average (density %.1f %%), %.1f ms per frame\n",
         frames_processed, static_cast<double>(total_points) / frames_processed,
         100.0 * mean_density, mean_ms_per_frame);
+    if (!camera_change.empty())
+    {
+        std::fflush(stdout);
+        std::fprintf(stderr, "%s: warning: %s\n", PROGRAM, camera_change.c_str());
+    }
 }
 
 }  // namespace emslam::apps

@@ -5,6 +5,7 @@
 #include <emslam/apps/DegenerateRun.h>
 #include <emslam/apps/MapperOutputs.h>
 #include <emslam/apps/ProgressLine.h>
+#include <emslam/io/FrameStreamGuard.h>
 #include <emslam/io/TrajectoryReader.h>
 #include <emslam/io/TrajectoryWriter.h>
 #include <emslam/slam/EntropySlam.h>
@@ -43,10 +44,13 @@ namespace emslam::apps
  *   is still written for the frames processed so far.
  * - A rawlog cut in the middle of a record (or with a corrupt record) is
  *   processed up to its last complete record, with a warning.
- * - An observation the stereo front-end cannot use (images of different
- *   sizes, missing or invalid calibration, empty images) is skipped with a
- *   warning naming its record, and counted in summary.json
- *   (`skipped_observations`, `skipped_reasons`). Any other error stops the
+ * - A frame whose timestamp is invalid or not after the last mapped one's,
+ *   whose camera differs from the first mapped frame's, or that the stereo
+ *   front-end cannot use (images of different sizes, missing or invalid
+ *   calibration, empty images) is skipped with a warning naming its record
+ *   (io::FrameStreamGuard), and counted in summary.json
+ *   (`skipped_observations` and per cause, `skipped_reasons`,
+ *   `camera_change`). Any other error stops the
  *   run: the outputs of the frames mapped before it are still written, then
  *   run() throws.
  * - Inputs and outputs are checked in initialize(): the rawlog and config
@@ -89,9 +93,10 @@ protected:
 
 private:
     void writeOutputs(const emslam::io::TumTrajectory& ground_truth);
-    /** Counts an observation the mapper could not use and warns about the
-     * first few. */
-    void skipObservation(std::size_t record, const std::string& reason, ProgressLine& progress);
+    /** Prints a skipped frame's warning (none once its cause was named often enough). */
+    void warnSkipped(const std::string& warning, ProgressLine& progress);
+    /** Copies what `guard` skipped into the run info. */
+    void recordSkips(const io::FrameStreamGuard& guard);
 
     std::string m_degenerate;
     bool m_viewer{false};

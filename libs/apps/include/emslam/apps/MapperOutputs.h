@@ -5,6 +5,7 @@
 #include <emslam/apps/MapDrawingContent.h>
 #include <emslam/apps/MapperReport.h>
 #include <emslam/eval/TrajectoryMetrics.h>
+#include <emslam/io/FrameStreamGuard.h>
 #include <emslam/slam/EntropySlam.h>
 
 #include <optional>
@@ -19,9 +20,17 @@ struct MapperRunInfo
     std::string rawlog;
     std::string config;
     std::size_t ignored_observations{0};  //!< observations neither stereo nor RGB-D
-    std::size_t skipped_observations{0};  //!< stereo / RGB-D ones the front-end could not use
-    /** The first few skipped ones: "record N: cause". */
+    /** Stereo / RGB-D observations skipped (io::FrameStreamGuard), in all
+     * and per cause: a bad timestamp, another camera, unusable by the front-end. */
+    std::size_t skipped_observations{0};
+    std::size_t skipped_bad_stamps{0}, skipped_camera_changes{0}, skipped_unusable{0};
+    /** The first few skipped ones of each cause: "record N: cause". */
     std::vector<std::string> skipped_reasons;
+    /** FrameStreamGuard::skippedText(), or "". */
+    std::string skipped_text;
+    /** The first camera change, if any, and the run's closing warning about it. */
+    std::optional<io::FrameStreamGuard::CameraChange> camera_change;
+    std::string camera_change_warning;
     /** The error that stopped the run early ("record N: cause"), or "". */
     std::string stopped_by_error;
     bool interrupted{false};        //!< stopped by SIGINT / SIGTERM

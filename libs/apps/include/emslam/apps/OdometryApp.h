@@ -3,6 +3,7 @@
 
 #include <emslam/apps/App.h>
 #include <emslam/apps/DegenerateRun.h>
+#include <emslam/io/FrameStreamGuard.h>
 #include <emslam/io/TrajectoryWriter.h>
 #include <emslam/io/TumTrajectory.h>
 
@@ -10,6 +11,7 @@
 
 #include <cstddef>
 #include <string>
+#include <vector>
 
 namespace emslam::apps
 {
@@ -19,7 +21,10 @@ namespace emslam::apps
  * composed into the pose of the left camera in the first frame's left
  * camera, written as a TUM trajectory, KITTI poses + times, or both
  * (`--trajectory-format`, emslam::io::saveTrajectory()). A failed step
- * keeps the previous pose and is counted.
+ * keeps the previous pose and is counted. A frame with a bad timestamp or
+ * another camera than the first one's, or that the front-end cannot use, is
+ * skipped with a warning (emslam::io::FrameStreamGuard): the trajectory is
+ * strictly increasing in time.
  *
  * \code
  * emslam-odometry IN.rawlog -o TRAJ.tum [--config X.ini]
@@ -45,6 +50,11 @@ public:
     std::size_t frames_processed{0};
     /** Steps (frame pairs) whose egomotion failed (excludes the first frame). */
     std::size_t failures{0};
+    /** Frames skipped, per cause, and the first ones named ("record N: cause"). */
+    emslam::io::FrameStreamGuard::Counts skipped;
+    std::vector<std::string> skipped_reasons;
+    /** FrameStreamGuard::cameraChangeWarning(), or "". */
+    std::string camera_change;
     /** T_first_left of every processed frame, as written to the output. */
     emslam::io::TumTrajectory trajectory;
     /** Mean time per frame [ms]: stereo front-end, egomotion stages, total. */

@@ -2,6 +2,7 @@
 #pragma once
 
 #include <emslam/apps/App.h>
+#include <emslam/io/FrameStreamGuard.h>
 
 #include <mrpt/config/CConfigFileMemory.h>
 
@@ -26,6 +27,9 @@ namespace emslam::apps
  *   [--disparity-png OUT.png]   ; the first frame's disparity, false colour
  * \endcode
  * Parameters are read from the `[Stereo]` section (StereoMatcher::TParameters).
+ * A rawlog frame with a bad timestamp or another camera than the first one's,
+ * or that the front-end cannot use, is skipped with a warning
+ * (emslam::io::FrameStreamGuard, as in emslam-mapper).
  * \ingroup emslam_apps_grp */
 class StereoApp : public App
 {
@@ -49,6 +53,11 @@ public:
     double bad_pixel_rate{-1};
     /** Fraction of ground-truth pixels that got a disparity, or -1. */
     double gt_coverage{-1};
+    /** Rawlog frames skipped, per cause, and the first ones named ("record N: cause"). */
+    emslam::io::FrameStreamGuard::Counts skipped;
+    std::vector<std::string> skipped_reasons;
+    /** FrameStreamGuard::cameraChangeWarning(), or "". */
+    std::string camera_change;
 
 protected:
     bool parseArguments(int argc, const char** argv) override;
