@@ -2,6 +2,7 @@
 #include <emslam/apps/CommandLine.h>
 #include <emslam/apps/ConfigValidation.h>
 #include <emslam/apps/OdometryApp.h>
+#include <emslam/apps/StopSignal.h>
 #include <emslam/egomotion/EgomotionEstimator.h>
 #include <emslam/io/FrameStreamGuard.h>
 #include <emslam/io/InputOutputClash.h>
@@ -131,6 +132,10 @@ void OdometryApp::execute()
         ep.lwo_sigma_min, ep.min_final_matches);
 
     io::RawlogInput in(m_rawlog);
+    // SIGINT / SIGTERM / SIGHUP end the loop after the current frame; the
+    // trajectory of the frames done is still written (exit 128 + signal).
+    StopSignal::clear();
+    const StopSignalGuard signals;
 
     trajectory = {};
     degenerate.clear();
@@ -194,7 +199,8 @@ void OdometryApp::execute()
             std::fprintf(stderr, "%s: warning: %s\n", PROGRAM, warning.c_str());
         }
     };
-    while ((maxFrames() == 0 || frames_processed < maxFrames()) && in.next(batch))
+    while ((maxFrames() == 0 || frames_processed < maxFrames()) && !StopSignal::requested() &&
+           in.next(batch))
     {
         const std::size_t record = in.recordsRead() - 1;
         for (const auto& o : batch)
@@ -243,6 +249,12 @@ void OdometryApp::execute()
                  : std::string()));
     }
     const auto written = emslam::io::saveTrajectory(trajectory, m_output, m_trajectory_output);
+    if (StopSignal::requested())
+    {
+        std::fprintf(
+            stderr, "%s: interrupted after %zu frames; %s hold them\n", PROGRAM, frames_processed,
+            quotedList(written).c_str());
+    }
 
     const double n = static_cast<double>(frames_processed);
     mean_ms_stereo = sum_stereo / n;

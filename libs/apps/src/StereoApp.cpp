@@ -2,6 +2,7 @@
 #include <emslam/apps/CommandLine.h>
 #include <emslam/apps/ConfigValidation.h>
 #include <emslam/apps/StereoApp.h>
+#include <emslam/apps/StopSignal.h>
 #include <emslam/io/FrameStreamGuard.h>
 #include <emslam/io/InputFileChecks.h>
 #include <emslam/io/InputOutputClash.h>
@@ -325,7 +326,12 @@ void StereoApp::execute()
                     std::fprintf(stderr, "%s: warning: %s\n", PROGRAM, warning.c_str());
                 }
             };
-            while ((maxFrames() == 0 || frames_processed < maxFrames()) && in.next(batch))
+            // SIGINT / SIGTERM / SIGHUP end the loop after the current frame;
+            // the frames done are kept (exit 128 + signal).
+            StopSignal::clear();
+            const StopSignalGuard signals;
+            while ((maxFrames() == 0 || frames_processed < maxFrames()) &&
+                   !StopSignal::requested() && in.next(batch))
             {
                 const std::size_t record = in.recordsRead() - 1;
                 for (const auto& o : batch)
@@ -383,6 +389,12 @@ void StereoApp::execute()
     if (out)
     {
         out->commit();
+    }
+    if (StopSignal::requested())
+    {
+        std::fprintf(
+            stderr, "%s: interrupted after %zu frames%s\n", PROGRAM, frames_processed,
+            m_out_rawlog.empty() ? "" : ("; '" + m_out_rawlog + "' holds them").c_str());
     }
     if (frames_processed == 0)
     {
