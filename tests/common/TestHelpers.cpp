@@ -156,6 +156,21 @@ InterruptedRun interruptedRun(
     return r;
 }
 
+ProgramRun runProgram(const std::string& exe, const std::vector<std::string>& args)
+{
+    const CapturedFile out, err;
+    ProgramRun r;
+    const pid_t pid = spawn(exe, args, out.fd, err.fd);
+    ::close(out.fd);
+    ::close(err.fd);
+    int status = 0;
+    ::waitpid(pid, &status, 0);
+    r.exit_code = exitCodeOf(status);
+    r.stdout_text = out.text();
+    r.stderr_text = err.text();
+    return r;
+}
+
 int runWithStdoutReaderGone(const std::string& exe, const std::vector<std::string>& args)
 {
     int fds[2];

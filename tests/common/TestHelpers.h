@@ -46,6 +46,17 @@ InterruptedRun interruptedRun(
     const std::string& wait_for,
     int signum);
 
+/** How a program run by runProgram() ended. */
+struct ProgramRun
+{
+    int exit_code{-1};  //!< 128 + the signal if one killed it
+    std::string stdout_text;
+    std::string stderr_text;
+};
+
+/** Runs `exe args` to its end and returns its exit code, stdout and stderr. */
+ProgramRun runProgram(const std::string& exe, const std::vector<std::string>& args);
+
 /** Runs `exe args` with stdout a pipe whose reader is already gone (as in
  * `exe args | true`) and returns its exit code, 128 + the signal if one
  * killed it (141: SIGPIPE). */
