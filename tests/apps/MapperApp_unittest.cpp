@@ -37,6 +37,7 @@
 #include <filesystem>
 #include <fstream>
 #include <functional>
+#include <iterator>
 #include <opencv2/imgcodecs.hpp>
 #include <opencv2/imgproc.hpp>
 #include <sstream>
@@ -687,6 +688,37 @@ TEST(MapperApp, badInputsFailWithAClearMessage)
 
 // Frame 20 with a 160x120 right image and frame 25 without calibration: both
 // are skipped with a warning each, and every other frame is mapped.
+// A config that repeats a section or a key is refused naming both lines
+// (MRPT 2.5.8 would merge the sections and keep the last value silently).
+TEST(MapperApp, repeatedConfigSectionOrKeyIsRefusedNamingBothLines)
+{
+    const std::string dir = emslam::test::makeTempDir("mapper_dup");
+    const std::string rawlog = simulatedHall(8);
+    std::ifstream in(config("3dof-low-structured"));
+    const std::string text{std::istreambuf_iterator<char>(in), {}};
+    // The shipped file has [Rectifier] at line 135.
+    ASSERT_NE(text.find("\n[Rectifier]\n"), std::string::npos);
+    const auto lines = static_cast<std::size_t>(std::count(text.begin(), text.end(), '\n'));
+    emslam::test::writeFile(dir + "/dup.ini", text + "[Rectifier]\n");
+    MapperApp a;
+    emslam::test::expectThrowContaining(
+        [&] {
+            initApp(a, {dir + "/dup.ini", rawlog, "--out", dir});
+        },
+        {dir + "/dup.ini:" + std::to_string(lines + 1) +
+         ": section [Rectifier] repeated (first at " + dir + "/dup.ini:135)"});
+
+    emslam::test::writeFile(dir + "/key.ini", "[Rectifier]\nseed = 1\n; again\nSeed = 2\n");
+    MapperApp b;
+    emslam::test::expectThrowContaining(
+        [&] {
+            initApp(b, {dir + "/key.ini", rawlog, "--out", dir});
+        },
+        {dir + "/key.ini:4: key 'Seed' repeated in [Rectifier] (first at " + dir +
+         "/key.ini:2 as 'seed'; names ignore case)"});
+    EXPECT_FALSE(std::filesystem::exists(dir + "/summary.json"));
+}
+
 TEST(MapperApp, unusableFramesAreSkippedAndTheOthersMapped)
 {
     const std::string dir = emslam::test::makeTempDir("mapper_skip");
