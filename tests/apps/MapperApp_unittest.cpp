@@ -719,6 +719,31 @@ TEST(MapperApp, repeatedConfigSectionOrKeyIsRefusedNamingBothLines)
     EXPECT_FALSE(std::filesystem::exists(dir + "/summary.json"));
 }
 
+// A disk that fills up while the outputs are written: the small ones come
+// first and survive; the error names the file and the OS reason. The full
+// disk is real: map.3Dscene's `.partial` file is a link to /dev/full.
+TEST(MapperApp, fullDiskKeepsTheSmallOutputsAndNamesTheFileAndReason)
+{
+    const std::string rawlog = simulatedHall(8);
+    const std::string out = emslam::test::makeTempDir("mapper_full") + "/out";
+    std::filesystem::create_directories(out);
+    emslam::test::putOnFullDisk(out + "/map.3Dscene");
+    MapperApp app;
+    initApp(app, {config("3dof-low-structured"), rawlog, "--out", out, "-q"});
+    emslam::test::expectThrowContaining(
+        [&] { app.run(); }, {"cannot write '" + out + "/map.3Dscene': No space left on device"});
+    for (const char* f :
+         {"summary.json", "stats.csv", "effective.ini", "trajectory_slam.tum",
+          "trajectory_egomotion.tum", "keyframes.txt"})
+    {
+        EXPECT_TRUE(std::filesystem::is_regular_file(out + "/" + f)) << f;
+    }
+    for (const char* f : {"map.3Dscene", "map_top.png", "entropy_map.bin", "report.html"})
+    {
+        EXPECT_FALSE(std::filesystem::exists(out + "/" + f)) << f;
+    }
+}
+
 TEST(MapperApp, unusableFramesAreSkippedAndTheOthersMapped)
 {
     const std::string dir = emslam::test::makeTempDir("mapper_skip");

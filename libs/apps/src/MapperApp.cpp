@@ -474,14 +474,17 @@ void MapperApp::writeOutputs(const emslam::io::TumTrajectory& ground_truth)
     {
         writeLoopClosures(m, joinPath(m_out, "loop_closures.txt"));
     }
+    // The small outputs first, so that a full disk still leaves the numbers
+    // of the run: summary.json names no other output and nothing written
+    // after it changes what it says, so it is written once, here.
+    writeStatsCsv(m, joinPath(m_out, "stats.csv"));
+    writeSummaryJson(m, m_info, joinPath(m_out, "summary.json"));
+    writeEffectiveIni(m.parameters(), joinPath(m_out, "effective.ini"));
     savePly(m.mapCloud(), joinPath(m_out, "map.ply"));
     writeScene(m, ground_truth, joinPath(m_out, "map.3Dscene"));
     writeTopViewPng(m, ground_truth, joinPath(m_out, "map_top.png"));
     writeEntropyMap(m, joinPath(m_out, "entropy_map.bin"));
     writeEntropyMapView(m, joinPath(m_out, "entropy_map.3Dscene"));
-    writeStatsCsv(m, joinPath(m_out, "stats.csv"));
-    writeSummaryJson(m, m_info, joinPath(m_out, "summary.json"));
-    writeEffectiveIni(m.parameters(), joinPath(m_out, "effective.ini"));
     writeMapperReport(joinPath(m_out, "report.html"), makeReportData(m, m_info, ground_truth));
 
     std::printf(
