@@ -18,10 +18,12 @@
 #include <emslam/stereo/ExceptionMessage.h>
 
 #include <mrpt/core/bits_math.h>
+#include <mrpt/core/format.h>
 #include <mrpt/poses/CPose3DQuat.h>
 #include <mrpt/system/filesystem.h>
 
 #include <chrono>
+#include <cmath>
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
@@ -523,11 +525,16 @@ void MapperApp::writeOutputs(const emslam::io::TumTrajectory& ground_truth)
         }
         if (m.parameters().loop_closer.vertical_prior)
         {
+            // The bias is NaN until the keyframes' orientations observe it.
+            const std::string bias =
+                std::isnan(lc.vertical_bias_deg)
+                    ? std::string("camera bias not observable yet")
+                    : mrpt::format("camera bias %.2f deg", lc.vertical_bias_deg);
             std::printf(
-                "levelling: %zu of %zu measured verticals agree (tilt spread %.2f deg, camera "
-                "bias %.2f deg, %.1f keyframes per independent error)\n",
-                lc.verticals_used, lc.verticals_measured, lc.vertical_drift_deg,
-                lc.vertical_bias_deg, lc.vertical_correlation_time);
+                "levelling: %zu of %zu measured verticals agree (tilt spread %.2f deg, %s, "
+                "%.1f keyframes per independent error)\n",
+                lc.verticals_used, lc.verticals_measured, lc.vertical_drift_deg, bias.c_str(),
+                lc.vertical_correlation_time);
         }
     }
     if (m_info.slam_vs_gt)
