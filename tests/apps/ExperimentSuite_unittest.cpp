@@ -6,7 +6,10 @@
 
 #include <gtest/gtest.h>
 
+#include <chrono>
 #include <cmath>
+#include <cstdint>
+#include <filesystem>
 #include <string>
 
 using emslam::apps::ExperimentSuite;
@@ -132,6 +135,36 @@ TEST(ExperimentSuite, badSuitesNameTheFileSectionAndKey)
     }
     emslam::test::expectThrowContaining(
         [] { ExperimentSuite::load("no-such-suite.ini"); }, {"no-such-suite.ini", "not a file"});
+}
+
+// A repeated key or section is refused naming both lines; an oversized
+// (sparse) file is refused before it is read.
+TEST(ExperimentSuite, repeatedEntriesAndHugeFilesAreRefused)
+{
+    const std::string dup = writeSuite(
+        "suite-dup",
+        "[Experiments]\nexperiments = a\n[a]\nworld = world.ini\n"
+        "mappers = mapper.ini\nworld = other.ini\n");
+    emslam::test::expectThrowContaining(
+        [&] { ExperimentSuite::load(dup); },
+        {dup + ":6: key 'world' repeated in [a] (first at " + dup + ":4)"});
+    const std::string sec = writeSuite(
+        "suite-sec",
+        "[Experiments]\nexperiments = a\n[a]\nworld = world.ini\n"
+        "mappers = mapper.ini\n[Experiments]\nseeds = 3\n");
+    emslam::test::expectThrowContaining(
+        [&] { ExperimentSuite::load(sec); },
+        {sec + ":6: section [Experiments] repeated (first at " + sec + ":1)"});
+
+    // 2 GiB of holes: refused from its size at once (it used to be read whole).
+    const std::string huge = writeSuite("suite-huge", "");
+    std::filesystem::resize_file(huge, std::uintmax_t{2} << 30);
+    const auto t0 = std::chrono::steady_clock::now();
+    emslam::test::expectThrowContaining(
+        [&] { ExperimentSuite::load(huge); },
+        {"experiment set '" + huge + "' is 2048.0 MiB", "at most 16.0 MiB"});
+    EXPECT_LT(std::chrono::steady_clock::now() - t0, std::chrono::seconds(1));
+    std::filesystem::remove(huge);
 }
 
 TEST(ExperimentSuite, seedListsTakeCommasOrSpaces)

@@ -38,6 +38,7 @@
 #include <filesystem>
 #include <fstream>
 #include <functional>
+#include <iterator>
 #include <limits>
 #include <opencv2/imgcodecs.hpp>
 #include <opencv2/imgproc.hpp>
@@ -650,6 +651,62 @@ TEST(MapperApp, badInputsFailWithAClearMessage)
 
 // Frame 20 with a 160x120 right image and frame 25 without calibration: both
 // are skipped with a warning each, and every other frame is mapped.
+// A config that repeats a section or a key is refused naming both lines
+// (MRPT 2.5.8 would merge the sections and keep the last value silently).
+TEST(MapperApp, repeatedConfigSectionOrKeyIsRefusedNamingBothLines)
+{
+    const std::string dir = emslam::test::makeTempDir("mapper_dup");
+    const std::string rawlog = simulatedHall(8);
+    std::ifstream in(config("3dof-low-structured"));
+    const std::string text{std::istreambuf_iterator<char>(in), {}};
+    // The shipped file has [Rectifier] at line 135.
+    ASSERT_NE(text.find("\n[Rectifier]\n"), std::string::npos);
+    const auto lines = static_cast<std::size_t>(std::count(text.begin(), text.end(), '\n'));
+    emslam::test::writeFile(dir + "/dup.ini", text + "[Rectifier]\n");
+    MapperApp a;
+    emslam::test::expectThrowContaining(
+        [&] {
+            initApp(a, {dir + "/dup.ini", rawlog, "--out", dir});
+        },
+        {dir + "/dup.ini:" + std::to_string(lines + 1) +
+         ": section [Rectifier] repeated (first at " + dir + "/dup.ini:135)"});
+
+    emslam::test::writeFile(dir + "/key.ini", "[Rectifier]\nseed = 1\n; again\nSeed = 2\n");
+    MapperApp b;
+    emslam::test::expectThrowContaining(
+        [&] {
+            initApp(b, {dir + "/key.ini", rawlog, "--out", dir});
+        },
+        {dir + "/key.ini:4: key 'Seed' repeated in [Rectifier] (first at " + dir +
+         "/key.ini:2 as 'seed'; names ignore case)"});
+    EXPECT_FALSE(std::filesystem::exists(dir + "/summary.json"));
+}
+
+// A disk that fills up while the outputs are written: the small ones come
+// first and survive; the error names the file and the OS reason. The full
+// disk is real: map.3Dscene's `.partial` file is a link to /dev/full.
+TEST(MapperApp, fullDiskKeepsTheSmallOutputsAndNamesTheFileAndReason)
+{
+    const std::string rawlog = simulatedHall(8);
+    const std::string out = emslam::test::makeTempDir("mapper_full") + "/out";
+    std::filesystem::create_directories(out);
+    emslam::test::putOnFullDisk(out + "/map.3Dscene");
+    MapperApp app;
+    initApp(app, {config("3dof-low-structured"), rawlog, "--out", out, "-q"});
+    emslam::test::expectThrowContaining(
+        [&] { app.run(); }, {"cannot write '" + out + "/map.3Dscene': No space left on device"});
+    for (const char* f :
+         {"summary.json", "stats.csv", "effective.ini", "trajectory_slam.tum",
+          "trajectory_egomotion.tum", "keyframes.txt"})
+    {
+        EXPECT_TRUE(std::filesystem::is_regular_file(out + "/" + f)) << f;
+    }
+    for (const char* f : {"map.3Dscene", "map_top.png", "entropy_map.bin", "report.html"})
+    {
+        EXPECT_FALSE(std::filesystem::exists(out + "/" + f)) << f;
+    }
+}
+
 TEST(MapperApp, unusableFramesAreSkippedAndTheOthersMapped)
 {
     const std::string dir = emslam::test::makeTempDir("mapper_skip");

@@ -5,6 +5,7 @@
 #include <emslam/apps/AppMain.h>
 #include <emslam/apps/SimApp.h>
 #include <emslam/io/TumTrajectory.h>
+#include <emslam/sim/StereoSimulator.h>
 
 #include <mrpt/io/CFileGZInputStream.h>
 #include <mrpt/obs/CObservationStereoImages.h>
@@ -14,6 +15,7 @@
 
 #include <sys/stat.h>
 
+#include <algorithm>
 #include <csignal>
 #include <filesystem>
 #include <fstream>
@@ -182,6 +184,48 @@ TEST(SimApp, badIniFailsNamingTheKeyAndLeavesNoOutput)
     EXPECT_THROW(
         initApp(app2, {out + "/el.ini", "-o", out + "/x.rawlog", "--max-frames", "-1"}),
         std::invalid_argument);
+}
+
+// A world that repeats a key or a section is refused naming both lines, both
+// by emslam-sim and by the simulator library (the grabber's world_file).
+TEST(SimApp, repeatedWorldKeyOrSectionIsRefusedNamingBothLines)
+{
+    const std::string out = emslam::test::makeTempDir("sim_app_dup");
+    const std::string good = readFile(emslam::test::sourceDir() + HALL);
+    const auto lines = static_cast<std::size_t>(std::count(good.begin(), good.end(), '\n'));
+    const auto first = good.find("[Simulation]\n");
+    ASSERT_NE(first, std::string::npos);
+    const auto first_line =
+        1 + static_cast<std::size_t>(std::count(good.begin(), good.begin() + first, '\n'));
+    const std::string ini = out + "/dup.ini";
+    emslam::test::writeFile(ini, good + "[Simulation]\nfps = 1\n");
+    const std::string expected = ini + ":" + std::to_string(lines + 1) +
+                                 ": section [Simulation] repeated (first at " + ini + ":" +
+                                 std::to_string(first_line) + ")";
+    SimApp app;
+    emslam::test::expectThrowContaining(
+        [&] {
+            initApp(app, {ini, "-o", out + "/dup.rawlog", "-q"});
+        },
+        {expected});
+    emslam::test::expectThrowContaining(
+        [&] { emslam::sim::StereoSimulator().loadFile(ini); }, {expected});
+    EXPECT_FALSE(fs::exists(out + "/dup.rawlog"));
+}
+
+// A full disk (the rawlog's `.partial` file links to /dev/full): the error
+// names the rawlog and the OS reason (MRPT's gz stream said only "Cannot
+// write bytes to stream!"), and no rawlog is left.
+TEST(SimApp, fullDiskNamesTheRawlogAndTheReason)
+{
+    const std::string out = emslam::test::makeTempDir("sim_app_full");
+    emslam::test::putOnFullDisk(out + "/h.rawlog");
+    SimApp app;
+    initApp(
+        app, {emslam::test::sourceDir() + HALL, "-o", out + "/h.rawlog", "--frames", "3", "-q"});
+    emslam::test::expectThrowContaining(
+        [&] { app.run(); }, {"cannot write '" + out + "/h.rawlog': No space left on device"});
+    EXPECT_FALSE(fs::exists(out + "/h.rawlog"));
 }
 
 // `-o` naming a FIFO (as `/dev/null` would be) is refused before any

@@ -1,6 +1,8 @@
 // SPDX-License-Identifier: BSD-3-Clause
 #include "TestHelpers.h"
 
+#include <emslam/io/AtomicFile.h>
+
 #include <gtest/gtest.h>
 
 #include <sys/types.h>
@@ -13,12 +15,18 @@
 #include <csignal>
 #include <cstdio>
 #include <exception>
+#include <filesystem>
 #include <fstream>
 #include <sstream>
 #include <thread>
 
 namespace emslam::test
 {
+void putOnFullDisk(const std::string& file)
+{
+    std::filesystem::create_symlink("/dev/full", emslam::io::partialFileFor(file));
+}
+
 void writeFile(const std::string& path, const std::string& text)
 {
     std::ofstream f(path, std::ios::binary);  // binary: keep CRLF as written

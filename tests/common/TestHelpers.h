@@ -14,6 +14,12 @@ namespace emslam::test
  * any previous content. */
 void writeFile(const std::string& path, const std::string& text);
 
+/** Makes the `.partial` file through which emslam writes `file` (see
+ * emslam::io::partialFileFor()) a symbolic link to /dev/full, whose every
+ * write fails with ENOSPC: `file` is then written as on a full disk, for
+ * real and without root, while `file` itself stays an ordinary path. */
+void putOnFullDisk(const std::string& file);
+
 /** Expects `fn` to throw a `std::exception` whose what() contains every one of
  * `parts`; adds a GoogleTest failure (naming the missing part and the full
  * message) otherwise, or if `fn` does not throw at all. */

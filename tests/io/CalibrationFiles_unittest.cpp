@@ -18,9 +18,9 @@
 
 using emslam::io::loadEurocCalibration;
 using emslam::io::loadKittiCalibration;
+using emslam::io::loadStereoCameraFromIniFile;
 using emslam::stereo::baselineOf;
 using emslam::stereo::loadStereoCameraFromConfig;
-using emslam::stereo::loadStereoCameraFromIniFile;
 using emslam::stereo::validateStereoCamera;
 
 using emslam::test::expectThrowContaining;

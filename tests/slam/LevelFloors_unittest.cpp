@@ -154,3 +154,76 @@ TEST(LevelFloors, fewerThanTwoMeasurementsChangeNothing)
         EXPECT_EQ(g.node(k).asString(), before[k].asString());
     }
 }
+
+// The first frames of a run, straight ahead: the camera's own bias and the
+// world up are one direction to the data. The bias is neither solved nor
+// reported (it used to run off: "camera bias 5756.70 deg"), and levelling
+// still takes the odometry's tilt out.
+TEST(LevelFloors, aStraightShortRunDoesNotObserveTheBias)
+{
+    constexpr std::size_t N = 20;
+    PoseGraph g;
+    g.addNode(CPose3D());
+    const auto step_cov = diagonalCovariance(0.02, mrpt::DEG2RAD(0.5));
+    for (std::size_t k = 1; k < N; ++k)
+    {
+        CPose3D step(0, 0, 0.3, 0, 0, 0);
+        if (k >= 5 && k <= 7)
+        {
+            step = step + CPose3D(0, 0, 0, 0, 0, mrpt::DEG2RAD(1.0));
+        }
+        g.addNode(g.node(k - 1) + step);
+        g.addEdge(k - 1, k, step, step_cov);
+    }
+    const double sigma = mrpt::DEG2RAD(0.3);
+    std::mt19937 rng(11);
+    std::normal_distribution<double> noise(0.0, sigma);
+    std::vector<std::optional<VerticalMeasurement>> verticals(N);
+    std::vector<double> tilt_variance(N);
+    for (std::size_t k = 0; k < N; ++k)
+    {
+        verticals[k] = measured(tilted(mrpt::DEG2RAD(0.5) + noise(rng), noise(rng)), sigma);
+        tilt_variance[k] = static_cast<double>(k) * std::pow(mrpt::DEG2RAD(0.5), 2);
+    }
+    ASSERT_GT(maxTiltDeg(g.nodes()), 2.9);
+    const auto stats = levelFloors(g, verticals, tilt_variance);
+    EXPECT_EQ(stats.used, N);
+    EXPECT_FALSE(stats.bias_observable);
+    EXPECT_TRUE(std::isnan(stats.bias_deg));
+    const auto& b = g.directionFrame().bias;
+    EXPECT_EQ(b.x, 0.0);
+    EXPECT_EQ(b.y, 0.0);
+    EXPECT_EQ(b.z, 0.0);
+    // Levelled to the up the camera sees (the bias stays in the poses).
+    EXPECT_LT(maxTiltDeg(g.nodes()), 1.5);
+}
+
+// Turning makes the bias observable, and it is solved, but never beyond its
+// bound: a camera whose floors look 5 degrees tilted gets at most 3.
+TEST(LevelFloors, theSolvedBiasStaysWithinItsBound)
+{
+    const auto truth = emslam::test::squareLoop(40);
+    PoseGraph g;
+    g.addNode(CPose3D());
+    const auto step_cov = diagonalCovariance(0.02, mrpt::DEG2RAD(0.5));
+    for (std::size_t k = 1; k < truth.size(); ++k)
+    {
+        const CPose3D step = truth[k] - truth[k - 1];
+        g.addNode(g.node(k - 1) + step);
+        g.addEdge(k - 1, k, step, step_cov);
+    }
+    const double sigma = mrpt::DEG2RAD(0.3);
+    std::mt19937 rng(3);
+    std::normal_distribution<double> noise(0.0, sigma);
+    std::vector<std::optional<VerticalMeasurement>> verticals(truth.size());
+    for (std::size_t k = 0; k < truth.size(); ++k)
+    {
+        verticals[k] = measured(tilted(mrpt::DEG2RAD(5.0) + noise(rng), noise(rng)), sigma);
+    }
+    const auto stats = levelFloors(
+        g, verticals, std::vector<double>(truth.size(), std::pow(mrpt::DEG2RAD(3.0), 2)), 3,
+        emslam::slam::DEFAULT_MAX_CAMERA_BIAS);
+    EXPECT_TRUE(stats.bias_observable);
+    EXPECT_LE(stats.bias_deg, 3.0 + 1e-9);
+    EXPECT_GT(stats.bias_deg, 2.0);
+}

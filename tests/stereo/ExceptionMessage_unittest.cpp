@@ -36,3 +36,20 @@ TEST(ExceptionMessage, severalMessageLinesAreJoinedOutermostFirst)
         "Message:  inner cause\nCall stack backtrace:\n[0] 0x1\n");
     EXPECT_EQ(shortExceptionMessage(e), "outer context: inner cause");
 }
+
+// MRPT_END wraps an exception of ours thrown below an archive (a write error
+// in a gz stream): the text stays, the backtrace goes.
+TEST(ExceptionMessage, wrappedStdExceptionsLoseTheBacktrace)
+{
+    try
+    {
+        MRPT_START
+        throw std::runtime_error("cannot write 'o.rawlog': No space left on device");
+        MRPT_END
+    }
+    catch (const std::exception& e)
+    {
+        ASSERT_NE(std::string(e.what()).find("Call stack backtrace:"), std::string::npos);
+        EXPECT_EQ(shortExceptionMessage(e), "cannot write 'o.rawlog': No space left on device");
+    }
+}

@@ -1,7 +1,7 @@
 // SPDX-License-Identifier: BSD-3-Clause
 #include <emslam/apps/CommandLine.h>
 #include <emslam/apps/ConfigValidation.h>
-#include <emslam/io/InputFileChecks.h>
+#include <emslam/io/IniFile.h>
 
 #include <algorithm>
 #include <cctype>
@@ -327,9 +327,7 @@ void loadConfig(
 {
     if (!config_file.empty())
     {
-        io::requireInputFile(config_file, "config file", io::MAX_INI_BYTES);
-        std::ifstream f(config_file);
-        cfg.setContent(std::string(std::istreambuf_iterator<char>(f), {}));
+        cfg.setContent(io::readIniFile(config_file, "config file"));
     }
     applyConfigOverrides(cfg, sets);
 }

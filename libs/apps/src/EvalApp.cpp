@@ -2,6 +2,7 @@
 #include <emslam/apps/CommandLine.h>
 #include <emslam/apps/EvalApp.h>
 #include <emslam/io/InputOutputClash.h>
+#include <emslam/io/OutputFile.h>
 #include <emslam/io/TrajectoryInput.h>
 #include <emslam/stereo/ExceptionMessage.h>
 
@@ -182,13 +183,9 @@ void EvalApp::execute()
         fmt(m.est_path_length_m, "%.3f").c_str());
     if (!m_json.empty())
     {
-        std::ofstream f(m_json, std::ios::out | std::ios::trunc);
-        f << m.toJson();
-        f.flush();
-        if (!f.good())
-        {
-            throw std::runtime_error("cannot write JSON file '" + m_json + "'");
-        }
+        io::OutputFile f(m_json);
+        f.text() << m.toJson();
+        f.close();
         std::printf("metrics written to '%s'\n", m_json.c_str());
     }
 }

@@ -1,8 +1,8 @@
 // SPDX-License-Identifier: BSD-3-Clause
 #include <emslam/apps/ConfigValidation.h>
 #include <emslam/apps/ExperimentSuite.h>
+#include <emslam/io/IniFile.h>
 
-#include <mrpt/config/CConfigFile.h>
 #include <mrpt/config/CConfigFileMemory.h>
 
 #include <algorithm>
@@ -191,7 +191,7 @@ ExperimentSuite ExperimentSuite::load(const std::string& file)
     {
         throw std::invalid_argument("experiment set '" + file + "' is not a file");
     }
-    const mrpt::config::CConfigFile cfg(file);
+    const mrpt::config::CConfigFileMemory cfg(io::readIniFile(file, "experiment set"));
     SuiteReader r(file, cfg);
     const auto names = words(r.text(SUITE_SECTION, "experiments", true));
 

@@ -296,7 +296,20 @@ void GrabberApp::execute()
     }
     status.update(slots, elapsed(), partial, true);
     status.finish();
-    out.commit();
+    try
+    {
+        out.commit();
+    }
+    catch (const std::exception& e)
+    {
+        // The last compressed block did not fit (a full disk): keep the rest.
+        if (write_error.empty())
+        {
+            write_error = errorText(e);
+            stop_reason = "writing failed";
+        }
+        out.keepWhatWasWritten();
+    }
 
     std::error_code ec;
     output_bytes = fs::file_size(out_file, ec);

@@ -3,6 +3,7 @@
 #include <emslam/apps/MapScene.h>
 #include <emslam/apps/MapStyle.h>
 #include <emslam/io/AtomicFile.h>
+#include <emslam/io/GzOutputStream.h>
 
 #include <mrpt/core/format.h>
 #include <mrpt/opengl/CGridPlaneXY.h>
@@ -11,6 +12,7 @@
 #include <mrpt/opengl/CSetOfObjects.h>
 #include <mrpt/opengl/CText.h>
 #include <mrpt/opengl/stock_objects.h>
+#include <mrpt/serialization/CArchive.h>
 
 #include <algorithm>
 #include <cmath>
@@ -214,7 +216,16 @@ void writeMapScene(const MapDrawingContent& content, const std::string& file)
 {
     const auto scene = buildMapScene(content);
     emslam::io::writeFileAtomically(
-        file, [&](const std::string& partial) { return scene->saveToFile(partial); });
+        file,
+        [&](const std::string& partial)
+        {
+            // As COpenGLScene::saveToFile() writes it (gzip level 1), but every
+            // write error thrown with the file's name and the OS reason.
+            emslam::io::GzOutputStream f(partial, 1, file);
+            mrpt::serialization::archiveFrom(f) << *scene;
+            f.close();
+            return true;
+        });
 }
 
 }  // namespace emslam::apps

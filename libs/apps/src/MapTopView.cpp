@@ -2,6 +2,7 @@
 #include <emslam/apps/MapStyle.h>
 #include <emslam/apps/MapTopView.h>
 #include <emslam/io/AtomicFile.h>
+#include <emslam/io/ImageOutput.h>
 
 #include <mrpt/core/format.h>
 
@@ -184,8 +185,12 @@ void writeTopView(
 {
     const MapTopView view = renderTopView(content, o);
     emslam::io::writeFileAtomically(
-        file, [&](const std::string& partial) { return cv::imwrite(partial, view.image); },
-        /*keep_extension=*/true);
+        file,
+        [&](const std::string& partial)
+        {
+            emslam::io::writeImageFile(partial, view.image, file);
+            return true;
+        });
 }
 
 }  // namespace emslam::apps

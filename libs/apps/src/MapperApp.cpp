@@ -20,10 +20,12 @@
 #include <emslam/stereo/ExceptionMessage.h>
 
 #include <mrpt/core/bits_math.h>
+#include <mrpt/core/format.h>
 #include <mrpt/poses/CPose3DQuat.h>
 #include <mrpt/system/filesystem.h>
 
 #include <chrono>
+#include <cmath>
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
@@ -493,14 +495,17 @@ void MapperApp::writeOutputs(const emslam::io::TumTrajectory& ground_truth)
     {
         writeLoopClosures(m, joinPath(m_out, "loop_closures.txt"));
     }
+    // The small outputs first, so that a full disk still leaves the numbers
+    // of the run: summary.json names no other output and nothing written
+    // after it changes what it says, so it is written once, here.
+    writeStatsCsv(m, joinPath(m_out, "stats.csv"));
+    writeSummaryJson(m, m_info, joinPath(m_out, "summary.json"));
+    writeEffectiveIni(m.parameters(), joinPath(m_out, "effective.ini"));
     savePly(m.mapCloud(), joinPath(m_out, "map.ply"));
     writeScene(m, ground_truth, joinPath(m_out, "map.3Dscene"));
     writeTopViewPng(m, ground_truth, joinPath(m_out, "map_top.png"));
     writeEntropyMap(m, joinPath(m_out, "entropy_map.bin"));
     writeEntropyMapView(m, joinPath(m_out, "entropy_map.3Dscene"));
-    writeStatsCsv(m, joinPath(m_out, "stats.csv"));
-    writeSummaryJson(m, m_info, joinPath(m_out, "summary.json"));
-    writeEffectiveIni(m.parameters(), joinPath(m_out, "effective.ini"));
     writeMapperReport(joinPath(m_out, "report.html"), makeReportData(m, m_info, ground_truth));
 
     std::printf(
@@ -539,11 +544,16 @@ void MapperApp::writeOutputs(const emslam::io::TumTrajectory& ground_truth)
         }
         if (m.parameters().loop_closer.vertical_prior)
         {
+            // The bias is NaN until the keyframes' orientations observe it.
+            const std::string bias =
+                std::isnan(lc.vertical_bias_deg)
+                    ? std::string("camera bias not observable yet")
+                    : mrpt::format("camera bias %.2f deg", lc.vertical_bias_deg);
             std::printf(
-                "levelling: %zu of %zu measured verticals agree (tilt spread %.2f deg, camera "
-                "bias %.2f deg, %.1f keyframes per independent error)\n",
-                lc.verticals_used, lc.verticals_measured, lc.vertical_drift_deg,
-                lc.vertical_bias_deg, lc.vertical_correlation_time);
+                "levelling: %zu of %zu measured verticals agree (tilt spread %.2f deg, %s, "
+                "%.1f keyframes per independent error)\n",
+                lc.verticals_used, lc.verticals_measured, lc.vertical_drift_deg, bias.c_str(),
+                lc.vertical_correlation_time);
         }
     }
     if (m_info.slam_vs_gt)

@@ -8,10 +8,10 @@
 #include <emslam/io/AtomicFile.h>
 #include <emslam/io/AtomicTextFile.h>
 #include <emslam/io/Json.h>
+#include <emslam/io/OutputFile.h>
 #include <emslam/maps/EntropyEnergy.h>
 
 #include <mrpt/core/bits_math.h>
-#include <mrpt/io/CFileOutputStream.h>
 #include <mrpt/serialization/CArchive.h>
 
 #include <algorithm>
@@ -367,13 +367,10 @@ void writeEntropyMap(const slam::EntropySlam& m, const std::string& file)
         file,
         [&](const std::string& partial)
         {
-            mrpt::io::CFileOutputStream f;
-            if (!f.open(partial))
-            {
-                return false;
-            }
+            io::OutputFile f(partial, file);
             auto a = mrpt::serialization::archiveFrom(f);
             a << m.entropyMap();
+            f.close();
             return true;
         });
 }

@@ -1,10 +1,9 @@
 // SPDX-License-Identifier: BSD-3-Clause
 #include <emslam/apps/PlyFile.h>
 #include <emslam/io/AtomicFile.h>
+#include <emslam/io/OutputFile.h>
 
 #include <cstdint>
-#include <fstream>
-#include <stdexcept>
 
 namespace emslam::apps
 {
@@ -14,11 +13,8 @@ void savePly(const emslam::slam::IntensityCloud& cloud, const std::string& file)
         file,
         [&](const std::string& partial)
         {
-            std::ofstream out(partial, std::ios::binary);
-            if (!out)
-            {
-                return false;
-            }
+            emslam::io::OutputFile f(partial, file);
+            auto& out = f.text();
             out << "ply\nformat binary_little_endian 1.0\ncomment emslam map\nelement vertex "
                 << cloud.size()
                 << "\nproperty float x\nproperty float y\nproperty float z\n"
@@ -29,13 +25,10 @@ void savePly(const emslam::slam::IntensityCloud& cloud, const std::string& file)
                 const float xyz[3] = {p.x, p.y, p.z};
                 const std::uint8_t g = cloud.intensity[i];
                 const std::uint8_t rgb[3] = {g, g, g};
-                out.write(reinterpret_cast<const char*>(xyz), sizeof(xyz));
-                out.write(reinterpret_cast<const char*>(rgb), sizeof(rgb));
+                f.put(xyz, sizeof(xyz));
+                f.put(rgb, sizeof(rgb));
             }
-            if (!out.flush())
-            {
-                throw std::runtime_error("cannot write '" + file + "' (disk full?)");
-            }
+            f.close();
             return true;
         });
 }

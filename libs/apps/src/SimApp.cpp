@@ -5,6 +5,8 @@
 #include <emslam/apps/RawlogRecording.h>
 #include <emslam/apps/SimApp.h>
 #include <emslam/apps/StopSignal.h>
+#include <emslam/io/ImageOutput.h>
+#include <emslam/io/IniFile.h>
 #include <emslam/io/InputFileChecks.h>
 #include <emslam/io/InputOutputClash.h>
 #include <emslam/io/RawlogOutput.h>
@@ -19,10 +21,8 @@
 #include <chrono>
 #include <cstdio>
 #include <filesystem>
-#include <fstream>
 #include <iostream>
 #include <opencv2/imgcodecs.hpp>
-#include <sstream>
 #include <stdexcept>
 #include <vector>
 
@@ -90,14 +90,10 @@ bool SimApp::parseArguments(int argc, const char** argv)
     {
         usageError("--gt-out and --output name the same file");
     }
-    io::requireInputFile(world_file, "world file", io::MAX_INI_BYTES);
     io::requireOutputsAreNotInputs(
         {{"output rawlog", output_file}, {"ground-truth output (--gt-out)", gt_out_file}},
         {{"the world file", world_file}});
-    std::ifstream in(world_file);
-    std::stringstream ss;
-    ss << in.rdbuf();
-    params.setContent(ss.str());
+    params.setContent(io::readIniFile(world_file, "world file"));
     if (arg_seed.isSet())
     {
         params.write("World", "seed", static_cast<int>(arg_seed.getValue()));
@@ -175,9 +171,9 @@ void SimApp::execute()
             {
                 char name[64];
                 std::snprintf(name, sizeof(name), "/left_%06zu.png", i);
-                cv::imwrite(png_dir + name, fr.obs->imageLeft.asCvMatRef());
+                io::writeImageFile(png_dir + name, fr.obs->imageLeft.asCvMatRef());
                 std::snprintf(name, sizeof(name), "/right_%06zu.png", i);
-                cv::imwrite(png_dir + name, fr.obs->imageRight.asCvMatRef());
+                io::writeImageFile(png_dir + name, fr.obs->imageRight.asCvMatRef());
             }
         });
     frames_written = rec.frames_written;

@@ -3,9 +3,12 @@
 #include <emslam/apps/ConfigValidation.h>
 #include <emslam/apps/StereoApp.h>
 #include <emslam/apps/StopSignal.h>
+#include <emslam/io/CalibrationFiles.h>
 #include <emslam/io/FrameStreamGuard.h>
+#include <emslam/io/ImageOutput.h>
 #include <emslam/io/InputFileChecks.h>
 #include <emslam/io/InputOutputClash.h>
+#include <emslam/io/OutputFile.h>
 #include <emslam/io/RawlogInput.h>
 #include <emslam/io/RawlogOutput.h>
 #include <emslam/stereo/ExceptionMessage.h>
@@ -51,11 +54,8 @@ cv::Mat readImage(const std::string& f, const std::string& what)
 
 void writePly(const emslam::stereo::StereoFrame& f, const std::string& file)
 {
-    std::ofstream o(file);
-    if (!o)
-    {
-        throw std::runtime_error("cannot write '" + file + "'");
-    }
+    io::OutputFile out(file);
+    auto& o = out.text();
     o << "ply\nformat ascii 1.0\nelement vertex " << f.points.size()
       << "\nproperty float x\nproperty float y\nproperty float z\n"
          "property uchar red\nproperty uchar green\nproperty uchar blue\nend_header\n";
@@ -65,6 +65,7 @@ void writePly(const emslam::stereo::StereoFrame& f, const std::string& file)
         const int g = f.intensity.at<uint8_t>(f.pixels[i].v, f.pixels[i].u);
         o << p.x << ' ' << p.y << ' ' << p.z << ' ' << g << ' ' << g << ' ' << g << '\n';
     }
+    out.close();
 }
 
 void writeDisparityPng(const emslam::stereo::StereoFrame& f, const std::string& file)
@@ -75,10 +76,7 @@ void writeDisparityPng(const emslam::stereo::StereoFrame& f, const std::string& 
     f.disparity.convertTo(d8, CV_8U, mx > 0 ? 255.0 / mx : 1.0);
     cv::applyColorMap(d8, color, cv::COLORMAP_JET);
     color.setTo(cv::Scalar(0, 0, 0), f.valid == 0);
-    if (!cv::imwrite(file, color))
-    {
-        throw std::runtime_error("cannot write '" + file + "'");
-    }
+    io::writeImageFile(file, color);
 }
 
 struct DepthStats
@@ -297,7 +295,7 @@ void StereoApp::execute()
     {
         if (m_rawlog.empty())
         {
-            const auto cam = emslam::stereo::loadStereoCameraFromIniFile(m_calib, m_calib_section);
+            const auto cam = io::loadStereoCameraFromIniFile(m_calib, m_calib_section);
             const cv::Mat l = readImage(m_left, "left image"),
                           r = readImage(m_right, "right image");
             auto obs = mrpt::obs::CObservationStereoImages::Create();

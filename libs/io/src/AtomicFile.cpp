@@ -1,6 +1,8 @@
 // SPDX-License-Identifier: BSD-3-Clause
 #include <emslam/io/AtomicFile.h>
 
+#include <cerrno>
+#include <cstring>
 #include <filesystem>
 #include <stdexcept>
 #include <system_error>
@@ -35,9 +37,14 @@ void writeFileAtomically(
     const std::string partial = partialFileFor(file, keep_extension);
     try
     {
+        // A writer that only says false leaves its reason in errno, at best.
+        errno = 0;
         if (!write(partial))
         {
-            throw std::runtime_error("cannot write '" + file + "'");
+            const int err = errno;
+            throw std::runtime_error(
+                "cannot write '" + file +
+                "': " + (err != 0 ? std::strerror(err) : "the writer gave no reason"));
         }
         commitPartialFile(partial, file);
     }

@@ -12,18 +12,14 @@ namespace emslam::io
 AtomicTextFile::AtomicTextFile(std::string file)
     : m_file(requireOutputFile(file, "output file")), m_tmp(partialFileFor(m_file))
 {
-    m_out.open(m_tmp, std::ios::out | std::ios::binary | std::ios::trunc);
-    if (!m_out)
-    {
-        throw std::runtime_error("cannot write '" + m_file + "'");
-    }
+    m_out = std::make_unique<OutputFile>(m_tmp, m_file);
 }
 
 AtomicTextFile::~AtomicTextFile()
 {
     if (!m_committed)
     {
-        m_out.close();
+        m_out.reset();
         std::error_code ignored;
         std::filesystem::remove(m_tmp, ignored);
     }
@@ -31,12 +27,7 @@ AtomicTextFile::~AtomicTextFile()
 
 void AtomicTextFile::commit()
 {
-    m_out.flush();
-    m_out.close();
-    if (!m_out)
-    {
-        throw std::runtime_error("cannot write '" + m_file + "' (disk full?)");
-    }
+    m_out->close();
     commitPartialFile(m_tmp, m_file);
     m_committed = true;
 }

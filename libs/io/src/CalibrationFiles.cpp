@@ -2,10 +2,12 @@
 #include <emslam/io/CalibrationFiles.h>
 #include <emslam/io/DataFile.h>
 #include <emslam/io/EurocSensorYaml.h>
+#include <emslam/io/IniFile.h>
 #include <emslam/io/TextParsing.h>
 #include <emslam/stereo/ExceptionMessage.h>
 #include <emslam/stereo/StereoCalibration.h>
 
+#include <mrpt/config/CConfigFileMemory.h>
 #include <mrpt/core/format.h>
 #include <mrpt/math/CMatrixFixed.h>
 #include <mrpt/poses/CPose3D.h>
@@ -321,6 +323,22 @@ mrpt::img::TStereoCamera loadEurocCalibration(
     stereo::validateStereoCamera(
         cam, "EuRoC calibration '" + cam0_sensor_yaml + "' + '" + cam1_sensor_yaml + "'");
     return cam;
+}
+
+mrpt::img::TStereoCamera loadStereoCameraFromIniFile(
+    const std::string& ini_file, const std::string& section)
+{
+    const std::string what = "stereo calibration INI '" + ini_file + "'";
+    requireFile(ini_file, what);
+    const mrpt::config::CConfigFileMemory cfg(readIniFile(ini_file, "stereo calibration INI"));
+    try
+    {
+        return emslam::stereo::loadStereoCameraFromConfig(cfg, section);
+    }
+    catch (const std::exception& e)
+    {
+        fail(what, e.what());
+    }
 }
 
 }  // namespace emslam::io

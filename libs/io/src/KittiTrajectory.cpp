@@ -2,6 +2,7 @@
 #include <emslam/io/DataFile.h>
 #include <emslam/io/KittiTrajectory.h>
 #include <emslam/io/NumberText.h>
+#include <emslam/io/OutputFile.h>
 #include <emslam/io/TextParsing.h>
 
 #include <mrpt/core/exceptions.h>
@@ -26,17 +27,9 @@ std::ifstream openForReading(const std::string& file, const char* what)
 /** Writes `text` to `file`, throwing naming it if it cannot. */
 void writeText(const std::string& file, const std::string& text)
 {
-    std::ofstream f(file, std::ios::out | std::ios::trunc);
-    if (!f.is_open())
-    {
-        THROW_EXCEPTION_FMT("Cannot open trajectory file '%s' for writing", file.c_str());
-    }
-    f << text;
-    f.flush();
-    if (!f.good())
-    {
-        THROW_EXCEPTION_FMT("Error writing trajectory file '%s'", file.c_str());
-    }
+    OutputFile f(file);
+    f.text() << text;
+    f.close();
 }
 }  // namespace
 

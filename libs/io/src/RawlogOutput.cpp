@@ -1,9 +1,8 @@
 // SPDX-License-Identifier: BSD-3-Clause
 #include <emslam/io/AtomicFile.h>
+#include <emslam/io/OutputFile.h>
 #include <emslam/io/OutputPathChecks.h>
 #include <emslam/io/RawlogOutput.h>
-
-#include <mrpt/core/exceptions.h>
 
 #include <filesystem>
 #include <system_error>
@@ -40,14 +39,9 @@ RawlogOutput::RawlogOutput(const std::string& file, int gz_level, const std::str
           gt_file.empty() ? std::string() : requireOutputFile(gt_file, "ground-truth output file")),
       m_gt_partial(m_gt_file.empty() ? std::string() : partialFileFor(m_gt_file))
 {
-    std::string err;
-    if (!m_stream.open(m_partial, gz_level, err))
-    {
-        THROW_EXCEPTION_FMT("Cannot create '%s': %s", m_partial.c_str(), err.c_str());
-    }
+    m_stream = std::make_unique<GzOutputStream>(m_partial, gz_level, m_file);
     m_archive =
-        std::make_unique<mrpt::serialization::CArchiveStreamBase<mrpt::io::CFileGZOutputStream>>(
-            m_stream);
+        std::make_unique<mrpt::serialization::CArchiveStreamBase<GzOutputStream>>(*m_stream);
 }
 
 RawlogOutput::~RawlogOutput()
@@ -55,7 +49,7 @@ RawlogOutput::~RawlogOutput()
     if (!m_committed)
     {
         m_archive.reset();
-        m_stream.close();
+        m_stream.reset();
         removeQuietly(m_partial);
         removeQuietly(m_gt_partial);
     }
@@ -64,10 +58,12 @@ RawlogOutput::~RawlogOutput()
 std::size_t RawlogOutput::commit(const emslam::io::TumTrajectory& ground_truth)
 {
     m_archive.reset();
-    m_stream.close();
+    m_stream->close();
     if (!m_gt_partial.empty())
     {
-        ground_truth.saveToFile(m_gt_partial);
+        OutputFile gt(m_gt_partial, m_gt_file);
+        ground_truth.writeTo(gt.text());
+        gt.close();
     }
     commitPartialFile(m_partial, m_file);
     std::size_t poses = 0;
@@ -78,6 +74,21 @@ std::size_t RawlogOutput::commit(const emslam::io::TumTrajectory& ground_truth)
     }
     m_committed = true;
     return poses;
+}
+
+void RawlogOutput::keepWhatWasWritten()
+{
+    m_archive.reset();
+    try
+    {
+        m_stream->close();
+    }
+    catch (const std::exception&)
+    {
+        // Known to the caller already: the write that failed threw.
+    }
+    commitPartialFile(m_partial, m_file);
+    m_committed = true;
 }
 
 }  // namespace emslam::io

@@ -1,6 +1,7 @@
 // SPDX-License-Identifier: BSD-3-Clause
 #include <emslam/io/DataFile.h>
 #include <emslam/io/NumberText.h>
+#include <emslam/io/OutputFile.h>
 #include <emslam/io/TextParsing.h>
 #include <emslam/io/TumTrajectory.h>
 
@@ -63,17 +64,9 @@ void TumTrajectory::writeTo(std::ostream& out) const
 
 void TumTrajectory::saveToFile(const std::string& file) const
 {
-    std::ofstream f(file, std::ios::out | std::ios::trunc);
-    if (!f.is_open())
-    {
-        THROW_EXCEPTION_FMT("Cannot open trajectory file '%s' for writing", file.c_str());
-    }
-    writeTo(f);
-    f.flush();
-    if (!f.good())
-    {
-        THROW_EXCEPTION_FMT("Error writing trajectory file '%s'", file.c_str());
-    }
+    OutputFile f(file);
+    writeTo(f.text());
+    f.close();
 }
 
 void TumTrajectory::loadFromFile(const std::string& file)

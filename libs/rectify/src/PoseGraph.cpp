@@ -397,7 +397,11 @@ PoseGraph::Result PoseGraph::optimize(
             }
             if (any_prior && m_frame.solve_bias)
             {
-                const Vec3 b_new = b + Eb * step.segment<2>(bias_col);
+                Vec3 b_new = b + Eb * step.segment<2>(bias_col);
+                if (m_frame.max_bias > 0 && b_new.norm() > m_frame.max_bias)
+                {
+                    b_new *= m_frame.max_bias / b_new.norm();
+                }
                 m_frame.bias = {b_new.x(), b_new.y(), b_new.z()};
             }
             const double c = activeCost();

@@ -1,7 +1,8 @@
 // SPDX-License-Identifier: BSD-3-Clause
+#include <emslam/io/IniFile.h>
 #include <emslam/sim/StereoSimulator.h>
 
-#include <mrpt/config/CConfigFile.h>
+#include <mrpt/config/CConfigFileMemory.h>
 #include <mrpt/core/Clock.h>
 #include <mrpt/img/CImage.h>
 #include <mrpt/poses/CPose3DQuat.h>
@@ -81,9 +82,9 @@ void StereoSimulator::loadFile(const std::string& ini_file)
     {
         throw std::invalid_argument("world file '" + ini_file + "' does not exist");
     }
+    const mrpt::config::CConfigFileMemory cfg(emslam::io::readIniFile(ini_file, "world file"));
     try
     {
-        mrpt::config::CConfigFile cfg(ini_file);
         load(cfg);
     }
     catch (const std::exception& e)

@@ -29,6 +29,15 @@ Vec3 toEigen(const mrpt::math::TVector3D& v)
     return {v.x, v.y, v.z};
 }
 
+/** Two unit directions across `n`. */
+Eigen::Matrix<double, 3, 2> across(const Vec3& n)
+{
+    Eigen::Matrix<double, 3, 2> E;
+    E.col(0) = n.unitOrthogonal();
+    E.col(1) = n.cross(E.col(0));
+    return E;
+}
+
 /** One measurement against the world up at the current poses. */
 struct Disagreement
 {
@@ -46,9 +55,7 @@ std::vector<Disagreement> disagreements(
     const Vec3 g = toEigen(frame.world);
     const Vec3 bias = toEigen(frame.bias);
     // Two directions across the world up: what a tilt changes.
-    Eigen::Matrix<double, 3, 2> E;
-    E.col(0) = g.unitOrthogonal();
-    E.col(1) = g.cross(E.col(0));
+    const Eigen::Matrix<double, 3, 2> E = across(g);
     std::vector<Disagreement> out;
     for (std::size_t k = 0; k < n; ++k)
     {
@@ -65,6 +72,54 @@ std::vector<Disagreement> disagreements(
         out.push_back(d);
     }
     return out;
+}
+
+/** The smallest eigenvalue of the information the graph's direction priors
+ * give on the bias (in the plane across their mean direction, node frame)
+ * with the world up marginalised, at the graph's poses [rad⁻²]. Zero when
+ * every prior sees the world up from the same camera orientation: then
+ * b and w move together. */
+double biasInformation(const emslam::rectify::PoseGraph& graph)
+{
+    const auto& priors = graph.directionPriors();
+    Vec3 mean = Vec3::Zero();
+    for (const auto& p : priors)
+    {
+        mean += toEigen(p.in_node);
+    }
+    if (!(mean.norm() > 0))
+    {
+        return 0;
+    }
+    const auto& frame = graph.directionFrame();
+    const Vec3 b = toEigen(frame.bias);
+    const Eigen::Matrix<double, 3, 2> Eb = across(mean.normalized());
+    const Eigen::Matrix<double, 3, 2> Ew = across(toEigen(frame.world));
+    Eigen::Matrix2d Ibb = Eigen::Matrix2d::Zero(), Ibw = Eigen::Matrix2d::Zero(),
+                    Iww = Eigen::Matrix2d::Zero();
+    for (const auto& p : priors)
+    {
+        // ρ = normalize(u − b) − Rᵀ w, linearised in b and in w.
+        const Vec3 d = toEigen(p.in_node) - b;
+        const Vec3 n = d.normalized();
+        const Eigen::Matrix<double, 3, 2> Jb =
+            -(Mat3::Identity() - n * n.transpose()) * Eb / d.norm();
+        const Mat3 R = graph.node(p.node).getRotationMatrix().asEigen();
+        const Eigen::Matrix<double, 3, 2> Jw = -R.transpose() * Ew;
+        const Mat3 L = p.information.asEigen();
+        Ibb += Jb.transpose() * L * Jb;
+        Ibw += Jb.transpose() * L * Jw;
+        Iww += Jw.transpose() * L * Jw;
+    }
+    const Eigen::LDLT<Eigen::Matrix2d> ww(Iww);
+    if (ww.info() != Eigen::Success || !(Iww.determinant() > 0))
+    {
+        return 0;
+    }
+    const Eigen::Matrix2d S = Ibb - Ibw * ww.solve(Ibw.transpose());
+    return Eigen::SelfAdjointEigenSolver<Eigen::Matrix2d>(0.5 * (S + S.transpose()))
+        .eigenvalues()
+        .minCoeff();
 }
 
 /** How many neighbouring keyframes share one error: 1 + 2 Σ ρ_k of the
@@ -124,7 +179,8 @@ LevelFloorsStats levelFloors(
     emslam::rectify::PoseGraph& graph,
     const std::vector<std::optional<emslam::stereo::VerticalMeasurement>>& verticals,
     const std::vector<double>& tilt_variance,
-    int passes)
+    int passes,
+    double max_bias)
 {
     LevelFloorsStats stats;
     const std::size_t n = std::min(graph.nodeCount(), verticals.size());
@@ -153,8 +209,10 @@ LevelFloorsStats levelFloors(
     const Vec3 g0 = sum.normalized();
     frame.world = {g0.x(), g0.y(), g0.z()};
     frame.solve_world = true;
-    frame.solve_bias = true;
+    frame.max_bias = max_bias;
     graph.setDirectionFrame(frame);
+    // The data must pin the bias to a third of its bound (3 σ within it).
+    const double min_bias_information = max_bias > 0 ? std::pow(3 / max_bias, 2) : 0.0;
     for (int pass = 0; pass < passes; ++pass)
     {
         const std::vector<Disagreement> dis = disagreements(graph, verticals, n);
@@ -200,10 +258,23 @@ LevelFloorsStats levelFloors(
             stats.used = 0;
             break;
         }
+        // The bias is solved only while these measurements observe it;
+        // otherwise it stays at zero.
+        auto f = graph.directionFrame();
+        f.solve_bias = max_bias > 0 && biasInformation(graph) >= min_bias_information;
+        if (!f.solve_bias)
+        {
+            f.bias = {0, 0, 0};
+        }
+        graph.setDirectionFrame(f);
         // Far below any measurement's noise; a tighter stop only costs time.
         graph.optimize(8, 1, 1e-6);
     }
-    stats.bias_deg = mrpt::RAD2DEG(toEigen(graph.directionFrame().bias).norm());
+    stats.bias_observable = graph.directionFrame().solve_bias;
+    if (stats.bias_observable)
+    {
+        stats.bias_deg = mrpt::RAD2DEG(toEigen(graph.directionFrame().bias).norm());
+    }
     return stats;
 }
 

@@ -271,6 +271,7 @@ void LoopCloser::TParameters::loadFromConfigFile(
     MRPT_LOAD_CONFIG_VAR(max_candidates, int, c, s);
     MRPT_LOAD_CONFIG_VAR(local_edges, int, c, s);
     MRPT_LOAD_CONFIG_VAR(vertical_prior, bool, c, s);
+    MRPT_LOAD_CONFIG_VAR(vertical_max_bias_deg, double, c, s);
     MRPT_LOAD_CONFIG_VAR(kept_features, int, c, s);
     MRPT_LOAD_CONFIG_VAR(consensus_window, int, c, s);
     MRPT_LOAD_CONFIG_VAR(max_lag, int, c, s);
@@ -288,6 +289,8 @@ void LoopCloser::TParameters::saveToConfigFile(
     MRPT_SAVE_CONFIG_VAR_COMMENT(max_candidates, "registrations per keyframe, nearest first");
     MRPT_SAVE_CONFIG_VAR_COMMENT(local_edges, "direct registrations to the keyframes before");
     MRPT_SAVE_CONFIG_VAR_COMMENT(vertical_prior, "level floors: the up each keyframe sees");
+    MRPT_SAVE_CONFIG_VAR_COMMENT(
+        vertical_max_bias_deg, "[deg] largest tilt of the camera's own bias in the ups");
     MRPT_SAVE_CONFIG_VAR_COMMENT(
         kept_features, "features kept per keyframe, 8-bit (0: all, float)");
     MRPT_SAVE_CONFIG_VAR_COMMENT(consensus_window, "keyframes whose registrations may agree");
@@ -330,6 +333,10 @@ void LoopCloser::TParameters::validate() const
     if (max_lag < 1)
     {
         bad("max_lag", "must be >= 1 keyframe");
+    }
+    if (!(vertical_max_bias_deg >= 0 && vertical_max_bias_deg <= 30))
+    {
+        bad("vertical_max_bias_deg", "must be in [0, 30] degrees (0: no bias solved)");
     }
     try
     {
@@ -1115,7 +1122,8 @@ void LoopCloser::levelWithVerticals()
             tilt_variance[k] = tilt_variance[k - 1] + rotationTrace(m_keyframes[k].covariance) / 3;
         }
     }
-    const LevelFloorsStats level = levelFloors(m_graph, verticals, tilt_variance);
+    const LevelFloorsStats level =
+        levelFloors(m_graph, verticals, tilt_variance, 3, mrpt::DEG2RAD(m_p.vertical_max_bias_deg));
     m_stats.verticals_measured = level.measured;
     m_stats.verticals_used = level.used;
     m_stats.vertical_drift_deg = level.drift_deg;

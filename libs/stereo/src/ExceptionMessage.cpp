@@ -40,7 +40,16 @@ std::string shortExceptionMessage(const std::exception& e)
     }
     if (messages.empty())
     {
-        return trim(text);
+        // A std::exception that MRPT_END wrapped (ExceptionWithCallBack):
+        // its text comes between MRPT's header and the backtrace, untagged.
+        const std::string header = "==== MRPT exception ====";
+        const std::string t = trim(text);
+        const auto stack = t.find("Call stack backtrace:");
+        if (t.compare(0, header.size(), header) == 0 && stack != std::string::npos)
+        {
+            return trim(t.substr(header.size(), stack - header.size()));
+        }
+        return t;
     }
     std::string out;
     for (const auto& m : messages)

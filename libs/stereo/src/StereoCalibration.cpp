@@ -2,11 +2,9 @@
 #include <emslam/stereo/ExceptionMessage.h>
 #include <emslam/stereo/StereoCalibration.h>
 
-#include <mrpt/config/CConfigFile.h>
 #include <mrpt/poses/CPose3DQuat.h>
 
 #include <cmath>
-#include <filesystem>
 #include <sstream>
 #include <stdexcept>
 #include <string>
@@ -18,15 +16,6 @@ namespace
 [[noreturn]] void fail(const std::string& what, const std::string& problem)
 {
     throw std::runtime_error(what + ": " + problem);
-}
-
-void requireFile(const std::string& file, const std::string& what)
-{
-    std::error_code ec;
-    if (!std::filesystem::is_regular_file(file, ec))
-    {
-        fail(what, "file not found");
-    }
 }
 
 std::string fmt(double v)
@@ -107,22 +96,6 @@ mrpt::img::TStereoCamera loadStereoCameraFromConfig(
     p.qy /= qn;
     p.qz /= qn;
     return cam;
-}
-
-mrpt::img::TStereoCamera loadStereoCameraFromIniFile(
-    const std::string& ini_file, const std::string& section)
-{
-    const std::string what = "stereo calibration INI '" + ini_file + "'";
-    requireFile(ini_file, what);
-    const mrpt::config::CConfigFile cfg(ini_file);
-    try
-    {
-        return loadStereoCameraFromConfig(cfg, section);
-    }
-    catch (const std::exception& e)
-    {
-        fail(what, e.what());
-    }
 }
 
 void validateStereoCamera(const mrpt::img::TStereoCamera& cam, const std::string& what)

@@ -98,9 +98,9 @@ void applyConfigOverrides(
     mrpt::config::CConfigFileMemory& cfg, const std::vector<std::string>& sets);
 
 /** Fills `cfg` from the INI file `config_file` (when not empty), then applies
- * the `--set` overrides `sets` (see applyConfigOverrides()). Throws
- * std::runtime_error if the file is not a regular file of at most
- * io::MAX_INI_BYTES (see io::requireInputFile()).
+ * the `--set` overrides `sets` (see applyConfigOverrides()). The file is read
+ * by io::readIniFile(): it throws if the file is not a regular file of at
+ * most io::MAX_INI_BYTES, or if it repeats a section or a key.
  * \ingroup emslam_apps_grp */
 void loadConfig(
     mrpt::config::CConfigFileMemory& cfg,

@@ -20,8 +20,11 @@ void commitPartialFile(const std::string& partial, const std::string& file);
  * never leaves one under its name: `write(partial)` writes
  * partialFileFor(file, keep_extension) and returns false (or throws) on
  * failure; the file is then renamed to `file`. On any failure the partial
- * file is removed and std::runtime_error names `file` (an exception from
- * `write` is passed on).
+ * file is removed and std::runtime_error names `file` and the reason, errno
+ * as `write` left it ("cannot write 'FILE': No space left on device"; an
+ * exception from `write` is passed on). Writers that can, write through
+ * OutputFile or GzOutputStream, whose exceptions carry the reason captured
+ * at the failing call.
  * \ingroup emslam_io_grp \sa AtomicTextFile */
 void writeFileAtomically(
     const std::string& file,

@@ -1,7 +1,10 @@
 // SPDX-License-Identifier: BSD-3-Clause
 #pragma once
 
-#include <fstream>
+#include <emslam/io/OutputFile.h>
+
+#include <memory>
+#include <ostream>
 #include <string>
 
 namespace emslam::io
@@ -23,13 +26,15 @@ public:
     AtomicTextFile(const AtomicTextFile&) = delete;
     AtomicTextFile& operator=(const AtomicTextFile&) = delete;
 
-    std::ofstream& stream() { return m_out; }
-    /** Flushes and renames; throws naming the file on any error. */
+    std::ostream& stream() { return m_out->text(); }
+    /** Writes the rest, closes and renames; throws std::runtime_error naming
+     * the file and the OS reason on any error ("cannot write 'FILE': No
+     * space left on device", see OutputFile). */
     void commit();
 
 private:
     std::string m_file, m_tmp;
-    std::ofstream m_out;
+    std::unique_ptr<OutputFile> m_out;
     bool m_committed{false};
 };
 

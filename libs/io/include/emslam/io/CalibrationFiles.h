@@ -31,4 +31,12 @@ mrpt::img::TStereoCamera loadKittiCalibration(
 mrpt::img::TStereoCamera loadEurocCalibration(
     const std::string& cam0_sensor_yaml, const std::string& cam1_sensor_yaml);
 
+/** Reads MRPT's TStereoCamera INI form (see
+ * stereo::loadStereoCameraFromConfig()) from `ini_file`, read by
+ * readIniFile() (at most MAX_INI_BYTES, no repeated section or key). Throws
+ * naming the file if it does not exist or the calibration is unusable.
+ * \ingroup emslam_io_grp */
+mrpt::img::TStereoCamera loadStereoCameraFromIniFile(
+    const std::string& ini_file, const std::string& section);
+
 }  // namespace emslam::io

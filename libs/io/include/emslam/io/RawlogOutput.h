@@ -1,9 +1,9 @@
 // SPDX-License-Identifier: BSD-3-Clause
 #pragma once
 
+#include <emslam/io/GzOutputStream.h>
 #include <emslam/io/TumTrajectory.h>
 
-#include <mrpt/io/CFileGZOutputStream.h>
 #include <mrpt/serialization/CArchive.h>
 
 #include <cstddef>
@@ -35,8 +35,10 @@ public:
     static void checkOutputFolders(const std::string& file, const std::string& gt_file);
 
     /** Creates `file + ".partial"` with gzip level `gz_level` (0..9); throws
-     * (mrpt::ExceptionWithCallBackBase) if it cannot be created. `gt_file`:
-     * where commit() writes the ground truth (empty: nowhere). */
+     * std::runtime_error if it cannot be created. `gt_file`: where commit()
+     * writes the ground truth (empty: nowhere). A failed write (a full disk)
+     * throws from the archive, and a failed close from commit(), naming
+     * `file` and the OS reason (see GzOutputStream). */
     RawlogOutput(const std::string& file, int gz_level, const std::string& gt_file = {});
     /** Removes the `.partial` files unless commit() succeeded. */
     ~RawlogOutput();
@@ -56,12 +58,18 @@ public:
      * file (0 without one). Throws on failure (the destructor then cleans up). */
     std::size_t commit(const emslam::io::TumTrajectory& ground_truth = {});
 
+    /** After a write error (a full disk), instead of commit(): closes the
+     * rawlog ignoring errors and renames it to its final name, readable up to
+     * its last complete record (a recording keeps what it got). No ground
+     * truth is written. */
+    void keepWhatWasWritten();
+
 private:
     std::string m_file;
     std::string m_partial;
     std::string m_gt_file;
     std::string m_gt_partial;
-    mrpt::io::CFileGZOutputStream m_stream;
+    std::unique_ptr<GzOutputStream> m_stream;
     std::unique_ptr<mrpt::serialization::CArchive> m_archive;
     bool m_committed{false};
 };

@@ -51,8 +51,9 @@ public:
     bool empty() const { return poses.empty(); }
     void add(double t, const mrpt::poses::CPose3D& pose) { poses.push_back({t, pose}); }
 
-    /** Writes all poses to a text file (overwritten). Throws naming the file if
-     * it cannot be written. */
+    /** Writes all poses to a text file (overwritten). Throws
+     * std::runtime_error naming the file and the OS reason if it cannot be
+     * written (see OutputFile). */
     void saveToFile(const std::string& file) const;
 
     /** Writes all poses to a stream, one line each. */

@@ -59,6 +59,11 @@ public:
         /** b is an unknown, orthogonal to the mean measured direction (a
          * tilt of what the sensor sees, not a length). */
         bool solve_bias{false};
+        /** [rad] when > 0, a solved b stays within this tilt: each step is
+         * pulled back onto the bound. Without it a bias the measurements
+         * cannot tell from the world up runs off to where normalize(u − b)
+         * no longer depends on u (every residual zero, b meaningless). */
+        double max_bias{0};
     };
     /** What optimize() did. */
     struct Result

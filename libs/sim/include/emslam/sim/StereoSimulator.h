@@ -69,8 +69,9 @@ public:
 
     StereoSimulator() = default;
 
-    /** Loads a world INI file (throws naming the file, section and key on
-     * errors). */
+    /** Loads a world INI file, read by io::readIniFile() (at most
+     * io::MAX_INI_BYTES, no repeated section or key); throws naming the
+     * file, section and key on errors. */
     void loadFile(const std::string& ini_file);
     /** Loads from a config object. */
     void load(const mrpt::config::CConfigFileBase& cfg);

@@ -5,6 +5,7 @@
 #include <emslam/stereo/VerticalFromPlanes.h>
 
 #include <cstddef>
+#include <limits>
 #include <optional>
 #include <vector>
 
@@ -18,11 +19,21 @@ struct LevelFloorsStats
     /** Tilt spread of the levelled poses beyond the measurements [deg]
      * (the last gate's). */
     double drift_deg{0};
-    double bias_deg{0};  //!< the camera's own tilt of the up it sees, solved [deg]
+    /** The camera's own tilt of the up it sees, solved [deg], at most
+     * `max_bias`; NaN while it is not observable (bias_observable). */
+    double bias_deg{std::numeric_limits<double>::quiet_NaN()};
+    /** Whether the measurements tell the bias from the world up (then it
+     * was solved and applied; otherwise it is held at zero). */
+    bool bias_observable{false};
     /** Keyframes that share one measurement error (last pass): the
      * measurements' information is divided by it. */
     double correlation_time{1};
 };
+
+/** The default bound of the camera's bias in levelFloors() [rad]: 3 degrees,
+ * far beyond what a calibrated stereo rig's floors are tilted by.
+ * \ingroup emslam_slam_grp */
+constexpr double DEFAULT_MAX_CAMERA_BIAS = 3.0 * 3.14159265358979323846 / 180.0;
 
 /** Levels a pose graph by the verticals its nodes saw
  * (emslam::stereo::VerticalFromPlanes): each measurement joins the graph as
@@ -41,12 +52,23 @@ struct LevelFloorsStats
  * the median). The gate is the 99.73 % bulk of a χ²(2); `passes` rounds of
  * gating and solving.
  *
+ * The bias is a tilt of at most `max_bias` [rad] (PoseGraph::DirectionFrame::
+ * max_bias), and it is solved only where the data observe it: a camera that
+ * has only moved straight (or turned about one axis fixed in its frame)
+ * sees the world up and its own bias as one direction. Each pass takes the
+ * information the agreeing measurements give on the bias, the world up
+ * marginalised, at the current poses (the 2×2 Schur complement of their
+ * normal equations); the bias is observable when its smallest eigenvalue
+ * is at least (3 / max_bias)², i.e. the data alone know it to a third of
+ * its bound. Until then it is held at zero and not reported.
+ *
  * `verticals[k]` belongs to node k (nothing: not measured).
  * \ingroup emslam_slam_grp \sa LoopCloser */
 LevelFloorsStats levelFloors(
     emslam::rectify::PoseGraph& graph,
     const std::vector<std::optional<emslam::stereo::VerticalMeasurement>>& verticals,
     const std::vector<double>& tilt_variance,
-    int passes = 3);
+    int passes = 3,
+    double max_bias = DEFAULT_MAX_CAMERA_BIAS);
 
 }  // namespace emslam::slam

@@ -13,6 +13,7 @@
 #include <chrono>
 #include <cstddef>
 #include <functional>
+#include <limits>
 #include <map>
 #include <memory>
 #include <mutex>
@@ -119,6 +120,10 @@ public:
          * buildings (floors, ceilings, stair treads are level); not for
          * open terrain. (Default: false) */
         bool vertical_prior{false};
+        /** [deg] the largest tilt of the camera's own bias in the ups it
+         * sees (levelFloors()): solved only once the keyframes' orientations
+         * tell it from the world up, and never beyond this. (Default: 3) */
+        double vertical_max_bias_deg{3.0};
         /** Features kept per keyframe for registering it again later (the
          * strongest of each image cell, 8-bit descriptors; about 150 bytes
          * each): what bounds the memory of a long run. 0: every feature at
@@ -138,16 +143,18 @@ public:
     /** What close() did. */
     struct Stats
     {
-        std::size_t candidates{0};            //!< pairs within the gates of step 1
-        std::size_t registrations{0};         //!< egomotion registrations tried
-        std::size_t registered{0};            //!< of them: succeeded and within the gate
-        std::size_t loop_edges{0};            //!< accepted into the pose graph
-        std::size_t local_registrations{0};   //!< of `local_edges`, tried
-        std::size_t local_edges{0};           //!< of them: within the gate, in the graph
-        std::size_t verticals_measured{0};    //!< keyframes whose up was measured
-        std::size_t verticals_used{0};        //!< of them: agreed, in the graph
-        double vertical_drift_deg{0};         //!< tilt spread before levelling
-        double vertical_bias_deg{0};          //!< the camera's own tilt of what it sees
+        std::size_t candidates{0};           //!< pairs within the gates of step 1
+        std::size_t registrations{0};        //!< egomotion registrations tried
+        std::size_t registered{0};           //!< of them: succeeded and within the gate
+        std::size_t loop_edges{0};           //!< accepted into the pose graph
+        std::size_t local_registrations{0};  //!< of `local_edges`, tried
+        std::size_t local_edges{0};          //!< of them: within the gate, in the graph
+        std::size_t verticals_measured{0};   //!< keyframes whose up was measured
+        std::size_t verticals_used{0};       //!< of them: agreed, in the graph
+        double vertical_drift_deg{0};        //!< tilt spread before levelling
+        /** The camera's own tilt of what it sees [deg]; NaN while not
+         * observable (see levelFloors()). */
+        double vertical_bias_deg{std::numeric_limits<double>::quiet_NaN()};
         double vertical_correlation_time{1};  //!< keyframes that share one error
         int rounds{0};                        //!< solves of the graph
         std::size_t local_solves{0};          //!< of them: the recent keyframes only

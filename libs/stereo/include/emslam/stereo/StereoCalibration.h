@@ -12,13 +12,9 @@ namespace emslam::stereo
  * `[<section>_RIGHT]` and `[<section>_LEFT2RIGHT_POSE]` (as written by
  * `TStereoCamera::saveToConfigFile`). Throws when a section is missing or a
  * camera has a zero size or focal length.
- * \ingroup emslam_stereo_grp */
+ * \ingroup emslam_stereo_grp \sa io::loadStereoCameraFromIniFile() */
 mrpt::img::TStereoCamera loadStereoCameraFromConfig(
     const mrpt::config::CConfigFileBase& cfg, const std::string& section);
-
-/** Same as above, from a file. Throws if the file does not exist. */
-mrpt::img::TStereoCamera loadStereoCameraFromIniFile(
-    const std::string& ini_file, const std::string& section);
 
 /** Throws with a message naming `what` if the calibration is unusable (zero
  * size, non-positive focal length, zero baseline, non-finite numbers). */
