@@ -170,4 +170,26 @@ TEST(TextParsing, parseNumbersRejectsGarbage)
     EXPECT_FALSE(parseNumbers("1 1e999", v));
 }
 
+// Every reader quotes input in its messages through this: a 400 KB line was
+// echoed whole before.
+TEST(TextParsing, quotedExcerptCutsLongInputAfter60Bytes)
+{
+    EXPECT_EQ(quotedExcerpt(""), "''");
+    EXPECT_EQ(quotedExcerpt("12x4,a.png"), "'12x4,a.png'");
+    const std::string sixty(60, 'a');
+    EXPECT_EQ(quotedExcerpt(sixty), "'" + sixty + "'");
+    EXPECT_EQ(quotedExcerpt(sixty + "b"), "'" + sixty + "\u2026' (61 bytes)");
+    EXPECT_EQ(
+        quotedExcerpt(std::string(100000, 'x')),
+        "'" + std::string(60, 'x') + "\u2026' (100000 bytes)");
+    // A 2-byte character (e with acute accent) across the cut is left out whole.
+    const std::string e_acute = "\xC3\xA9";
+    EXPECT_EQ(
+        quotedExcerpt(std::string(59, 'a') + e_acute + "zz"),
+        "'" + std::string(59, 'a') + "\u2026' (63 bytes)");
+    EXPECT_EQ(
+        quotedExcerpt(std::string(58, 'a') + e_acute + "zz"),
+        "'" + std::string(58, 'a') + e_acute + "\u2026' (62 bytes)");
+}
+
 }  // namespace emslam::io

@@ -121,8 +121,8 @@ std::vector<EurocSequence::GtRow> EurocSequence::readGroundTruthCsv(const std::s
             if (!parseNanoseconds(fields[0], row.t_ns))
             {
                 THROW_EXCEPTION_FMT(
-                    "%s:%zu: timestamp '%s' is not an integer number of nanoseconds in [0, %s]",
-                    file.c_str(), line_no, fields[0].c_str(), MAX_NS_TEXT);
+                    "%s:%zu: timestamp %s is not an integer number of nanoseconds in [0, %s]",
+                    file.c_str(), line_no, quotedExcerpt(fields[0]).c_str(), MAX_NS_TEXT);
             }
             bool ok = true;
             for (int k = 0; k < 7 && ok; k++)
@@ -132,7 +132,8 @@ std::vector<EurocSequence::GtRow> EurocSequence::readGroundTruthCsv(const std::s
             if (!ok)
             {
                 THROW_EXCEPTION_FMT(
-                    "%s:%zu: not a number in '%s'", file.c_str(), line_no, line.c_str());
+                    "%s:%zu: not a number in %s", file.c_str(), line_no,
+                    quotedExcerpt(line).c_str());
             }
             const double norm = std::sqrt(v[3] * v[3] + v[4] * v[4] + v[5] * v[5] + v[6] * v[6]);
             if (norm < 1e-9)

@@ -89,4 +89,16 @@ bool parseNanoseconds(std::string_view token, std::int64_t& v);
 bool parseNumbers(
     std::string_view line, std::vector<double>& out, std::string_view separators = " \t\r");
 
+/** Longest piece of input an error message quotes [bytes].
+ * \ingroup emslam_io_grp \sa quotedExcerpt */
+constexpr std::size_t MAX_QUOTED_BYTES = 60;
+
+/** `text` as the error messages of the readers quote input: between single
+ * quotes; if longer than MAX_QUOTED_BYTES, only its first MAX_QUOTED_BYTES
+ * bytes (fewer rather than cut a UTF-8 character), then "…" and its length:
+ * `'abc…' (100000 bytes)`. The bytes are not otherwise changed. A message
+ * then stays short whatever the line (a 400 KB line is echoed as 60 bytes).
+ * \ingroup emslam_io_grp */
+std::string quotedExcerpt(std::string_view text);
+
 }  // namespace emslam::io
