@@ -109,10 +109,11 @@ TEST(TextParsing, parseNanosecondsAcceptsTheInt64RangeFromZero)
     EXPECT_EQ(v, 0);
     ASSERT_TRUE(parseNanoseconds("1403715274312143104.0000000000", v));
     EXPECT_EQ(v, 1403715274312143104);
-    // Negative stamps would make the difference of two stamps overflow.
+    // Negative stamps would make the difference of two stamps overflow; a
+    // non-zero fraction of a nanosecond would be lost (it was truncated).
     for (const char* bad :
          {"-9223372036854775808", "-1", "-0", "-1.5", "9223372036854775808", "1e19", "12.3x", "",
-          ".5", "+1"})
+          ".5", "+1", "1403636579763555584.5", "1.0000000001"})
     {
         v = 5;
         EXPECT_FALSE(parseNanoseconds(bad, v)) << "'" << bad << "'";

@@ -128,7 +128,8 @@ bool parseNanoseconds(std::string_view token, std::int64_t& v)
     if (dot != std::string_view::npos)
     {
         const std::string_view frac = token.substr(dot + 1);
-        if (!std::all_of(frac.begin(), frac.end(), [](char c) { return c >= '0' && c <= '9'; }))
+        // Only zeros: a fraction of a nanosecond would be dropped silently.
+        if (!std::all_of(frac.begin(), frac.end(), [](char c) { return c == '0'; }))
         {
             return false;
         }

@@ -2,6 +2,7 @@
 #include "ImageFile.h"
 
 #include <emslam/io/DataFile.h>
+#include <emslam/io/DatasetStamps.h>
 #include <emslam/io/TextParsing.h>
 #include <emslam/io/TumRgbdSequence.h>
 #include <emslam/io/TumTrajectory.h>
@@ -29,12 +30,14 @@ struct ListEntry
     std::string file;
 };
 
-/** Reads rgb.txt / depth.txt: "timestamp filename" per line, '#' comments. */
+/** Reads rgb.txt / depth.txt: "timestamp filename" per line, '#' comments;
+ * the stamps are plausible and strictly increasing (DatasetStamps.h). */
 std::vector<ListEntry> readList(const std::string& dir, const std::string& name)
 {
     const std::string file = dir + "/" + name;
     auto f = openTextFile(file, "TUM RGB-D list");
     std::vector<ListEntry> out;
+    IncreasingStamps<double> order(file);
     forEachDataLine(
         f,
         [&](const std::string& line, std::size_t line_no)
@@ -45,12 +48,14 @@ std::vector<ListEntry> readList(const std::string& dir, const std::string& name)
             double t = 0;
             // A leading '+' was never accepted in these lists (parseDouble() takes one).
             const bool ts_ok = !ts.empty() && ts.front() != '+' && parseDouble(ts, t);
-            if (fname.empty() || (ss >> extra) || !ts_ok || !std::isfinite(t))
+            if (fname.empty() || (ss >> extra) || !ts_ok)
             {
                 THROW_EXCEPTION_FMT(
-                    "%s:%zu: expected 'timestamp filename', got '%s'", file.c_str(), line_no,
-                    line.c_str());
+                    "%s:%zu: expected 'timestamp filename', got %s", file.c_str(), line_no,
+                    quotedExcerpt(line).c_str());
             }
+            requirePlausibleStampSeconds(t, ts, file, line_no);
+            order.add(t, ts, line_no);
             std::string path = dir;
             path += "/";
             path += fname;
@@ -60,8 +65,6 @@ std::vector<ListEntry> readList(const std::string& dir, const std::string& name)
     {
         THROW_EXCEPTION_FMT("TUM RGB-D list '%s' lists no image", file.c_str());
     }
-    std::stable_sort(
-        out.begin(), out.end(), [](const ListEntry& x, const ListEntry& y) { return x.t < y.t; });
     return out;
 }
 

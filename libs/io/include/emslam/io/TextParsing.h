@@ -71,10 +71,12 @@ bool parseInt64(std::string_view token, std::int64_t& v);
 
 /** Parses a nanosecond timestamp as EuRoC writes them: a non-negative decimal
  * integer that fits in `std::int64_t` (0 to 9223372036854775807, about year
- * 2262), optionally followed by `.` and digits, which are dropped
+ * 2262), optionally followed by `.` and zeros, which are dropped
  * (`1403715274312143104.0000000000`). Returns false, leaving `v` unchanged,
- * otherwise (negative, too large, not an integer). Non-negative stamps can be
- * subtracted from each other without overflow.
+ * otherwise (negative, too large, not an integer, a non-zero fraction such as
+ * `.5`, which would otherwise be lost). Non-negative stamps can be subtracted
+ * from each other without overflow. Image lists check more
+ * (parseImageStampNs()).
  * \ingroup emslam_io_grp \sa parseInt64 */
 bool parseNanoseconds(std::string_view token, std::int64_t& v);
 

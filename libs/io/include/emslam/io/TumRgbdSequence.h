@@ -23,6 +23,12 @@ namespace emslam::io
  *   RGBD_DIR/rgb/<t>.png      colour images (8-bit)
  *   RGBD_DIR/depth/<t>.png    depth images (16-bit, 5000 units per metre)
  * \endcode
+ * Timestamps: each list holds seconds since the UNIX epoch, finite, within
+ * [MIN_STAMP_NS, MAX_STAMP_NS] (after the epoch, before 2100-01-01) and
+ * strictly increasing from line to line (TUM's lists are; a repeated or
+ * earlier stamp is refused, not sorted). Each refusal is a
+ * std::runtime_error "<rgb.txt>:<line>: timestamp '<text>' <reason>".
+ *
  * Each colour image is associated with the depth image nearest in time, if
  * within `max_association_dt`, greedily by increasing time difference (each
  * depth image used at most once, as TUM's associate.py does); colour images
@@ -58,7 +64,8 @@ public:
     TumRgbdSequence();
 
     /** Opens and validates a sequence folder. Throws, naming the file and the
-     * problem, on: a missing folder or list file, a garbled list or
+     * problem, on: a missing folder or list file, a garbled list line or
+     * timestamp (see the class comment), a garbled
      * ground-truth line, no associated pair, a missing image, an unreadable
      * first image, a depth image that is not 16-bit single-channel, or colour
      * and depth images of different sizes. groundtruth.txt is optional. */
