@@ -1,4 +1,5 @@
 // SPDX-License-Identifier: BSD-3-Clause
+#include "PngWithSize.h"
 #include "TestData.h"
 #include "TestHelpers.h"
 
@@ -352,6 +353,24 @@ TEST(EurocSequence, badImagesThrow)
     expectThrowContaining([&] { EurocSequence t(mav0); }, {"mismatch", imagePath(mav0, 1, 0)});
     fs::remove(imagePath(mav0, 1, 0));
     expectThrowContaining([&] { EurocSequence t(mav0); }, {imagePath(mav0, 1, 0), "missing"});
+}
+
+// The first pair is checked against the calibration from the headers: a huge
+// image is not decoded (it was, 900 MB for this one, before the size check).
+TEST(EurocSequence, hugeImageIsRefusedFromItsHeader)
+{
+    const std::string root = emslam::test::makeTempDir("euroc_huge");
+    const std::string mav0 = writeSequence(root, 2);
+    emslam::test::writePngDeclaring(imagePath(mav0, 1, 0), 30000, 30000);
+    expectThrowContaining(
+        [&] { EurocSequence s(mav0); },
+        {"Image '" + imagePath(mav0, 1, 0) +
+         "' is 30000x30000 (PNG header): over the limit of 67108864 pixels (8192x8192) and "
+         "65535 per side; not decoded"});
+    emslam::test::writePngDeclaring(imagePath(mav0, 1, 0), 4000, 3000);
+    emslam::test::writePngDeclaring(imagePath(mav0, 0, 0), 4000, 3000);
+    expectThrowContaining(
+        [&] { EurocSequence s(mav0); }, {"Image size 4000x3000", "calibration's resolution 32x20"});
 }
 
 TEST(EurocSequence, badListsThrow)

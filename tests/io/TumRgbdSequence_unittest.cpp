@@ -1,4 +1,5 @@
 // SPDX-License-Identifier: BSD-3-Clause
+#include "PngWithSize.h"
 #include "TestData.h"
 #include "TestHelpers.h"
 
@@ -282,4 +283,22 @@ TEST(TumRgbdSequence, zeroOrAbsurdStampInTheMiddleIsRefused)
              "' is not a plausible time: expected seconds since 1970-01-01 UTC in [1e-07, "
              "4102444800] (MRPT reads 0 as \"no time\"; the upper bound is 2100-01-01)"});
     }
+}
+
+TEST(TumRgbdSequence, hugeImageIsRefusedFromItsHeader)
+{
+    const std::string dir = writeSequence(emslam::test::makeTempDir("tum_huge"));
+    const std::string depth1 = dir + "/depth/" + stamp(T0 + 1 / 30.0 + 0.007) + ".png";
+    emslam::test::writePngDeclaring(depth1, 30000, 30000);
+    TumRgbdSequence s;
+    s.open(dir);
+    expectThrowContaining(
+        [&] { s.frame(1); },
+        {"Image '" + depth1 +
+         "' is 30000x30000 (PNG header): over the limit of 67108864 pixels (8192x8192) and "
+         "65535 per side; not decoded"});
+    emslam::test::writePngDeclaring(depth1, 640, 480);
+    expectThrowContaining(
+        [&] { s.frame(1); },
+        {"Image size mismatch: '" + depth1 + "' is 640x480, expected 24x16 (first frame)"});
 }

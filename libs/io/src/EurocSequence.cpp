@@ -223,16 +223,17 @@ void EurocSequence::open(const std::string& mav0_dir, const std::string& gt_csv)
     }
 
     m_calib = loadEurocCalibration(dir + "/cam0/sensor.yaml", dir + "/cam1/sensor.yaml");
-    const cv::Mat l0 = loadImageFile(lf[0]);
-    const cv::Mat r0 = loadImageFile(rf[0]);
-    if (l0.size() != r0.size())
+    // Sizes from the headers: a huge image is refused before it is decoded.
+    const cv::Size l0 = imageFileSize(lf[0]);
+    const cv::Size r0 = imageFileSize(rf[0]);
+    if (l0 != r0)
     {
         THROW_EXCEPTION_FMT(
             "Left/right image size mismatch: '%s' is %dx%d but '%s' is %dx%d", lf[0].c_str(),
-            l0.cols, l0.rows, rf[0].c_str(), r0.cols, r0.rows);
+            l0.width, l0.height, rf[0].c_str(), r0.width, r0.height);
     }
-    m_width = static_cast<unsigned int>(l0.cols);
-    m_height = static_cast<unsigned int>(l0.rows);
+    m_width = static_cast<unsigned int>(l0.width);
+    m_height = static_cast<unsigned int>(l0.height);
     if (m_calib.leftCamera.ncols != m_width || m_calib.leftCamera.nrows != m_height ||
         m_calib.rightCamera.ncols != m_width || m_calib.rightCamera.nrows != m_height)
     {
@@ -242,6 +243,9 @@ void EurocSequence::open(const std::string& mav0_dir, const std::string& gt_csv)
             m_width, m_height, lf[0].c_str(), m_calib.leftCamera.ncols, m_calib.leftCamera.nrows,
             m_calib.rightCamera.ncols, m_calib.rightCamera.nrows, dir.c_str());
     }
+    // The first pair must decode.
+    loadImageFile(lf[0], l0, "its header");
+    loadImageFile(rf[0], r0, "its header");
 
     std::vector<std::optional<mrpt::poses::CPose3D>> gt(stamps.size());
     if (!gt_csv.empty())

@@ -70,12 +70,16 @@ public:
 
     /** Opens and validates a `mav0` folder and, if not empty, a ground-truth
      * CSV file. Throws, naming the file and the problem, on: a missing folder
-     * or file, a garbled data.csv line or timestamp (see the class comment), an
-     * unreadable calibration, no
-     * left/right pair, a missing image, an unreadable first image, left/right
-     * or image/calibration size mismatch, or a garbled ground-truth line
-     * (including the 17-column `state_groundtruth_estimate0` body-frame file,
-     * which is not the left camera's pose). */
+     * or file, a garbled data.csv line or timestamp (see the class comment),
+     * an unreadable calibration, no left/right pair, a missing image, an
+     * unreadable first image, left/right or image/calibration size mismatch,
+     * or a garbled ground-truth line (including the 17-column
+     * `state_groundtruth_estimate0` body-frame file, which is not the left
+     * camera's pose).
+     * Image sizes are read from the image headers (PNG, JPEG, PNM or BMP)
+     * and checked before anything is decoded: an image over 8192 x 8192
+     * pixels (or 65535 on a side) is refused naming the file, its size and
+     * the limit. */
     void open(const std::string& mav0_dir, const std::string& gt_csv = {});
 
     bool isOpen() const { return !m_dir.empty(); }
@@ -108,7 +112,8 @@ public:
     std::string rightImageFile(std::size_t i) const;
 
     /** Loads frame `i`. Throws, naming the file, if an image cannot be read
-     * or its size differs from the calibration's. */
+     * or its size (from its header, before decoding) differs from the
+     * calibration's. */
     Frame frame(std::size_t i) const;
     /** frame(), as a SequenceFrame. */
     SequenceFrame readFrame(std::size_t i) const override;
