@@ -1,7 +1,9 @@
 // SPDX-License-Identifier: BSD-3-Clause
 // EuRoC sequence image lists: EurocSequence::open() on a folder whose
 // cam0/data.csv and cam1/data.csv are the input, split at a line "---"
-// (without it, both cameras get the whole input).
+// (without it, both cameras get the whole input): the timestamp checks
+// (plausible, strictly increasing) and the pairing of the two lists by stamp,
+// which run before any image is looked for.
 #include "FuzzFile.h"
 
 #include <emslam/io/EurocSequence.h>

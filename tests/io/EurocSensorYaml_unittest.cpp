@@ -7,7 +7,9 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <exception>
 #include <filesystem>
+#include <functional>
 #include <opencv2/core.hpp>
 #include <string>
 #include <vector>
@@ -152,6 +154,39 @@ TEST(EurocSensorYaml, malformedTextNamesLineAndKey)
     expectThrowContaining(parsing("a: 1\n\x01\x02\xff garbage\n"), {"line 2", "control character"});
     expectThrowContaining(parsing(std::string("a: 1\0b", 6)), {"line 1", "control character"});
     expectThrowContaining(parsing("# only a comment\n\n"), {"x/sensor.yaml", "no 'key: value'"});
+}
+
+// A 100,000-character line was echoed whole into the message; now its first
+// 60 bytes, "…" and its length.
+TEST(EurocSensorYaml, longLinesAreCutInMessages)
+{
+    const std::string filler(100000, 'x');
+    const std::string cut = std::string(60, 'x') + "\u2026'";
+    const auto expectShort =
+        [](const std::function<void()>& fn, std::initializer_list<std::string> parts)
+    {
+        expectThrowContaining(fn, parts);
+        try
+        {
+            fn();
+        }
+        catch (const std::exception& e)
+        {
+            EXPECT_LT(std::string(e.what()).size(), 200U) << e.what();
+        }
+    };
+    expectShort(
+        parsing("a: 1\n" + filler + "\n"),
+        {"line 2", "expected 'key: value', got '" + cut + " (100000 bytes)"});
+    expectShort(
+        parsing("comment: {" + filler + "\n"),
+        {"line 1", "unsupported YAML value '{" + std::string(59, 'x') + "\u2026' (100001 bytes)"});
+    expectShort(parsing("a: [1] " + filler + "\n"), {"line 1", "unexpected '" + cut});
+    expectShort(
+        parsing(filler + ": 1\n" + filler + ": 2\n"), {"line 2", "key '" + cut, "duplicate"});
+    const auto y = EurocSensorYaml::parse("a: [" + filler + "]\nb: " + filler + "\n", "f.yaml");
+    expectShort([&]() { y.numbers("a", {1}); }, {"line 1", "element 0 '" + cut, "not a number"});
+    expectShort([&]() { y.number("b"); }, {"line 2", "'" + cut, "not a finite number"});
 }
 
 TEST(EurocSensorYaml, valuesOfTheWrongKindNameLineAndKey)

@@ -1,7 +1,9 @@
 // SPDX-License-Identifier: BSD-3-Clause
+#include "PngWithSize.h"
 #include "TestData.h"
 #include "TestHelpers.h"
 
+#include <emslam/io/DatasetStamps.h>
 #include <emslam/io/EurocSequence.h>
 #include <emslam/stereo/StereoCalibration.h>
 
@@ -10,8 +12,10 @@
 
 #include <gtest/gtest.h>
 
+#include <array>
 #include <cstdint>
 #include <filesystem>
+#include <initializer_list>
 #include <limits>
 #include <opencv2/core.hpp>
 #include <opencv2/imgcodecs.hpp>
@@ -61,6 +65,24 @@ std::string sensorYaml(int cam, int w, int h)
 std::string imagePath(const std::string& mav0, int cam, int i)
 {
     return mav0 + "/cam" + std::to_string(cam) + "/data/" + std::to_string(T0 + i * DT) + ".png";
+}
+
+/** The data.csv lines of the images `frames` of a writeSequence() sequence. */
+std::string dataRows(std::initializer_list<int> frames)
+{
+    std::string rows;
+    for (const int i : frames)
+    {
+        const std::string ts = std::to_string(T0 + i * DT);
+        rows += ts + "," + ts + ".png\n";
+    }
+    return rows;
+}
+
+/** dataRows() after the header line of data.csv. */
+std::string dataCsv(std::initializer_list<int> frames)
+{
+    return "#timestamp [ns],filename\n" + dataRows(frames);
 }
 
 /** A synthetic EuRoC sequence with `n` stereo pairs in `root/mav0`, and a
@@ -182,16 +204,114 @@ TEST(EurocSequence, unpairedLeftImagesAreDropped)
 {
     const std::string root = emslam::test::makeTempDir("euroc_unpaired");
     const std::string mav0 = writeSequence(root, 4);
-    std::string csv = "#timestamp [ns],filename\n";
-    for (const int i : {0, 1, 3})
-    {
-        csv += std::to_string(T0 + i * DT) + "," + std::to_string(T0 + i * DT) + ".png\n";
-    }
-    writeFile(mav0 + "/cam1/data.csv", csv);
+    writeFile(mav0 + "/cam1/data.csv", dataCsv({0, 1, 3}));
     EurocSequence s(mav0);
     EXPECT_EQ(s.size(), 3U);
     EXPECT_EQ(s.unpairedCount(), 1U);
     EXPECT_EQ(s.timestampNs(2), T0 + 3 * DT);
+}
+
+// Pairing is by equal stamps in both directions: a right image without a left
+// partner is dropped and counted too (it was not counted), and each image is
+// paired with its own partner, not a neighbour's.
+TEST(EurocSequence, camerasWithDifferentStampsArePairedByStamp)
+{
+    const std::string root = emslam::test::makeTempDir("euroc_mismatch");
+    const std::string mav0 = writeSequence(root, 6);
+    writeFile(mav0 + "/cam0/data.csv", dataCsv({0, 1, 2, 4, 5}));
+    writeFile(mav0 + "/cam1/data.csv", dataCsv({1, 2, 3, 4}));
+    EurocSequence s(mav0);
+    ASSERT_EQ(s.size(), 3U);           // frames 1, 2, 4
+    EXPECT_EQ(s.unpairedCount(), 3U);  // left 0 and 5, right 3
+    for (std::size_t k = 0; k < 3; k++)
+    {
+        const int i = std::array{1, 2, 4}[k];
+        EXPECT_EQ(s.timestampNs(k), T0 + i * DT);
+        EXPECT_EQ(s.leftImageFile(k), imagePath(mav0, 0, i));
+        EXPECT_EQ(s.rightImageFile(k), imagePath(mav0, 1, i));
+    }
+    EXPECT_EQ(
+        s.frame(2).obs->imageRight.asCvMat<cv::Mat>(mrpt::img::SHALLOW_COPY).at<std::uint8_t>(0, 0),
+        41);
+}
+
+// A repeated stamp in cam0 paired that line's left image with cam1's image of
+// the first occurrence, and time went backwards in the rawlog.
+TEST(EurocSequence, repeatedStampIsRefused)
+{
+    const std::string root = emslam::test::makeTempDir("euroc_dup");
+    const std::string mav0 = writeSequence(root, 4);
+    const std::string csv = mav0 + "/cam0/data.csv";
+    writeFile(csv, dataCsv({0, 1, 2}) + std::to_string(T0 + 2 * DT) + ",x.png\n");
+    expectThrowContaining(
+        [&] { EurocSequence s(mav0); },
+        {csv + ":5: timestamp '" + std::to_string(T0 + 2 * DT) +
+         "' repeats the previous one (line 4): timestamps must increase strictly"});
+    // In cam1 as well (the last one used to win silently).
+    writeFile(csv, dataCsv({0, 1, 2, 3}));
+    writeFile(mav0 + "/cam1/data.csv", dataCsv({0, 0, 1}));
+    expectThrowContaining(
+        [&] { EurocSequence s(mav0); }, {mav0 + "/cam1/data.csv:3:", "repeats the previous one"});
+}
+
+TEST(EurocSequence, stampGoingBackwardsIsRefused)
+{
+    const std::string root = emslam::test::makeTempDir("euroc_back");
+    const std::string mav0 = writeSequence(root, 4);
+    const std::string csv = mav0 + "/cam0/data.csv";
+    // Frame 0 again after frame 2 (and a comment line in between).
+    writeFile(csv, dataCsv({0, 1, 2}) + "# resumed\n" + std::to_string(T0) + ",y.png\n");
+    expectThrowContaining(
+        [&] { EurocSequence s(mav0); },
+        {csv + ":6: timestamp '" + std::to_string(T0) + "' is before the previous one '" +
+         std::to_string(T0 + 2 * DT) + "' (line 4): timestamps must increase strictly"});
+}
+
+TEST(EurocSequence, zeroOrAbsurdStampInTheMiddleIsRefused)
+{
+    const std::string root = emslam::test::makeTempDir("euroc_absurd");
+    const std::string mav0 = writeSequence(root, 4);
+    const std::string csv = mav0 + "/cam0/data.csv";
+    const std::string range =
+        "is not a plausible time: expected nanoseconds since 1970-01-01 UTC in [100, "
+        "4102444800000000000] (MRPT reads 0 as \"no time\"; the upper bound is 2100-01-01)";
+    for (const std::string bad :
+         {"0", "0.000", "99", "9223372036854775807", "4102444800000000001", "9223372036854775808",
+          "-1"})
+    {
+        writeFile(csv, dataCsv({0, 1}) + bad + ",z.png\n" + dataRows({3}));
+        expectThrowContaining(
+            [&] { EurocSequence s(mav0); }, {csv + ":4: timestamp '" + bad + "' " + range});
+    }
+    // The bounds themselves are plausible.
+    writeFile(csv, "100,a.png\n4102444800000000000,b.png\n");
+    writeFile(mav0 + "/cam1/data.csv", "100,a.png\n4102444800000000000,b.png\n");
+    expectThrowContaining([&] { EurocSequence s(mav0); }, {mav0 + "/cam0/data/a.png", "missing"});
+}
+
+// 1403636579763555584.5 was truncated to ...584 without a word.
+TEST(EurocSequence, fractionalNanosecondIsRefused)
+{
+    const std::string root = emslam::test::makeTempDir("euroc_fraction");
+    const std::string mav0 = writeSequence(root, 4);
+    const std::string csv = mav0 + "/cam0/data.csv";
+    writeFile(csv, dataCsv({0}) + "1403715274362143104.5,a.png\n");
+    expectThrowContaining(
+        [&] { EurocSequence s(mav0); },
+        {csv + ":3: timestamp '1403715274362143104.5' has a fraction of a nanosecond: expected "
+               "whole nanoseconds (a '.000' fraction is allowed)"});
+    writeFile(csv, dataCsv({0}) + "1403715274362143104.0000000001,a.png\n");
+    expectThrowContaining([&] { EurocSequence s(mav0); }, {csv + ":3:", "fraction"});
+    // A fraction of zeros is allowed (the ASL ground-truth files write one).
+    writeFile(csv, std::to_string(T0) + ".0000000000," + std::to_string(T0) + ".png\n");
+    EurocSequence s(mav0);
+    EXPECT_EQ(s.size(), 1U);
+    EXPECT_EQ(s.timestampNs(0), T0);
+    // Garbage after the dot is not a number at all.
+    writeFile(csv, std::to_string(T0) + ".5x,a.png\n");
+    expectThrowContaining(
+        [&] { EurocSequence t(mav0); }, {csv + ":1: timestamp '" + std::to_string(T0) +
+                                         ".5x' is not an integer number of nanoseconds"});
 }
 
 TEST(EurocSequence, missingFolderThrows)
@@ -235,6 +355,24 @@ TEST(EurocSequence, badImagesThrow)
     expectThrowContaining([&] { EurocSequence t(mav0); }, {imagePath(mav0, 1, 0), "missing"});
 }
 
+// The first pair is checked against the calibration from the headers: a huge
+// image is not decoded (it was, 900 MB for this one, before the size check).
+TEST(EurocSequence, hugeImageIsRefusedFromItsHeader)
+{
+    const std::string root = emslam::test::makeTempDir("euroc_huge");
+    const std::string mav0 = writeSequence(root, 2);
+    emslam::test::writePngDeclaring(imagePath(mav0, 1, 0), 30000, 30000);
+    expectThrowContaining(
+        [&] { EurocSequence s(mav0); },
+        {"Image '" + imagePath(mav0, 1, 0) +
+         "' is 30000x30000 (PNG header): over the limit of 67108864 pixels (8192x8192) and "
+         "65535 per side; not decoded"});
+    emslam::test::writePngDeclaring(imagePath(mav0, 1, 0), 4000, 3000);
+    emslam::test::writePngDeclaring(imagePath(mav0, 0, 0), 4000, 3000);
+    expectThrowContaining(
+        [&] { EurocSequence s(mav0); }, {"Image size 4000x3000", "calibration's resolution 32x20"});
+}
+
 TEST(EurocSequence, badListsThrow)
 {
     const std::string root = emslam::test::makeTempDir("euroc_lists");
@@ -243,7 +381,7 @@ TEST(EurocSequence, badListsThrow)
     expectThrowContaining([&] { EurocSequence s(mav0); }, {mav0 + "/cam0/data.csv:2"});
     writeFile(mav0 + "/cam0/data.csv", "#timestamp [ns],filename\n");
     expectThrowContaining([&] { EurocSequence s(mav0); }, {"no image"});
-    writeFile(mav0 + "/cam0/data.csv", "1,1.png\n");
+    writeFile(mav0 + "/cam0/data.csv", std::to_string(T0 + 1) + ",1.png\n");
     expectThrowContaining([&] { EurocSequence s(mav0); }, {"cam1/data.csv"});
 }
 
@@ -284,27 +422,28 @@ TEST(EurocSequence, timestampsOutsideTheNanosecondRangeAreRefused)
         [&] { EurocSequence s(mav0, gt); }, {gt + ":1", "'-9223372036854775808'", "nanoseconds"});
 }
 
-// INT64_MAX is a valid stamp (year 2262): converted exactly, no overflow anywhere.
-TEST(EurocSequence, largestTimestampIsConvertedExactly)
+// The latest plausible stamp (2100-01-01) is converted exactly; ground-truth
+// rows at both ends of the int64 range cause no overflow.
+TEST(EurocSequence, latestPlausibleTimestampIsConvertedExactly)
 {
     constexpr std::int64_t MAX_NS = std::numeric_limits<std::int64_t>::max();
-    const std::string root = emslam::test::makeTempDir("euroc_int64_max");
+    const std::string root = emslam::test::makeTempDir("euroc_max_stamp");
     const std::string mav0 = writeSequence(root, 2);
     for (int cam = 0; cam < 2; cam++)
     {
         writeFile(
             mav0 + "/cam" + std::to_string(cam) + "/data.csv",
-            std::to_string(T0) + "," + std::to_string(T0) + ".png\n" + std::to_string(MAX_NS) +
-                "," + std::to_string(T0 + DT) + ".png\n");
+            std::to_string(T0) + "," + std::to_string(T0) + ".png\n" +
+                std::to_string(emslam::io::MAX_STAMP_NS) + "," + std::to_string(T0 + DT) +
+                ".png\n");
     }
     // Ground truth at both ends of the range: neither is within 5 ms of an image.
     const std::string gt = root + "/far_gt.csv";
     writeFile(gt, "0,1,2,3,0,0,0,1\n" + std::to_string(MAX_NS - 10'000'000) + ",1,2,3,0,0,0,1\n");
     EurocSequence s(mav0, gt);
     ASSERT_EQ(s.size(), 2U);
-    EXPECT_EQ(s.timestampNs(1), MAX_NS);
+    EXPECT_EQ(s.timestampNs(1), 4'102'444'800'000'000'000);
     EXPECT_EQ(s.framesWithoutGroundTruth(), 2U);
     const auto f = s.frame(1);
-    // 9223372036854775807 ns = 92233720368547758 ticks of 100 ns, rest 7 ns rounded down.
-    EXPECT_EQ((f.obs->timestamp - mrpt::Clock::fromDouble(0.0)).count(), MAX_NS / 100);
+    EXPECT_EQ((f.obs->timestamp - mrpt::Clock::fromDouble(0.0)).count(), 41'024'448'000'000'000);
 }

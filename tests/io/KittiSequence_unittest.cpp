@@ -1,4 +1,5 @@
 // SPDX-License-Identifier: BSD-3-Clause
+#include "PngWithSize.h"
 #include "TestData.h"
 #include "TestHelpers.h"
 
@@ -218,6 +219,38 @@ TEST(KittiSequence, sizeMismatchThrows)
     KittiSequence s(dir);
     EXPECT_NO_THROW(s.frame(1));
     expectThrowContaining([&] { s.frame(2); }, {"mismatch", frameName(dir, "image_0", 2)});
+}
+
+// A 30000 x 30000 PNG (875 KB on disk, here a few hundred bytes) was decoded
+// in full (900 MB, 5 s) before its size was compared; now its header decides.
+TEST(KittiSequence, hugeImageIsRefusedFromItsHeader)
+{
+    const std::string root = emslam::test::makeTempDir("kitti_huge");
+    const std::string dir = writeSequence(root, 3);
+    const std::string left1 = frameName(dir, "image_0", 1);
+    emslam::test::writePngDeclaring(left1, 30000, 30000);
+    KittiSequence s(dir);
+    expectThrowContaining(
+        [&] { s.frame(1); },
+        {"Image '" + left1 +
+         "' is 30000x30000 (PNG header): over the limit of 67108864 pixels (8192x8192) and "
+         "65535 per side; not decoded"});
+    // Within the limits but not the first frame's size: refused from the header as well.
+    emslam::test::writePngDeclaring(left1, 8000, 8000);
+    expectThrowContaining(
+        [&] { s.frame(1); },
+        {"Image size mismatch: '" + left1 + "' is 8000x8000, expected 40x24 (first frame, calib)"});
+    emslam::test::writePngDeclaring(left1, 65536, 1);
+    expectThrowContaining([&] { s.frame(1); }, {left1, "65536x1", "65535 per side"});
+    // The first pair, whose size nothing else gives.
+    for (const char* sub : {"image_0", "image_1"})
+    {
+        emslam::test::writePngDeclaring(frameName(dir, sub, 0), 30000, 30000);
+    }
+    expectThrowContaining(
+        [&] { KittiSequence t(dir); },
+        {"Image '" + frameName(dir, "image_0", 0) + "' is 30000x30000 (PNG header)",
+         "not decoded"});
 }
 
 TEST(KittiSequence, unreadableImageThrows)

@@ -109,10 +109,11 @@ TEST(TextParsing, parseNanosecondsAcceptsTheInt64RangeFromZero)
     EXPECT_EQ(v, 0);
     ASSERT_TRUE(parseNanoseconds("1403715274312143104.0000000000", v));
     EXPECT_EQ(v, 1403715274312143104);
-    // Negative stamps would make the difference of two stamps overflow.
+    // Negative stamps would make the difference of two stamps overflow; a
+    // non-zero fraction of a nanosecond would be lost (it was truncated).
     for (const char* bad :
          {"-9223372036854775808", "-1", "-0", "-1.5", "9223372036854775808", "1e19", "12.3x", "",
-          ".5", "+1"})
+          ".5", "+1", "1403636579763555584.5", "1.0000000001"})
     {
         v = 5;
         EXPECT_FALSE(parseNanoseconds(bad, v)) << "'" << bad << "'";
@@ -168,6 +169,28 @@ TEST(TextParsing, parseNumbersRejectsGarbage)
     EXPECT_FALSE(parseNumbers("1;2", v));
     EXPECT_FALSE(parseNumbers("1\n", v));  // LF is not a default separator
     EXPECT_FALSE(parseNumbers("1 1e999", v));
+}
+
+// Every reader quotes input in its messages through this: a 400 KB line was
+// echoed whole before.
+TEST(TextParsing, quotedExcerptCutsLongInputAfter60Bytes)
+{
+    EXPECT_EQ(quotedExcerpt(""), "''");
+    EXPECT_EQ(quotedExcerpt("12x4,a.png"), "'12x4,a.png'");
+    const std::string sixty(60, 'a');
+    EXPECT_EQ(quotedExcerpt(sixty), "'" + sixty + "'");
+    EXPECT_EQ(quotedExcerpt(sixty + "b"), "'" + sixty + "\u2026' (61 bytes)");
+    EXPECT_EQ(
+        quotedExcerpt(std::string(100000, 'x')),
+        "'" + std::string(60, 'x') + "\u2026' (100000 bytes)");
+    // A 2-byte character (e with acute accent) across the cut is left out whole.
+    const std::string e_acute = "\xC3\xA9";
+    EXPECT_EQ(
+        quotedExcerpt(std::string(59, 'a') + e_acute + "zz"),
+        "'" + std::string(59, 'a') + "\u2026' (63 bytes)");
+    EXPECT_EQ(
+        quotedExcerpt(std::string(58, 'a') + e_acute + "zz"),
+        "'" + std::string(58, 'a') + e_acute + "\u2026' (62 bytes)");
 }
 
 }  // namespace emslam::io

@@ -1,4 +1,5 @@
 // SPDX-License-Identifier: BSD-3-Clause
+#include "PngWithSize.h"
 #include "TestData.h"
 #include "TestHelpers.h"
 
@@ -14,6 +15,7 @@
 #include <cstdint>
 #include <cstdio>
 #include <filesystem>
+#include <initializer_list>
 #include <opencv2/core.hpp>
 #include <opencv2/imgcodecs.hpp>
 #include <string>
@@ -227,4 +229,76 @@ TEST(TumRgbdSequence, badImagesThrow)
     expectThrowContaining([&] { s.open(dir); }, {"mismatch", rgb0});
     fs::remove(rgb0);
     expectThrowContaining([&] { s.open(dir); }, {rgb0, "missing"});
+}
+
+namespace
+{
+/** A TUM list with one "timestamp file" line per stamp, after a comment line. */
+std::string listOf(std::initializer_list<std::string> stamps, const std::string& sub)
+{
+    std::string text = "# timestamp filename\n";
+    for (const auto& t : stamps)
+    {
+        text += t + " " + sub + "/" + t + ".png\n";
+    }
+    return text;
+}
+}  // namespace
+
+// Both lists were sorted: a repeated stamp gave two frames with one time.
+TEST(TumRgbdSequence, repeatedStampIsRefused)
+{
+    const std::string dir = writeSequence(emslam::test::makeTempDir("tum_dup"));
+    const std::string t1 = stamp(T0 + 1 / 30.0);
+    writeFile(dir + "/rgb.txt", listOf({stamp(T0), t1, t1}, "rgb"));
+    expectThrowContaining(
+        [&] { TumRgbdSequence().open(dir); },
+        {dir + "/rgb.txt:4: timestamp '" + t1 +
+         "' repeats the previous one (line 3): timestamps must increase strictly"});
+}
+
+TEST(TumRgbdSequence, stampGoingBackwardsIsRefused)
+{
+    const std::string dir = writeSequence(emslam::test::makeTempDir("tum_back"));
+    const std::string d0 = stamp(T0 + 0.007), d1 = stamp(T0 + 1 / 30.0 + 0.007);
+    writeFile(dir + "/depth.txt", listOf({d1, d0}, "depth"));
+    expectThrowContaining(
+        [&] { TumRgbdSequence().open(dir); },
+        {dir + "/depth.txt:3: timestamp '" + d0 + "' is before the previous one '" + d1 +
+         "' (line 2): timestamps must increase strictly"});
+}
+
+// 0 was taken as a valid time (MRPT's "no time"), INT64_MAX seconds too.
+TEST(TumRgbdSequence, zeroOrAbsurdStampInTheMiddleIsRefused)
+{
+    const std::string dir = writeSequence(emslam::test::makeTempDir("tum_absurd"));
+    for (const std::string bad :
+         {"0", "0.000000", "-1.5", "9223372036854775807", "4102444800.000001", "1e300", "inf",
+          "nan"})
+    {
+        writeFile(dir + "/rgb.txt", listOf({stamp(T0), bad, stamp(T0 + 2 / 30.0)}, "rgb"));
+        expectThrowContaining(
+            [&] { TumRgbdSequence().open(dir); },
+            {dir + "/rgb.txt:3: timestamp '" + bad +
+             "' is not a plausible time: expected seconds since 1970-01-01 UTC in [1e-07, "
+             "4102444800] (MRPT reads 0 as \"no time\"; the upper bound is 2100-01-01)"});
+    }
+}
+
+TEST(TumRgbdSequence, hugeImageIsRefusedFromItsHeader)
+{
+    const std::string dir = writeSequence(emslam::test::makeTempDir("tum_huge"));
+    const std::string depth1 = dir + "/depth/" + stamp(T0 + 1 / 30.0 + 0.007) + ".png";
+    emslam::test::writePngDeclaring(depth1, 30000, 30000);
+    TumRgbdSequence s;
+    s.open(dir);
+    expectThrowContaining(
+        [&] { s.frame(1); },
+        {"Image '" + depth1 +
+         "' is 30000x30000 (PNG header): over the limit of 67108864 pixels (8192x8192) and "
+         "65535 per side; not decoded"});
+    emslam::test::writePngDeclaring(depth1, 640, 480);
+    expectThrowContaining(
+        [&] { s.frame(1); },
+        {"Image size mismatch: '" + depth1 + "' is 640x480, expected 24x16 (first frame)"});
 }

@@ -77,11 +77,11 @@ std::array<double, 12> parseKittiMatrix(
         double v = 0;
         if (!parseDouble(tok, v))
         {
-            fail(what, where + ": '" + std::string(tok) + "' is not a number");
+            fail(what, where + ": " + quotedExcerpt(tok) + " is not a number");
         }
         if (!std::isfinite(v))
         {
-            fail(what, where + ": non-finite value '" + std::string(tok) + "'");
+            fail(what, where + ": non-finite value " + quotedExcerpt(tok));
         }
         if (n == p.size())
         {
@@ -188,14 +188,14 @@ mrpt::img::TCamera readEurocCamera(const std::string& file, mrpt::poses::CPose3D
     if (const auto type = optionalText(yaml, "sensor_type"); type && *type != "camera")
     {
         fail(
-            what, "line " + std::to_string(yaml.lineOf("sensor_type")) + ": sensor_type is '" +
-                      *type + "', expected 'camera'");
+            what, "line " + std::to_string(yaml.lineOf("sensor_type")) + ": sensor_type is " +
+                      quotedExcerpt(*type) + ", expected 'camera'");
     }
     if (const auto model = optionalText(yaml, "camera_model"); model && *model != "pinhole")
     {
         fail(
             what, "line " + std::to_string(yaml.lineOf("camera_model")) +
-                      ": unsupported camera_model '" + *model + "' (only 'pinhole')");
+                      ": unsupported camera_model " + quotedExcerpt(*model) + " (only 'pinhole')");
     }
 
     const auto res = yaml.numbers("resolution", {2});
@@ -215,7 +215,8 @@ mrpt::img::TCamera readEurocCamera(const std::string& file, mrpt::poses::CPose3D
     {
         fail(
             what, "line " + std::to_string(yaml.lineOf("distortion_model")) +
-                      ": unsupported distortion_model '" + model + "' (only radial-tangential)");
+                      ": unsupported distortion_model " + quotedExcerpt(model) +
+                      " (only radial-tangential)");
     }
     const auto d = yaml.numbers("distortion_coefficients", {4, 5});
 

@@ -51,7 +51,7 @@ std::string errorPrefix(const std::string& file, std::size_t line, const std::st
     s += ": ";
     if (!key.empty())
     {
-        s += "key '" + key + "': ";
+        s += "key " + quotedExcerpt(key) + ": ";
     }
     return s;
 }
@@ -138,7 +138,7 @@ EurocSensorYaml EurocSensorYaml::parse(std::string_view text, const std::string&
         {
             parseError(
                 file, line_no, *list_key,
-                "unexpected '" + std::string(trimmed(rest.substr(close + 1))) + "' after ']'");
+                "unexpected " + quotedExcerpt(trimmed(rest.substr(close + 1))) + " after ']'");
         }
         Entry& e = y.m_entries.at(*list_key);
         if (!isBlank(list_text))
@@ -218,9 +218,7 @@ EurocSensorYaml EurocSensorYaml::parse(std::string_view text, const std::string&
         if (key_end == 0 || key_end == body.size() || body[key_end] != ':' ||
             (key_end + 1 < body.size() && body[key_end + 1] != ' ' && body[key_end + 1] != '\t'))
         {
-            parseError(
-                file, line_no, {},
-                "expected 'key: value', got '" + std::string(body.substr(0, 60)) + "'");
+            parseError(file, line_no, {}, "expected 'key: value', got " + quotedExcerpt(body));
         }
         const std::string name(body.substr(0, key_end));
         const std::string_view value = trimmed(body.substr(key_end + 1));
@@ -255,7 +253,7 @@ EurocSensorYaml EurocSensorYaml::parse(std::string_view text, const std::string&
         }
         else if (std::string_view("{&*!|>]").find(value.front()) != std::string_view::npos)
         {
-            parseError(file, line_no, key, "unsupported YAML value '" + std::string(value) + "'");
+            parseError(file, line_no, key, "unsupported YAML value " + quotedExcerpt(value));
         }
         else
         {
@@ -327,7 +325,7 @@ double EurocSensorYaml::number(const std::string& key) const
     double v = 0;
     if (!parseDouble(s, v) || !std::isfinite(v))
     {
-        fail(entry(key).line, key, "'" + s + "' is not a finite number");
+        fail(entry(key).line, key, quotedExcerpt(s) + " is not a finite number");
     }
     return v;
 }
@@ -349,7 +347,8 @@ std::vector<double> EurocSensorYaml::numbers(
         {
             fail(
                 e.line, key,
-                "element " + std::to_string(out.size()) + " '" + item + "' is not a number");
+                "element " + std::to_string(out.size()) + " " + quotedExcerpt(item) +
+                    " is not a number");
         }
         if (!std::isfinite(v))
         {

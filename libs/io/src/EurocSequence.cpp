@@ -4,6 +4,7 @@
 
 #include <emslam/io/CalibrationFiles.h>
 #include <emslam/io/DataFile.h>
+#include <emslam/io/DatasetStamps.h>
 #include <emslam/io/EurocSequence.h>
 #include <emslam/io/TextParsing.h>
 
@@ -15,7 +16,6 @@
 #include <cmath>
 #include <filesystem>
 #include <fstream>
-#include <map>
 #include <string_view>
 #include <utility>
 
@@ -48,27 +48,25 @@ struct CsvImage
     std::string file;
 };
 
+/** The images of `cam_dir`/data.csv, in the order of the file: their stamps
+ * are plausible and strictly increasing (parseImageStampNs(), IncreasingStamps). */
 std::vector<CsvImage> readDataCsv(const std::string& cam_dir)
 {
     const std::string file = cam_dir + "/data.csv";
     std::vector<CsvImage> out;
+    IncreasingStamps<std::int64_t> order(file);
     forEachCsvRow(
         file, "image list",
         [&](const std::vector<std::string>& fields, const std::string& line, std::size_t line_no)
         {
-            std::int64_t t = 0;
             if (fields.size() != 2 || fields[1].empty())
             {
                 THROW_EXCEPTION_FMT(
-                    "%s:%zu: expected 'timestamp_ns,filename', got '%s'", file.c_str(), line_no,
-                    line.c_str());
+                    "%s:%zu: expected 'timestamp_ns,filename', got %s", file.c_str(), line_no,
+                    quotedExcerpt(line).c_str());
             }
-            if (!parseNanoseconds(fields[0], t))
-            {
-                THROW_EXCEPTION_FMT(
-                    "%s:%zu: timestamp '%s' is not an integer number of nanoseconds in [0, %s]",
-                    file.c_str(), line_no, fields[0].c_str(), MAX_NS_TEXT);
-            }
+            const std::int64_t t = parseImageStampNs(fields[0], file, line_no);
+            order.add(t, fields[0], line_no);
             out.push_back({t, cam_dir + "/data/" + fields[1]});
         });
     if (out.empty())
@@ -82,7 +80,7 @@ mrpt::Clock::time_point fromNs(std::int64_t t_ns)
 {
     // Exact: the UNIX epoch plus whole 100 ns ticks (a double would lose
     // sub-microsecond digits of a 2014 timestamp). Rounded without computing
-    // t_ns + 50, which overflows near INT64_MAX; t_ns >= 0 (parseNanoseconds).
+    // t_ns + 50, which overflows near INT64_MAX; t_ns >= 0 (parseImageStampNs).
     ASSERT_GE_(t_ns, 0);
     const std::int64_t ticks = t_ns / 100 + (t_ns % 100 >= 50 ? 1 : 0);
     return mrpt::Clock::fromDouble(0.0) + mrpt::Clock::duration(ticks);
@@ -121,8 +119,8 @@ std::vector<EurocSequence::GtRow> EurocSequence::readGroundTruthCsv(const std::s
             if (!parseNanoseconds(fields[0], row.t_ns))
             {
                 THROW_EXCEPTION_FMT(
-                    "%s:%zu: timestamp '%s' is not an integer number of nanoseconds in [0, %s]",
-                    file.c_str(), line_no, fields[0].c_str(), MAX_NS_TEXT);
+                    "%s:%zu: timestamp %s is not an integer number of nanoseconds in [0, %s]",
+                    file.c_str(), line_no, quotedExcerpt(fields[0]).c_str(), MAX_NS_TEXT);
             }
             bool ok = true;
             for (int k = 0; k < 7 && ok; k++)
@@ -132,7 +130,8 @@ std::vector<EurocSequence::GtRow> EurocSequence::readGroundTruthCsv(const std::s
             if (!ok)
             {
                 THROW_EXCEPTION_FMT(
-                    "%s:%zu: not a number in '%s'", file.c_str(), line_no, line.c_str());
+                    "%s:%zu: not a number in %s", file.c_str(), line_no,
+                    quotedExcerpt(line).c_str());
             }
             const double norm = std::sqrt(v[3] * v[3] + v[4] * v[4] + v[5] * v[5] + v[6] * v[6]);
             if (norm < 1e-9)
@@ -181,27 +180,31 @@ void EurocSequence::open(const std::string& mav0_dir, const std::string& gt_csv)
         }
     }
 
+    // Both lists rise strictly: one merge pass pairs equal stamps; an image
+    // the other camera has no image for is dropped and counted.
     const auto left = readDataCsv(dir + "/cam0");
     const auto right = readDataCsv(dir + "/cam1");
-    std::map<std::int64_t, std::string> right_by_t;
-    for (const auto& r : right)
-    {
-        right_by_t[r.t_ns] = r.file;
-    }
     std::vector<std::int64_t> stamps;
     std::vector<std::string> lf, rf;
-    for (const auto& l : left)
+    std::size_t li = 0, ri = 0;
+    while (li < left.size() && ri < right.size())
     {
-        const auto it = right_by_t.find(l.t_ns);
-        if (it == right_by_t.end())
+        if (left[li].t_ns < right[ri].t_ns)
         {
-            ++m_unpaired;
-            continue;
+            ++li;
         }
-        stamps.push_back(l.t_ns);
-        lf.push_back(l.file);
-        rf.push_back(it->second);
+        else if (right[ri].t_ns < left[li].t_ns)
+        {
+            ++ri;
+        }
+        else
+        {
+            stamps.push_back(left[li].t_ns);
+            lf.push_back(left[li++].file);
+            rf.push_back(right[ri++].file);
+        }
     }
+    m_unpaired = left.size() + right.size() - 2 * stamps.size();
     if (stamps.empty())
     {
         THROW_EXCEPTION_FMT(
@@ -220,16 +223,17 @@ void EurocSequence::open(const std::string& mav0_dir, const std::string& gt_csv)
     }
 
     m_calib = loadEurocCalibration(dir + "/cam0/sensor.yaml", dir + "/cam1/sensor.yaml");
-    const cv::Mat l0 = loadImageFile(lf[0]);
-    const cv::Mat r0 = loadImageFile(rf[0]);
-    if (l0.size() != r0.size())
+    // Sizes from the headers: a huge image is refused before it is decoded.
+    const cv::Size l0 = imageFileSize(lf[0]);
+    const cv::Size r0 = imageFileSize(rf[0]);
+    if (l0 != r0)
     {
         THROW_EXCEPTION_FMT(
             "Left/right image size mismatch: '%s' is %dx%d but '%s' is %dx%d", lf[0].c_str(),
-            l0.cols, l0.rows, rf[0].c_str(), r0.cols, r0.rows);
+            l0.width, l0.height, rf[0].c_str(), r0.width, r0.height);
     }
-    m_width = static_cast<unsigned int>(l0.cols);
-    m_height = static_cast<unsigned int>(l0.rows);
+    m_width = static_cast<unsigned int>(l0.width);
+    m_height = static_cast<unsigned int>(l0.height);
     if (m_calib.leftCamera.ncols != m_width || m_calib.leftCamera.nrows != m_height ||
         m_calib.rightCamera.ncols != m_width || m_calib.rightCamera.nrows != m_height)
     {
@@ -239,6 +243,9 @@ void EurocSequence::open(const std::string& mav0_dir, const std::string& gt_csv)
             m_width, m_height, lf[0].c_str(), m_calib.leftCamera.ncols, m_calib.leftCamera.nrows,
             m_calib.rightCamera.ncols, m_calib.rightCamera.nrows, dir.c_str());
     }
+    // The first pair must decode.
+    loadImageFile(lf[0], l0, "its header");
+    loadImageFile(rf[0], r0, "its header");
 
     std::vector<std::optional<mrpt::poses::CPose3D>> gt(stamps.size());
     if (!gt_csv.empty())

@@ -74,16 +74,16 @@ TumTrajectory EurocTrajectory::load(const std::string& file)
             {
                 THROW_EXCEPTION_FMT(
                     "%s:%zu: expected at least 8 comma-separated fields (timestamp_ns, position, "
-                    "quaternion), got %zu in '%s'",
-                    file.c_str(), line_no, fields.size(), line.c_str());
+                    "quaternion), got %zu in %s",
+                    file.c_str(), line_no, fields.size(), quotedExcerpt(line).c_str());
             }
             std::int64_t t_ns = 0;
             if (!parseNanoseconds(fields[0], t_ns))
             {
                 THROW_EXCEPTION_FMT(
-                    "%s:%zu: timestamp '%s' is not an integer number of nanoseconds in [0, "
+                    "%s:%zu: timestamp %s is not an integer number of nanoseconds in [0, "
                     "9223372036854775807]",
-                    file.c_str(), line_no, fields[0].c_str());
+                    file.c_str(), line_no, quotedExcerpt(fields[0]).c_str());
             }
             double v[7];
             bool ok = true;
@@ -95,8 +95,8 @@ TumTrajectory EurocTrajectory::load(const std::string& file)
             {
                 THROW_EXCEPTION_FMT(
                     "%s:%zu: not a number (7 finite numbers after the timestamp expected) "
-                    "in '%s'",
-                    file.c_str(), line_no, line.c_str());
+                    "in %s",
+                    file.c_str(), line_no, quotedExcerpt(line).c_str());
             }
             const bool wf = w_first.value_or(fields.size() != 8);
             const double qw = wf ? v[3] : v[6];

@@ -95,18 +95,22 @@ void KittiSequence::open(const std::string& sequence_dir, const std::string& pos
         }
     }
 
-    // Image size from the first pair, then the calibration.
-    const cv::Mat left = loadImageFile(imageFile(sequence_dir, "image_0", 0));
-    const cv::Mat right = loadImageFile(imageFile(sequence_dir, "image_1", 0));
-    if (left.size() != right.size())
+    // Image size from the headers of the first pair (a huge image is refused
+    // before it is decoded), then the calibration.
+    const std::string left0 = imageFile(sequence_dir, "image_0", 0);
+    const std::string right0 = imageFile(sequence_dir, "image_1", 0);
+    const cv::Size left = imageFileSize(left0);
+    const cv::Size right = imageFileSize(right0);
+    if (left != right)
     {
         THROW_EXCEPTION_FMT(
-            "Left/right image size mismatch: '%s' is %dx%d but '%s' is %dx%d",
-            imageFile(sequence_dir, "image_0", 0).c_str(), left.cols, left.rows,
-            imageFile(sequence_dir, "image_1", 0).c_str(), right.cols, right.rows);
+            "Left/right image size mismatch: '%s' is %dx%d but '%s' is %dx%d", left0.c_str(),
+            left.width, left.height, right0.c_str(), right.width, right.height);
     }
-    m_width = static_cast<unsigned int>(left.cols);
-    m_height = static_cast<unsigned int>(left.rows);
+    loadImageFile(left0, left, "its header");  // the first pair must decode
+    loadImageFile(right0, right, "its header");
+    m_width = static_cast<unsigned int>(left.width);
+    m_height = static_cast<unsigned int>(left.height);
     m_calib = loadKittiCalibration(sequence_dir + "/calib.txt", m_width, m_height);
 
     if (!poses_file.empty())

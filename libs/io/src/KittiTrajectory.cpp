@@ -45,8 +45,8 @@ std::vector<mrpt::poses::CPose3D> KittiTrajectory::readPoses(const std::string& 
             if (!parseNumbers(line, v) || v.size() != 12)
             {
                 THROW_EXCEPTION_FMT(
-                    "%s:%zu: expected 12 numbers (a 3x4 row-major pose matrix), got '%s'",
-                    file.c_str(), line_no, line.c_str());
+                    "%s:%zu: expected 12 numbers (a 3x4 row-major pose matrix), got %s",
+                    file.c_str(), line_no, quotedExcerpt(line).c_str());
             }
             Eigen::Matrix3d M;
             mrpt::math::CVectorFixedDouble<3> t;
@@ -100,15 +100,15 @@ std::vector<double> KittiTrajectory::readTimes(const std::string& file)
             if (!parseNumbers(line, v) || v.size() != 1)
             {
                 THROW_EXCEPTION_FMT(
-                    "%s:%zu: expected one timestamp [s], got '%s'", file.c_str(), line_no,
-                    line.c_str());
+                    "%s:%zu: expected one timestamp [s], got %s", file.c_str(), line_no,
+                    quotedExcerpt(line).c_str());
             }
             // Finite, in a range a clock can hold (1e10 s: year 2286), increasing.
             if (!std::isfinite(v[0]) || v[0] < 0 || v[0] >= 1e10)
             {
                 THROW_EXCEPTION_FMT(
-                    "%s:%zu: timestamp '%s' must be a finite number of seconds in [0, 1e10)",
-                    file.c_str(), line_no, line.c_str());
+                    "%s:%zu: timestamp %s must be a finite number of seconds in [0, 1e10)",
+                    file.c_str(), line_no, quotedExcerpt(line).c_str());
             }
             if (!times.empty() && !(v[0] > times.back()))
             {

@@ -3,10 +3,7 @@
 
 #include "ImageFile.h"
 
-#include <mrpt/core/exceptions.h>
 #include <mrpt/poses/CPose3DQuat.h>
-
-#include <utility>
 
 namespace emslam::io
 {
@@ -16,19 +13,11 @@ mrpt::obs::CObservationStereoImages::Ptr loadStereoPairObservation(
     const mrpt::img::TStereoCamera& calib,
     const std::string& size_source)
 {
-    const cv::Mat left = loadImageFile(left_file);
-    const cv::Mat right = loadImageFile(right_file);
-    const unsigned int width = calib.leftCamera.ncols, height = calib.leftCamera.nrows;
-    for (const auto& [im, file] : {std::pair{&left, &left_file}, std::pair{&right, &right_file}})
-    {
-        if (static_cast<unsigned int>(im->cols) != width ||
-            static_cast<unsigned int>(im->rows) != height)
-        {
-            THROW_EXCEPTION_FMT(
-                "Image size mismatch: '%s' is %dx%d, expected %ux%u (%s)", file->c_str(), im->cols,
-                im->rows, width, height, size_source.c_str());
-        }
-    }
+    // The calibration's size comes from validated files; checked before decoding.
+    const cv::Size size(
+        static_cast<int>(calib.leftCamera.ncols), static_cast<int>(calib.leftCamera.nrows));
+    const cv::Mat left = loadImageFile(left_file, size, size_source);
+    const cv::Mat right = loadImageFile(right_file, size, size_source);
     auto obs = mrpt::obs::CObservationStereoImages::Create();
     obs->imageLeft = mrpt::img::CImage(left, mrpt::img::SHALLOW_COPY);
     obs->imageRight = mrpt::img::CImage(right, mrpt::img::SHALLOW_COPY);

@@ -13,7 +13,8 @@ namespace emslam::io
  * writes (the caller sets its label and time): both images (as stored),
  * `hasImageRight`, the calibration `calib`, the camera at the robot's
  * origin. Throws, naming the file, if an image cannot be read or its size is
- * not `calib`'s (`size_source` says where that size came from). */
+ * not `calib`'s (`size_source` says where that size came from); the size is
+ * read from the image headers before decoding (loadImageFile()). */
 mrpt::obs::CObservationStereoImages::Ptr loadStereoPairObservation(
     const std::string& left_file,
     const std::string& right_file,

@@ -128,7 +128,8 @@ bool parseNanoseconds(std::string_view token, std::int64_t& v)
     if (dot != std::string_view::npos)
     {
         const std::string_view frac = token.substr(dot + 1);
-        if (!std::all_of(frac.begin(), frac.end(), [](char c) { return c >= '0' && c <= '9'; }))
+        // Only zeros: a fraction of a nanosecond would be dropped silently.
+        if (!std::all_of(frac.begin(), frac.end(), [](char c) { return c == '0'; }))
         {
             return false;
         }
@@ -158,6 +159,23 @@ bool parseNumbers(std::string_view line, std::vector<double>& out, std::string_v
         pos = end;
     }
     return true;
+}
+
+std::string quotedExcerpt(std::string_view text)
+{
+    if (text.size() <= MAX_QUOTED_BYTES)
+    {
+        return "'" + std::string(text) + "'";
+    }
+    std::size_t n = MAX_QUOTED_BYTES;
+    // Back off over UTF-8 continuation bytes (10xxxxxx) so that no character
+    // is split; a character has at most 3 of them.
+    while (n + 3 > MAX_QUOTED_BYTES && (static_cast<unsigned char>(text[n]) & 0xC0U) == 0x80U)
+    {
+        --n;
+    }
+    return "'" + std::string(text.substr(0, n)) + "\xE2\x80\xA6' (" + std::to_string(text.size()) +
+           " bytes)";
 }
 
 }  // namespace emslam::io

@@ -96,10 +96,10 @@ TrajectoryFormat detectTrajectoryFormat(const std::string& file)
             return TrajectoryFormat::Tum;
         }
         THROW_EXCEPTION_FMT(
-            "%s:%zu: cannot tell the trajectory format of '%s': expected 8 numbers (TUM: t tx "
+            "%s:%zu: cannot tell the trajectory format of %s: expected 8 numbers (TUM: t tx "
             "ty tz qx qy qz qw), 12 numbers (KITTI: a 3x4 row-major pose) or a EuRoC CSV row "
             "(timestamp_ns,x,y,z,...)",
-            file.c_str(), line_no, line.c_str());
+            file.c_str(), line_no, quotedExcerpt(line).c_str());
     }
     THROW_EXCEPTION_FMT("Trajectory file '%s' has no poses", file.c_str());
 }

@@ -2,6 +2,7 @@
 #include "ImageFile.h"
 
 #include <emslam/io/DataFile.h>
+#include <emslam/io/DatasetStamps.h>
 #include <emslam/io/TextParsing.h>
 #include <emslam/io/TumRgbdSequence.h>
 #include <emslam/io/TumTrajectory.h>
@@ -29,12 +30,14 @@ struct ListEntry
     std::string file;
 };
 
-/** Reads rgb.txt / depth.txt: "timestamp filename" per line, '#' comments. */
+/** Reads rgb.txt / depth.txt: "timestamp filename" per line, '#' comments;
+ * the stamps are plausible and strictly increasing (DatasetStamps.h). */
 std::vector<ListEntry> readList(const std::string& dir, const std::string& name)
 {
     const std::string file = dir + "/" + name;
     auto f = openTextFile(file, "TUM RGB-D list");
     std::vector<ListEntry> out;
+    IncreasingStamps<double> order(file);
     forEachDataLine(
         f,
         [&](const std::string& line, std::size_t line_no)
@@ -45,12 +48,14 @@ std::vector<ListEntry> readList(const std::string& dir, const std::string& name)
             double t = 0;
             // A leading '+' was never accepted in these lists (parseDouble() takes one).
             const bool ts_ok = !ts.empty() && ts.front() != '+' && parseDouble(ts, t);
-            if (fname.empty() || (ss >> extra) || !ts_ok || !std::isfinite(t))
+            if (fname.empty() || (ss >> extra) || !ts_ok)
             {
                 THROW_EXCEPTION_FMT(
-                    "%s:%zu: expected 'timestamp filename', got '%s'", file.c_str(), line_no,
-                    line.c_str());
+                    "%s:%zu: expected 'timestamp filename', got %s", file.c_str(), line_no,
+                    quotedExcerpt(line).c_str());
             }
+            requirePlausibleStampSeconds(t, ts, file, line_no);
+            order.add(t, ts, line_no);
             std::string path = dir;
             path += "/";
             path += fname;
@@ -60,14 +65,12 @@ std::vector<ListEntry> readList(const std::string& dir, const std::string& name)
     {
         THROW_EXCEPTION_FMT("TUM RGB-D list '%s' lists no image", file.c_str());
     }
-    std::stable_sort(
-        out.begin(), out.end(), [](const ListEntry& x, const ListEntry& y) { return x.t < y.t; });
     return out;
 }
 
-cv::Mat loadDepth(const std::string& file)
+cv::Mat loadDepth(const std::string& file, const cv::Size& expected, const std::string& source)
 {
-    cv::Mat d = loadImageFile(file);
+    cv::Mat d = loadImageFile(file, expected, source);
     if (d.type() != CV_16UC1)
     {
         THROW_EXCEPTION_FMT(
@@ -192,16 +195,19 @@ void TumRgbdSequence::open(const std::string& rgbd_dir)
         }
     }
 
-    const cv::Mat c0 = loadImageFile(rgb_files[0]);
-    const cv::Mat d0 = loadDepth(depth_files[0]);
-    if (c0.size() != d0.size())
+    // Sizes from the headers: a huge image is refused before it is decoded.
+    const cv::Size c0 = imageFileSize(rgb_files[0]);
+    const cv::Size d0 = imageFileSize(depth_files[0]);
+    if (c0 != d0)
     {
         THROW_EXCEPTION_FMT(
             "Colour/depth image size mismatch: '%s' is %dx%d but '%s' is %dx%d",
-            rgb_files[0].c_str(), c0.cols, c0.rows, depth_files[0].c_str(), d0.cols, d0.rows);
+            rgb_files[0].c_str(), c0.width, c0.height, depth_files[0].c_str(), d0.width, d0.height);
     }
-    m_width = static_cast<unsigned int>(c0.cols);
-    m_height = static_cast<unsigned int>(c0.rows);
+    loadImageFile(rgb_files[0], c0, "its header");  // the first pair must decode
+    loadDepth(depth_files[0], d0, "its header");
+    m_width = static_cast<unsigned int>(c0.width);
+    m_height = static_cast<unsigned int>(c0.height);
     intrinsics.ncols = m_width;
     intrinsics.nrows = m_height;
 
@@ -277,19 +283,9 @@ TumRgbdSequence::Frame TumRgbdSequence::frame(std::size_t i) const
 {
     ASSERTMSG_(isOpen(), "TumRgbdSequence: open() a sequence first");
     ASSERT_LT_(i, m_rgb_t.size());
-    const cv::Mat colour = loadImageFile(m_rgb_files[i]);
-    const cv::Mat depth = loadDepth(m_depth_files[i]);
-    for (const auto& [im, file] :
-         {std::pair{&colour, &m_rgb_files[i]}, std::pair{&depth, &m_depth_files[i]}})
-    {
-        if (static_cast<unsigned int>(im->cols) != m_width ||
-            static_cast<unsigned int>(im->rows) != m_height)
-        {
-            THROW_EXCEPTION_FMT(
-                "Image size mismatch: '%s' is %dx%d, expected %ux%u (first frame)", file->c_str(),
-                im->cols, im->rows, m_width, m_height);
-        }
-    }
+    const cv::Size size(static_cast<int>(m_width), static_cast<int>(m_height));
+    const cv::Mat colour = loadImageFile(m_rgb_files[i], size, "first frame");
+    const cv::Mat depth = loadDepth(m_depth_files[i], size, "first frame");
 
     Frame f;
     f.t = m_rgb_t[i];

@@ -81,15 +81,16 @@ void TumTrajectory::loadFromFile(const std::string& file)
             if (!parseNumbers(line, v, " \t,\r") || v.size() != 8)
             {
                 THROW_EXCEPTION_FMT(
-                    "%s:%zu: expected 8 numbers 'timestamp tx ty tz qx qy qz qw', got '%s'",
-                    file.c_str(), line_no, line.c_str());
+                    "%s:%zu: expected 8 numbers 'timestamp tx ty tz qx qy qz qw', got %s",
+                    file.c_str(), line_no, quotedExcerpt(line).c_str());
             }
             for (const double x : v)
             {
                 if (!std::isfinite(x))
                 {
                     THROW_EXCEPTION_FMT(
-                        "%s:%zu: non-finite number in '%s'", file.c_str(), line_no, line.c_str());
+                        "%s:%zu: non-finite number in %s", file.c_str(), line_no,
+                        quotedExcerpt(line).c_str());
                 }
             }
             const double norm = std::sqrt(v[4] * v[4] + v[5] * v[5] + v[6] * v[6] + v[7] * v[7]);

@@ -27,8 +27,17 @@ namespace emslam::io
  * \endcode
  * `MAV0_DIR` may also be the folder that contains `mav0/`.
  *
- * Left and right images are paired by equal timestamps (left images without
- * a right partner are dropped and counted in unpairedCount()). frame() gives
+ * Timestamps: each data.csv holds whole nanoseconds since the UNIX epoch (a
+ * `.000` fraction is allowed; a non-zero one is refused, not truncated),
+ * within [MIN_STAMP_NS, MAX_STAMP_NS] (after the epoch, before 2100-01-01:
+ * 0 and INT64_MAX are refused), strictly increasing from line to line (a
+ * repeated or earlier stamp is refused). Each refusal is a
+ * std::runtime_error "<data.csv>:<line>: timestamp '<text>' <reason>".
+ *
+ * Left and right images are paired by equal timestamps (exactly: the cameras
+ * are triggered together). An image that the other camera has no image for
+ * is dropped and counted in unpairedCount(), not refused: a few real
+ * sequences (V2_03_difficult) miss some frames of one camera. frame() gives
  * a `CObservationStereoImages` with the raw images embedded, `hasImageRight =
  * true`, the calibration of the two sensor.yaml files (distortion included;
  * `areImagesRectified()` is false) and identity `cameraPose` (the robot frame
@@ -61,11 +70,16 @@ public:
 
     /** Opens and validates a `mav0` folder and, if not empty, a ground-truth
      * CSV file. Throws, naming the file and the problem, on: a missing folder
-     * or file, a garbled data.csv line, an unreadable calibration, no
-     * left/right pair, a missing image, an unreadable first image, left/right
-     * or image/calibration size mismatch, or a garbled ground-truth line
-     * (including the 17-column `state_groundtruth_estimate0` body-frame file,
-     * which is not the left camera's pose). */
+     * or file, a garbled data.csv line or timestamp (see the class comment),
+     * an unreadable calibration, no left/right pair, a missing image, an
+     * unreadable first image, left/right or image/calibration size mismatch,
+     * or a garbled ground-truth line (including the 17-column
+     * `state_groundtruth_estimate0` body-frame file, which is not the left
+     * camera's pose).
+     * Image sizes are read from the image headers (PNG, JPEG, PNM or BMP)
+     * and checked before anything is decoded: an image over 8192 x 8192
+     * pixels (or 65535 on a side) is refused naming the file, its size and
+     * the limit. */
     void open(const std::string& mav0_dir, const std::string& gt_csv = {});
 
     bool isOpen() const { return !m_dir.empty(); }
@@ -91,13 +105,15 @@ public:
     std::optional<mrpt::poses::CPose3D> groundTruth(std::size_t i) const;
     /** Number of frames with no ground truth within `gt_max_dt`. */
     std::size_t framesWithoutGroundTruth() const;
-    /** Number of left images dropped because no right image has their timestamp. */
+    /** Number of images (left and right) dropped because the other camera has
+     * no image with their timestamp. */
     std::size_t unpairedCount() const { return m_unpaired; }
     std::string leftImageFile(std::size_t i) const;
     std::string rightImageFile(std::size_t i) const;
 
     /** Loads frame `i`. Throws, naming the file, if an image cannot be read
-     * or its size differs from the calibration's. */
+     * or its size (from its header, before decoding) differs from the
+     * calibration's. */
     Frame frame(std::size_t i) const;
     /** frame(), as a SequenceFrame. */
     SequenceFrame readFrame(std::size_t i) const override;

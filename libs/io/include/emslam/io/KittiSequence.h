@@ -67,7 +67,11 @@ public:
      * line that is not a number, a times.txt count that differs from the
      * number of images in image_0 or image_1, a missing image, an unreadable
      * first image, left/right images of different sizes, or a poses file whose
-     * line count differs from the frame count (or with a garbled line). */
+     * line count differs from the frame count (or with a garbled line).
+     * Image sizes are read from the image headers (PNG, JPEG, PNM or BMP)
+     * and checked before anything is decoded: an image over 8192 x 8192
+     * pixels (or 65535 on a side) is refused naming the file, its size and
+     * the limit. */
     void open(const std::string& sequence_dir, const std::string& poses_file = {});
 
     bool isOpen() const { return !m_dir.empty(); }
@@ -90,7 +94,8 @@ public:
     std::string rightImageFile(std::size_t i) const;
 
     /** Loads frame `i`. Throws, naming the file, if an image cannot be read
-     * or its size differs from the first frame's. */
+     * or its size (from its header, before decoding) differs from the first
+     * frame's. */
     Frame frame(std::size_t i) const;
     /** frame(), as a SequenceFrame. */
     SequenceFrame readFrame(std::size_t i) const override;

@@ -71,10 +71,12 @@ bool parseInt64(std::string_view token, std::int64_t& v);
 
 /** Parses a nanosecond timestamp as EuRoC writes them: a non-negative decimal
  * integer that fits in `std::int64_t` (0 to 9223372036854775807, about year
- * 2262), optionally followed by `.` and digits, which are dropped
+ * 2262), optionally followed by `.` and zeros, which are dropped
  * (`1403715274312143104.0000000000`). Returns false, leaving `v` unchanged,
- * otherwise (negative, too large, not an integer). Non-negative stamps can be
- * subtracted from each other without overflow.
+ * otherwise (negative, too large, not an integer, a non-zero fraction such as
+ * `.5`, which would otherwise be lost). Non-negative stamps can be subtracted
+ * from each other without overflow. Image lists check more
+ * (parseImageStampNs()).
  * \ingroup emslam_io_grp \sa parseInt64 */
 bool parseNanoseconds(std::string_view token, std::int64_t& v);
 
@@ -88,5 +90,17 @@ bool parseNanoseconds(std::string_view token, std::int64_t& v);
  * \ingroup emslam_io_grp \sa parseDouble */
 bool parseNumbers(
     std::string_view line, std::vector<double>& out, std::string_view separators = " \t\r");
+
+/** Longest piece of input an error message quotes [bytes].
+ * \ingroup emslam_io_grp \sa quotedExcerpt */
+constexpr std::size_t MAX_QUOTED_BYTES = 60;
+
+/** `text` as the error messages of the readers quote input: between single
+ * quotes; if longer than MAX_QUOTED_BYTES, only its first MAX_QUOTED_BYTES
+ * bytes (fewer rather than cut a UTF-8 character), then "…" and its length:
+ * `'abc…' (100000 bytes)`. The bytes are not otherwise changed. A message
+ * then stays short whatever the line (a 400 KB line is echoed as 60 bytes).
+ * \ingroup emslam_io_grp */
+std::string quotedExcerpt(std::string_view text);
 
 }  // namespace emslam::io

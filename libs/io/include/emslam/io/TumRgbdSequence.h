@@ -23,6 +23,12 @@ namespace emslam::io
  *   RGBD_DIR/rgb/<t>.png      colour images (8-bit)
  *   RGBD_DIR/depth/<t>.png    depth images (16-bit, 5000 units per metre)
  * \endcode
+ * Timestamps: each list holds seconds since the UNIX epoch, finite, within
+ * [MIN_STAMP_NS, MAX_STAMP_NS] (after the epoch, before 2100-01-01) and
+ * strictly increasing from line to line (TUM's lists are; a repeated or
+ * earlier stamp is refused, not sorted). Each refusal is a
+ * std::runtime_error "<rgb.txt>:<line>: timestamp '<text>' <reason>".
+ *
  * Each colour image is associated with the depth image nearest in time, if
  * within `max_association_dt`, greedily by increasing time difference (each
  * depth image used at most once, as TUM's associate.py does); colour images
@@ -58,10 +64,15 @@ public:
     TumRgbdSequence();
 
     /** Opens and validates a sequence folder. Throws, naming the file and the
-     * problem, on: a missing folder or list file, a garbled list or
-     * ground-truth line, no associated pair, a missing image, an unreadable
-     * first image, a depth image that is not 16-bit single-channel, or colour
-     * and depth images of different sizes. groundtruth.txt is optional. */
+     * problem, on: a missing folder or list file, a garbled list line or
+     * timestamp (see the class comment), a garbled ground-truth line, no
+     * associated pair, a missing image, an unreadable first image, a depth
+     * image that is not 16-bit single-channel, or colour and depth images of
+     * different sizes. groundtruth.txt is optional.
+     * Image sizes are read from the image headers (PNG, JPEG, PNM or BMP)
+     * and checked before anything is decoded: an image over 8192 x 8192
+     * pixels (or 65535 on a side) is refused naming the file, its size and
+     * the limit. */
     void open(const std::string& rgbd_dir);
 
     bool isOpen() const { return !m_dir.empty(); }
@@ -87,7 +98,8 @@ public:
     std::string depthImageFile(std::size_t i) const;
 
     /** Loads frame `i`. Throws, naming the file, if an image cannot be read,
-     * is of the wrong type, or its size differs from the first frame's. */
+     * is of the wrong type, or its size (from its header, before decoding)
+     * differs from the first frame's. */
     Frame frame(std::size_t i) const;
     /** frame(), as a SequenceFrame. */
     SequenceFrame readFrame(std::size_t i) const override;
