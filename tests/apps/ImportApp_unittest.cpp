@@ -566,3 +566,34 @@ TEST(ImportApp, sigintKeepsACompleteRawlogOfTheFramesImported)
     EXPECT_FALSE(hasPartialFiles(root));
 }
 #endif
+
+// An output that is a file of the dataset or the ground truth is refused
+// before anything is written, and the file is left as it was (on 80c9fba
+// both were overwritten, exit 0).
+TEST(ImportApp, anOutputThatIsAFileOfTheDatasetIsRefused)
+{
+    const std::string root = emslam::test::makeTempDir("import_output_input");
+    const std::string seq = writeKitti(root, 4);
+    const std::string image = frameName(seq, "image_0", 2);
+    const std::string before = readFile(image);
+    ImportApp app;
+    initApp(app, {"kitti", seq, "-o", image, "-q"});
+    emslam::test::expectThrowContaining(
+        [&] { app.run(); }, {"output rawlog '" + image + "' is a file of the dataset"});
+    EXPECT_EQ(readFile(image), before);
+    // The ground truth given and written under one name.
+    std::string poses;
+    for (int i = 0; i < 4; ++i)
+    {
+        poses += "1 0 0 " + std::to_string(0.1 * i) + " 0 1 0 0 0 0 1 0\n";
+    }
+    emslam::test::writeFile(root + "/poses.txt", poses);
+    ImportApp gt;
+    initApp(
+        gt, {"kitti", seq, "--gt", root + "/poses.txt", "-o", root + "/o.rawlog", "--gt-out",
+             root + "/poses.txt", "-q"});
+    emslam::test::expectThrowContaining(
+        [&] { gt.run(); }, {"--gt-out", "is the ground truth (--gt)"});
+    EXPECT_EQ(readFile(root + "/poses.txt"), poses);
+    EXPECT_FALSE(fs::exists(root + "/o.rawlog"));
+}

@@ -6,6 +6,7 @@
 #include <emslam/apps/StopSignal.h>
 #include <emslam/io/DatasetSequence.h>
 #include <emslam/io/EurocSequence.h>
+#include <emslam/io/InputOutputClash.h>
 #include <emslam/io/KittiSequence.h>
 #include <emslam/io/RawlogOutput.h>
 #include <emslam/io/TumRgbdSequence.h>
@@ -498,6 +499,16 @@ void ImportApp::execute()
     {
         THROW_EXCEPTION_FMT("Unknown dataset format '%s'", dataset.c_str());
     }
+
+    // No output may replace a file of the dataset or the ground truth.
+    std::vector<io::RolePath> inputs{
+        {"the ground truth (--gt)", dataset == "kitti" ? kitti_poses_file : euroc_gt_file}};
+    for (const auto& f : src.sequence->inputFiles())
+    {
+        inputs.push_back({"a file of the dataset", f});
+    }
+    io::requireOutputsAreNotInputs(
+        {{"output rawlog", output_file}, {"ground-truth output (--gt-out)", gt_out_file}}, inputs);
 
     // Frame selection, and new times if the list goes back in time.
     checkFrameList(src, frames);

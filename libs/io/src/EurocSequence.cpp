@@ -310,6 +310,16 @@ std::size_t EurocSequence::framesWithoutGroundTruth() const
         std::count_if(m_gt.begin(), m_gt.end(), [](const auto& g) { return !g.has_value(); }));
 }
 
+std::vector<std::string> EurocSequence::inputFiles() const
+{
+    std::vector<std::string> files{
+        m_dir + "/cam0/data.csv", m_dir + "/cam1/data.csv", m_dir + "/cam0/sensor.yaml",
+        m_dir + "/cam1/sensor.yaml"};
+    files.insert(files.end(), m_left_files.begin(), m_left_files.end());
+    files.insert(files.end(), m_right_files.begin(), m_right_files.end());
+    return files;
+}
+
 std::string EurocSequence::leftImageFile(std::size_t i) const
 {
     ASSERT_LT_(i, m_left_files.size());

@@ -147,6 +147,17 @@ const mrpt::poses::CPose3D& KittiSequence::groundTruth(std::size_t i) const
     return m_poses[i];
 }
 
+std::vector<std::string> KittiSequence::inputFiles() const
+{
+    std::vector<std::string> files{m_dir + "/times.txt", m_dir + "/calib.txt"};
+    for (std::size_t i = 0; i < size(); ++i)
+    {
+        files.push_back(leftImageFile(i));
+        files.push_back(rightImageFile(i));
+    }
+    return files;
+}
+
 std::string KittiSequence::leftImageFile(std::size_t i) const
 {
     return imageFile(m_dir, "image_0", i);

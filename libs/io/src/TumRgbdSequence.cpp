@@ -267,6 +267,15 @@ std::size_t TumRgbdSequence::framesWithoutGroundTruth() const
         std::count_if(m_gt.begin(), m_gt.end(), [](const auto& g) { return !g.has_value(); }));
 }
 
+std::vector<std::string> TumRgbdSequence::inputFiles() const
+{
+    std::vector<std::string> files{
+        m_dir + "/rgb.txt", m_dir + "/depth.txt", m_dir + "/groundtruth.txt"};
+    files.insert(files.end(), m_rgb_files.begin(), m_rgb_files.end());
+    files.insert(files.end(), m_depth_files.begin(), m_depth_files.end());
+    return files;
+}
+
 std::string TumRgbdSequence::rgbImageFile(std::size_t i) const
 {
     ASSERT_LT_(i, m_rgb_files.size());

@@ -6,6 +6,8 @@
 
 #include <cstddef>
 #include <optional>
+#include <string>
+#include <vector>
 
 namespace emslam::io
 {
@@ -35,6 +37,10 @@ public:
     virtual double timestamp(std::size_t i) const = 0;
     /** True if ground truth was read with the folder. */
     virtual bool hasGroundTruth() const = 0;
+    /** Every file of the folder the reader reads: its lists, calibration and
+     * the images of every frame, so that no output overwrites one
+     * (requireOutputsAreNotInputs()). */
+    virtual std::vector<std::string> inputFiles() const = 0;
     /** Loads frame `i`; throws naming the file on a missing or bad image. */
     virtual SequenceFrame readFrame(std::size_t i) const = 0;
 

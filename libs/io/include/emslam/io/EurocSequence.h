@@ -85,6 +85,7 @@ public:
     bool isOpen() const { return !m_dir.empty(); }
     /** Number of stereo pairs. */
     std::size_t size() const override { return m_stamps.size(); }
+    std::vector<std::string> inputFiles() const override;
     /** The `mav0` folder in use. */
     const std::string& directory() const { return m_dir; }
     /** Raw stereo calibration read from the sensor.yaml files. */

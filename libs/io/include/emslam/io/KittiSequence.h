@@ -77,6 +77,7 @@ public:
     bool isOpen() const { return !m_dir.empty(); }
     /** Number of frames (lines of times.txt). */
     std::size_t size() const override { return m_times.size(); }
+    std::vector<std::string> inputFiles() const override;
     const std::string& directory() const { return m_dir; }
     /** Rectified stereo calibration read from calib.txt. */
     const mrpt::img::TStereoCamera& calibration() const { return m_calib; }

@@ -78,6 +78,7 @@ public:
     bool isOpen() const { return !m_dir.empty(); }
     /** Number of associated (colour, depth) pairs. */
     std::size_t size() const override { return m_rgb_t.size(); }
+    std::vector<std::string> inputFiles() const override;
     const std::string& directory() const { return m_dir; }
     unsigned int imageWidth() const { return m_width; }
     unsigned int imageHeight() const { return m_height; }
