@@ -2,6 +2,7 @@
 // The bad-input matrix (doc/reliability.md): every input of the reliability
 // rounds run against the built apps, checking exit code, message and outputs.
 // Each test prints its row of the table.
+#include "PngWithSize.h"
 #include "SimulatedHall.h"
 #include "TestData.h"
 #include "TestHelpers.h"
@@ -18,11 +19,12 @@
 #include <filesystem>
 #include <fstream>
 #include <iterator>
+#include <opencv2/imgcodecs.hpp>
 #include <string>
 #include <vector>
 
 #if defined(EMSLAM_MAPPER_EXE) && defined(EMSLAM_ODOMETRY_EXE) && defined(EMSLAM_STEREO_EXE) && \
-    defined(EMSLAM_EVAL_EXE)
+    defined(EMSLAM_EVAL_EXE) && defined(EMSLAM_EXPERIMENTS_EXE)
 
 namespace fs = std::filesystem;
 using emslam::test::ProgramRun;
@@ -289,7 +291,7 @@ TEST(BadInputs, evalRefusesAbsurdCoordinatesAndPrintsStampsExactly)
         dir + "/huge.tum", "0 0 0 0 0 0 0 1\n1 1e300 0 0 0 0 0 1\n2 2 0 0 0 0 0 1\n");
     expectRefused(
         runProgram(EMSLAM_EVAL_EXE, {dir + "/gt.tum", dir + "/huge.tum"}),
-        "`emslam-eval`: an estimate with 1e300 coordinates", "beyond 1000000000 m");
+        "`emslam-eval`: an estimate with 1e300 coordinates", "lies at (1e+300, 0, 0) m");
     emslam::test::writeFile(
         dir + "/late.tum", "2317340800 0 0 0 0 0 0 1\n2317340801.000001 1 0 0 0 0 0 1\n");
     expectRefused(
@@ -304,6 +306,172 @@ TEST(BadInputs, anUnknownFlagIsNamed)
             EMSLAM_SIM_EXE,
             {source("config/sim/hall_double_loop.ini"), "--bogus", "-o", "x.rawlog"}),
         "`emslam-sim W.ini --bogus -o x.rawlog`", "unknown option '--bogus'");
+}
+
+/** A EuRoC folder of the first `n` stereo pairs of the real excerpt with
+ * cam0's stamps replaced by `stamps` (empty if the data is absent). */
+std::string eurocWithStamps(const std::string& name, const std::vector<std::string>& stamps)
+{
+    const std::string mav0 = emslam::test::testDataPath("euroc-v101-rest/mav0");
+    if (mav0.empty())
+    {
+        return {};
+    }
+    const std::string dir = emslam::test::makeTempDir("bad_euroc_" + name) + "/mav0";
+    for (const char* cam : {"cam0", "cam1"})
+    {
+        fs::create_directories(dir + "/" + cam + "/data");
+        fs::copy_file(mav0 + "/" + cam + "/sensor.yaml", dir + "/" + cam + "/sensor.yaml");
+        std::ifstream list(mav0 + "/" + cam + "/data.csv");
+        std::string line, csv;
+        std::getline(list, line);
+        csv = line + "\n";
+        for (std::size_t i = 0; i < stamps.size() && std::getline(list, line); ++i)
+        {
+            const std::string stamp = line.substr(0, line.find(','));
+            fs::copy_file(
+                mav0 + "/" + cam + "/data/" + stamp + ".png",
+                dir + "/" + cam + "/data/" + stamp + ".png");
+            csv += (std::string(cam) == "cam0" ? stamps[i] : stamp) + "," + stamp + ".png\n";
+        }
+        emslam::test::writeFile(dir + "/" + cam + "/data.csv", csv);
+    }
+    return dir;
+}
+
+TEST(BadInputs, eurocStampsRepeatedZeroHugeOrFractionalAreRefusedWithFileAndLine)
+{
+    const std::vector<std::pair<std::string, std::vector<std::string>>> cases = {
+        {"a stamp of cam0 repeated",
+         {"1403715274312143104", "1403715274362142976", "1403715274312143104"}},
+        {"a stamp of 0 in the middle", {"1403715274312143104", "0", "1403715274412143104"}},
+        {"INT64_MAX in the middle",
+         {"1403715274312143104", "9223372036854775807", "1403715274412143104"}},
+        {"a fraction of a nanosecond",
+         {"1403715274312143104", "1403715274362142976.5", "1403715274412143104"}}};
+    for (const auto& [what, stamps] : cases)
+    {
+        const std::string mav0 = eurocWithStamps(std::to_string(&what - &cases[0].first), stamps);
+        if (mav0.empty())
+        {
+            GTEST_SKIP() << "test data 'euroc-v101-rest' not found";
+        }
+        const auto run =
+            runProgram(EMSLAM_IMPORT_EXE, {"euroc", mav0, "-o", mav0 + "/../e.rawlog", "-q"});
+        expectRefused(run, "EuRoC `data.csv`: " + what, "cam0/data.csv:");
+        EXPECT_FALSE(fs::exists(mav0 + "/../e.rawlog"));
+    }
+}
+
+TEST(BadInputs, aHugePngIsRefusedFromItsHeader)
+{
+    const std::string dir = emslam::test::makeTempDir("bad_png");
+    const std::string seq = dir + "/seq";
+    for (const char* sub : {"image_0", "image_1"})
+    {
+        fs::create_directories(seq + "/" + sub);
+        for (int i = 0; i < 2; ++i)
+        {
+            cv::imwrite(
+                seq + "/" + sub + "/00000" + std::to_string(i) + ".png",
+                cv::Mat(24, 40, CV_8UC1, cv::Scalar(i)));
+        }
+    }
+    emslam::test::writeFile(seq + "/times.txt", "0\n0.1\n");
+    emslam::test::writeFile(
+        seq + "/calib.txt", "P0: 50 0 20 0 0 50 12 0 0 0 1 0\nP1: 50 0 20 -25 0 50 12 0 0 0 1 0\n");
+    // Frame 1's left image declares 30000x30000 in its header (IHDR and CRC patched).
+    emslam::test::writePngDeclaring(seq + "/image_0/000001.png", 30000, 30000);
+    const auto t0 = std::chrono::steady_clock::now();
+    const auto run = runProgram(EMSLAM_IMPORT_EXE, {"kitti", seq, "-o", dir + "/k.rawlog", "-q"});
+    const double seconds =
+        std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+    expectRefused(run, "a 30000×30000 PNG in a KITTI folder", "30000x30000");
+    std::printf("refused in %.2f s\n", seconds);
+}
+
+TEST(BadInputs, aRepeatedIniKeyOrSectionIsRefusedNamingBothLines)
+{
+    const std::string dir = emslam::test::makeTempDir("bad_ini");
+    std::string text = readText(mapperConfig());
+    emslam::test::writeFile(dir + "/key.ini", text + "\n[Egomotion]\nwindow_size = 9\n");
+    expectRefused(
+        runProgram(
+            EMSLAM_MAPPER_EXE,
+            {dir + "/key.ini", emslam::test::simulatedHall(20), "--out", dir + "/out"}),
+        "mapper INI with a repeated section", "section [Egomotion] repeated (first at");
+    const std::string world = readText(source("config/sim/hall_double_loop.ini"));
+    emslam::test::writeFile(dir + "/w.ini", world + "\n[Camera]\nbaseline = 0.2\n");
+    expectRefused(
+        runProgram(EMSLAM_SIM_EXE, {dir + "/w.ini", "-o", dir + "/x.rawlog"}),
+        "sim world with a repeated section", "repeated (first at");
+}
+
+TEST(BadInputs, aHugeSparseSuiteIsRefusedAtOnce)
+{
+    const std::string dir = emslam::test::makeTempDir("bad_suite");
+    {
+        std::ofstream f(dir + "/suite.ini");
+        f << "[Suite]\n";
+    }
+    fs::resize_file(dir + "/suite.ini", std::uintmax_t{2} << 30);  // sparse: no disk used
+    const auto run =
+        runProgram(EMSLAM_EXPERIMENTS_EXE, {dir + "/suite.ini", "--out", dir + "/out"});
+    expectRefused(run, "a 2 GB sparse suite INI to `emslam-experiments`", "2048.0 MiB");
+}
+
+TEST(BadInputs, aFullDiskNamesTheFileAndTheReason)
+{
+    const std::string dir = emslam::test::makeTempDir("bad_full");
+    emslam::test::putOnFullDisk(dir + "/full.rawlog");
+    const auto run = runProgram(
+        EMSLAM_SIM_EXE, {source("config/sim/hall_double_loop.ini"), "-o", dir + "/full.rawlog",
+                         "--max-frames", "3", "-q"});
+    expectRefused(run, "full disk (`emslam-sim`)", "No space left on device");
+    EXPECT_NE(run.stderr_text.find("full.rawlog"), std::string::npos) << run.stderr_text;
+}
+
+TEST(BadInputs, theLevellingBiasOfAShortRunIsNotReported)
+{
+    const std::string out = emslam::test::makeTempDir("bad_levelling");
+    const auto run = runProgram(
+        EMSLAM_MAPPER_EXE, {mapperConfig(), emslam::test::simulatedHall(60), "--out", out});
+    EXPECT_EQ(run.exit_code, 0) << run.stderr_text;
+    const std::string json = readText(out + "/summary.json");
+    EXPECT_NE(json.find("\"vertical_bias_deg\": null"), std::string::npos) << json;
+    row("the first 60 frames of the hall", run.exit_code,
+        lineWith(run.stdout_text + run.stderr_text, "levelling:"));
+}
+
+TEST(BadInputs, aLongLineOfABadSensorYamlIsCutInTheMessage)
+{
+    EMSLAM_REQUIRE_TEST_DATA(mav0, "euroc-v101-rest/mav0");
+    const std::string dir = eurocWithStamps(
+        "yaml", {"1403715274312143104", "1403715274362142976", "1403715274412143104"});
+    emslam::test::writeFile(
+        dir + "/cam0/sensor.yaml",
+        readText(mav0 + "/cam0/sensor.yaml") + std::string(100000, 'x') + "\n");
+    const auto run = runProgram(EMSLAM_IMPORT_EXE, {"euroc", dir, "-o", dir + "/../e.rawlog"});
+    EXPECT_EQ(run.exit_code, 1) << run.stderr_text.substr(0, 500);
+    EXPECT_LT(run.stderr_text.size(), 1000U);
+    row("a 100,000-character line in a bad `sensor.yaml`", run.exit_code,
+        lineWith(run.stderr_text, "error"));
+}
+
+TEST(BadInputs, importOutputsThatAreInputsAreRefused)
+{
+    const std::string mav0 = eurocWithStamps(
+        "outputs", {"1403715274312143104", "1403715274362142976", "1403715274412143104"});
+    if (mav0.empty())
+    {
+        GTEST_SKIP() << "test data 'euroc-v101-rest' not found";
+    }
+    const std::string image = mav0 + "/cam0/data/1403715274362142976.png";
+    const std::string before = readText(image);
+    expectRefused(
+        runProgram(EMSLAM_IMPORT_EXE, {"euroc", mav0, "-o", image}),
+        "`emslam-import … -o DIR/cam0/data/….png`", "is a file of the dataset");
+    EXPECT_EQ(readText(image), before);
 }
 
 #endif

@@ -12,4 +12,11 @@ std::string shortestFixed(double v)
     return std::string(buf, res.ptr);
 }
 
+std::string shortestText(double v)
+{
+    char buf[64];  // the shortest form of any double fits
+    const auto res = std::to_chars(buf, buf + sizeof(buf), v);
+    return std::string(buf, res.ptr);
+}
+
 }  // namespace emslam::io

@@ -55,10 +55,9 @@ void requirePlausiblePositions(
             {
                 throw std::runtime_error(
                     what + " file '" + file + "': pose " + std::to_string(i + 1) + " (t = " +
-                    shortestFixed(t.poses[i].t) + " s) lies at (" + shortestFixed(p.x()) + ", " +
-                    shortestFixed(p.y()) + ", " + shortestFixed(p.z()) +
-                    ") m; a coordinate beyond " + shortestFixed(MAX_POSITION_M) +
-                    " m is no trajectory (wrong columns or units?)");
+                    shortestFixed(t.poses[i].t) + " s) lies at (" + shortestText(p.x()) + ", " +
+                    shortestText(p.y()) + ", " + shortestText(p.z()) + ") m; a coordinate beyond " +
+                    shortestText(MAX_POSITION_M) + " m is no trajectory (wrong columns or units?)");
             }
         }
     }

@@ -12,4 +12,9 @@ namespace emslam::io
  * \ingroup emslam_io_grp */
 std::string shortestFixed(double v);
 
+/** The shortest text that reads back to the same double, fixed or with an
+ * exponent, whichever is shorter: "2317340800.5", "1e+300". For messages
+ * quoting numbers that may be absurd. \ingroup emslam_io_grp */
+std::string shortestText(double v);
+
 }  // namespace emslam::io

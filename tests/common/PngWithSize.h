@@ -1,5 +1,5 @@
 // SPDX-License-Identifier: BSD-3-Clause
-// Helper of the io test suite: image files whose header lies about their size.
+// Test helper: image files whose header lies about their size.
 #pragma once
 
 #include <cstdint>
