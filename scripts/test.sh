@@ -4,7 +4,7 @@
 # installed package (scripts/check-install.sh), then the unit tests again
 # under AddressSanitizer (with leak detection) and
 # UndefinedBehaviorSanitizer, built into ./build-asan (libraries and unit
-# tests only; see doc/sanitizers.md). Stops at the first failing step.
+# tests only; see doc/reliability.md). Stops at the first failing step.
 set -euo pipefail
 cd "$(dirname "$0")/.."
 
