@@ -1,6 +1,8 @@
 // SPDX-License-Identifier: BSD-3-Clause
+#include "PngWithSize.h"
 #include "SimulatedHall.h"
 #include "TestData.h"
+#include "TestHelpers.h"
 
 #include <emslam/apps/StereoApp.h>
 #include <emslam/io/RawlogInput.h>
@@ -108,6 +110,16 @@ TEST(StereoApp, badInputsFailWithAClearError)
         emslam::apps::StereoApp app;
         EXPECT_THROW(
             runApp(app, {dir + "/garbage.png", dir + "/garbage.png", calib}), std::exception);
+    }
+    {
+        // A huge size in the header is refused before decoding (80c9fba decoded it).
+        emslam::test::writePngDeclaring(dir + "/huge.png", 30000, 30000);
+        emslam::apps::StereoApp app;
+        emslam::test::expectThrowContaining(
+            [&] {
+                runApp(app, {dir + "/huge.png", dir + "/huge.png", calib});
+            },
+            {"left image", "huge.png' is 30000x30000 (PNG header)", "not decoded"});
     }
     {
         emslam::apps::StereoApp app;  // neither a pair nor a rawlog

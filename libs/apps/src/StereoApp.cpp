@@ -5,6 +5,7 @@
 #include <emslam/apps/StopSignal.h>
 #include <emslam/io/CalibrationFiles.h>
 #include <emslam/io/FrameStreamGuard.h>
+#include <emslam/io/ImageFile.h>
 #include <emslam/io/ImageOutput.h>
 #include <emslam/io/InputFileChecks.h>
 #include <emslam/io/InputOutputClash.h>
@@ -44,12 +45,15 @@ void requireFile(const std::string& f, const std::string& what)
 cv::Mat readImage(const std::string& f, const std::string& what)
 {
     requireFile(f, what);
-    cv::Mat im = cv::imread(f, cv::IMREAD_UNCHANGED);
-    if (im.empty())
+    try
     {
-        throw std::runtime_error(what + " '" + f + "' is not a readable image");
+        // The size is checked from the header before the image is decoded.
+        return io::loadImageFile(f);
     }
-    return im;
+    catch (const std::exception& e)
+    {
+        throw std::runtime_error(what + ": " + emslam::stereo::shortExceptionMessage(e));
+    }
 }
 
 void writePly(const emslam::stereo::StereoFrame& f, const std::string& file)

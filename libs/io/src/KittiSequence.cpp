@@ -1,5 +1,5 @@
 // SPDX-License-Identifier: BSD-3-Clause
-#include "ImageFile.h"
+#include <emslam/io/ImageFile.h>
 #include "StereoPairFiles.h"
 
 #include <emslam/io/CalibrationFiles.h>

@@ -1,7 +1,7 @@
 // SPDX-License-Identifier: BSD-3-Clause
 #include "StereoPairFiles.h"
 
-#include "ImageFile.h"
+#include <emslam/io/ImageFile.h>
 
 #include <mrpt/poses/CPose3DQuat.h>
 
