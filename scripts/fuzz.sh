@@ -62,6 +62,7 @@ for h in "${harnesses[@]}"; do
     log="$build/logs/$h.log"
     echo "fuzz.sh: $h for $seconds s (log: $log)"
     status=0
+    runs=""
     limits=(-rss_limit_mb=2048)
     if [ "$h" = rawlog_input ]; then
         # MRPT's deserializers size a string from its 32-bit length field before
@@ -79,14 +80,38 @@ for h in "${harnesses[@]}"; do
     "$build/fuzz/fuzz_$h" "$corpus" "fuzz/corpus/$h" -max_total_time="$seconds" -timeout=10 \
         "${limits[@]}" -detect_leaks=1 -print_final_stats=1 -close_fd_mask=1 \
         -artifact_prefix="$build/artifacts/$h-" >"$log" 2>&1 || status=$?
-    runs="$(sed -n 's/^stat::number_of_executed_units: *//p' "$log" | tail -n 1)"
+    mrpt_allocations=0
+    if [ "$h" = rawlog_input ] && [ "$status" -ne 0 ]; then
+        # Fork mode exits non-zero when it went past a crash. Each one must be
+        # an allocation failure inside an MRPT deserializer; anything else is
+        # a finding.
+        status=0
+        for a in "$build/artifacts/$h"-crash-*; do
+            [ -e "$a" ] || continue
+            report="$(ASAN_OPTIONS="$ASAN_OPTIONS:fast_unwind_on_malloc=0" \
+                "$build/fuzz/fuzz_$h" "$a" 2>&1 || true)"
+            if grep -qE 'requested allocation size|allocator is out of memory' <<<"$report" &&
+                grep -qE 'in mrpt::[a-zA-Z:0-9_]*::serializeFrom' <<<"$report"; then
+                mrpt_allocations=$((mrpt_allocations + 1))
+            else
+                status=1
+                echo "fuzz.sh: $a is a finding:"
+                grep -E '^==[0-9]+==ERROR|SUMMARY' <<<"$report" | head -n 3 || true
+            fi
+        done
+        # The log's last line was "exiting: 1": take the run's own count.
+        runs="$(grep -oE '^#[0-9]+:' "$log" | tail -n 1 | tr -d '#:')"
+    fi
+    runs="${runs:-$(sed -n 's/^stat::number_of_executed_units: *//p' "$log" | tail -n 1)}"
     cov="$(grep -E '^#[0-9]+' "$log" | tail -n 1 | grep -oE 'cov: [0-9]+ ft: [0-9]+' || true)"
     if [ "$status" -ne 0 ]; then
         failed=1
         summary+=("$h: FAILED (exit $status), see $log")
         grep -E '^==[0-9]+==ERROR|SUMMARY|Test unit written' "$log" | head -n 5 || true
     else
-        summary+=("$h: ${runs:-?} executions in $seconds s, ${cov:-no coverage line}")
+        summary+=("$h: ${runs:-?} executions in $seconds s, ${cov:-no coverage line}$(
+            [ "$mrpt_allocations" -eq 0 ] ||
+                echo ", $mrpt_allocations allocation failures inside MRPT deserializers")")
     fi
 done
 printf '%s\n' "${summary[@]}"
