@@ -1,11 +1,11 @@
 // SPDX-License-Identifier: BSD-3-Clause
-#include <emslam/io/ImageFile.h>
 #include "StereoPairFiles.h"
 
 #include <emslam/io/CalibrationFiles.h>
 #include <emslam/io/DataFile.h>
 #include <emslam/io/DatasetStamps.h>
 #include <emslam/io/EurocSequence.h>
+#include <emslam/io/ImageFile.h>
 #include <emslam/io/TextParsing.h>
 
 #include <mrpt/core/Clock.h>

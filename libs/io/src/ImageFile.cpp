@@ -1,6 +1,5 @@
 // SPDX-License-Identifier: BSD-3-Clause
 #include <emslam/io/ImageFile.h>
-
 #include <emslam/io/ImageHeader.h>
 
 #include <filesystem>

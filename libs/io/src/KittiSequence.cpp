@@ -1,8 +1,8 @@
 // SPDX-License-Identifier: BSD-3-Clause
-#include <emslam/io/ImageFile.h>
 #include "StereoPairFiles.h"
 
 #include <emslam/io/CalibrationFiles.h>
+#include <emslam/io/ImageFile.h>
 #include <emslam/io/KittiSequence.h>
 #include <emslam/io/KittiTrajectory.h>
 #include <emslam/io/TextParsing.h>

@@ -1,8 +1,7 @@
 // SPDX-License-Identifier: BSD-3-Clause
-#include <emslam/io/ImageFile.h>
-
 #include <emslam/io/DataFile.h>
 #include <emslam/io/DatasetStamps.h>
+#include <emslam/io/ImageFile.h>
 #include <emslam/io/TextParsing.h>
 #include <emslam/io/TumRgbdSequence.h>
 #include <emslam/io/TumTrajectory.h>
