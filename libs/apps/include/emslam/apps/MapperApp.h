@@ -57,7 +57,7 @@ namespace emslam::apps
  *   must be regular files, `--out` a writable folder (or creatable), and no
  *   output in it may be a folder, device, FIFO or symbolic link. The folder
  *   is created only when the outputs are written.
- * \ingroup emslam_apps_grp \sa Mapper */
+ * \ingroup emslam_apps_grp \sa emslam::slam::EntropySlam */
 class MapperApp : public App
 {
 public:

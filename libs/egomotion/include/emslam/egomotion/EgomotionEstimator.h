@@ -50,6 +50,12 @@ struct EgomotionResult
     double ms_features{0}, ms_descriptors{0}, ms_matching{0}, ms_lwo{0}, ms_pose{0}, ms_total{0};
 };
 
+/** Var(x) / Var(x | |x| < c) for a Gaussian x, with c such that
+ * P(|x| < c) = q: how much the spread of the central fraction q of a
+ * Gaussian sample underestimates its variance. 1 at q = 1; about 1.9 / q²
+ * for small q. Throws unless 0 < q <= 1. \ingroup emslam_egomotion_grp */
+double lwoTruncationVarianceFactor(double q);
+
 /** The four stages of §2.1 between two StereoFrames, plus failure detection.
  * Frames are given in sequence with process(); features and descriptors of
  * the previous frame are kept, so each frame is described once.
@@ -79,12 +85,6 @@ struct EgomotionResult
  * O(N^2) and keeps far look-alikes out. If that step fails (a stop, a sudden
  * turn), the paper's full search runs on the same frames.
  * \ingroup emslam_egomotion_grp */
-/** Var(x) / Var(x | |x| < c) for a Gaussian x, with c such that
- * P(|x| < c) = q: how much the spread of the central fraction q of a
- * Gaussian sample underestimates its variance. 1 at q = 1; about 1.9 / q²
- * for small q. Throws unless 0 < q <= 1. \ingroup emslam_egomotion_grp */
-double lwoTruncationVarianceFactor(double q);
-
 class EgomotionEstimator
 {
 public:

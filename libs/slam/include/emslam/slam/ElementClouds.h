@@ -30,7 +30,7 @@ namespace emslam::slam
  * without compression it gives exactly the union of the per-frame clouds; with
  * compression the points of fused frames were averaged once more per fusion
  * (in the element's first camera frame) before the final downsampling.
- * \ingroup emslam_slam_grp \sa Mapper, emslam::rectify::Trajectory::compress() */
+ * \ingroup emslam_slam_grp \sa EntropySlam, emslam::rectify::Trajectory::compress() */
 class ElementClouds
 {
 public:
