@@ -35,6 +35,20 @@
 
 namespace
 {
+/** The `../shared/data/...` path a config names as a value (the real test
+ * data, next to the repository), or "" if it names none. */
+std::string sharedDataNamedIn(const std::string& text)
+{
+    const auto at = text.find("= ../shared/data/");
+    if (at == std::string::npos)
+    {
+        return {};
+    }
+    const auto begin = at + 2;
+    const auto end = text.find_first_of(" \t\r\n;#", begin);
+    return text.substr(begin, end == std::string::npos ? std::string::npos : end - begin);
+}
+
 namespace fs = std::filesystem;
 using mrpt::config::CConfigFileMemory;
 
@@ -196,6 +210,13 @@ TEST(ShippedConfigKeys, everyKeyAcceptsOrRefusesEveryHostileValueByName)
         const std::string path = entry.path().string();
         const std::string text = readText(path);
         SCOPED_TRACE(path);
+        if (const std::string data = sharedDataNamedIn(text);
+            !data.empty() && !fs::exists(emslam::test::sourceDir() + "/" + data))
+        {
+            // A replay config of the real data: checked where the data is.
+            std::printf("skipped %s: '%s' is absent\n", path.c_str(), data.c_str());
+            continue;
+        }
         try
         {
             check->second(text, path);
