@@ -753,17 +753,7 @@ TEST(MapperApp, unusableFramesAreSkippedAndTheOthersMapped)
 std::string mapCapturingStderr(MapperApp& app, const std::string& rawlog, const std::string& out)
 {
     initApp(app, {config("3dof-low-structured"), rawlog, "--out", out, "-q", "--egomotion-only"});
-    testing::internal::CaptureStderr();
-    try
-    {
-        app.run();
-    }
-    catch (...)
-    {
-        testing::internal::GetCapturedStderr();
-        throw;
-    }
-    return testing::internal::GetCapturedStderr();
+    return emslam::test::capturingStderr([&] { app.run(); });
 }
 
 /** Every trajectory the mapper wrote has `n` poses, strictly increasing in time. */

@@ -56,17 +56,7 @@ std::string runOdometry(
     initApp(
         app, {rawlog, "-o", out, "--config",
               emslam::test::sourceDir() + "/config/mapper/3dof-low-structured.ini", "--quiet"});
-    testing::internal::CaptureStderr();
-    try
-    {
-        app.run();
-    }
-    catch (...)
-    {
-        testing::internal::GetCapturedStderr();
-        throw;
-    }
-    return testing::internal::GetCapturedStderr();
+    return emslam::test::capturingStderr([&] { app.run(); });
 }
 
 /** The trajectory file holds `n` poses, strictly increasing in time. */

@@ -1,6 +1,8 @@
 // SPDX-License-Identifier: BSD-3-Clause
 #include "TestHelpers.h"
 
+#include "TestData.h"
+
 #include <emslam/io/AtomicFile.h>
 
 #include <gtest/gtest.h>
@@ -25,6 +27,28 @@ namespace emslam::test
 void putOnFullDisk(const std::string& file)
 {
     std::filesystem::create_symlink("/dev/full", emslam::io::partialFileFor(file));
+}
+
+std::string fileOnFullDisk(const std::string& tag, const std::string& name)
+{
+    const std::string file = makeTempDir(tag) + "/" + name;
+    putOnFullDisk(file);
+    return file;
+}
+
+std::string capturingStderr(const std::function<void()>& fn)
+{
+    testing::internal::CaptureStderr();
+    try
+    {
+        fn();
+    }
+    catch (...)
+    {
+        testing::internal::GetCapturedStderr();
+        throw;
+    }
+    return testing::internal::GetCapturedStderr();
 }
 
 void writeFile(const std::string& path, const std::string& text)

@@ -20,6 +20,14 @@ void writeFile(const std::string& path, const std::string& text);
  * real and without root, while `file` itself stays an ordinary path. */
 void putOnFullDisk(const std::string& file);
 
+/** `name` in a new temporary folder tagged `tag`, put on a full disk
+ * (putOnFullDisk()). */
+std::string fileOnFullDisk(const std::string& tag, const std::string& name);
+
+/** Runs `fn` with stderr captured and returns what it printed (the capture
+ * ends also when `fn` throws, and the exception goes on). */
+std::string capturingStderr(const std::function<void()>& fn);
+
 /** Expects `fn` to throw a `std::exception` whose what() contains every one of
  * `parts`; adds a GoogleTest failure (naming the missing part and the full
  * message) otherwise, or if `fn` does not throw at all. */

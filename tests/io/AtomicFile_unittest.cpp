@@ -21,19 +21,9 @@
 namespace fs = std::filesystem;
 using emslam::test::expectThrowContaining;
 
-namespace
-{
-std::string onFullDisk(const std::string& tag, const std::string& name)
-{
-    const std::string file = emslam::test::makeTempDir(tag) + "/" + name;
-    emslam::test::putOnFullDisk(file);
-    return file;
-}
-}  // namespace
-
 TEST(AtomicFile, aWriterThatSaysOnlyFalseGetsErrnoAsTheReason)
 {
-    const std::string file = onFullDisk("atomic_full", "map_top.png");
+    const std::string file = emslam::test::fileOnFullDisk("atomic_full", "map_top.png");
     expectThrowContaining(
         [&]
         {

@@ -18,19 +18,9 @@
 namespace fs = std::filesystem;
 using emslam::test::expectThrowContaining;
 
-namespace
-{
-std::string onFullDisk(const std::string& tag, const std::string& name)
-{
-    const std::string file = emslam::test::makeTempDir(tag) + "/" + name;
-    emslam::test::putOnFullDisk(file);
-    return file;
-}
-}  // namespace
-
 TEST(AtomicTextFile, fullDiskNamesTheFileAndTheReason)
 {
-    const std::string file = onFullDisk("atomic_text_full", "summary.json");
+    const std::string file = emslam::test::fileOnFullDisk("atomic_text_full", "summary.json");
     {
         emslam::io::AtomicTextFile f(file);
         f.stream() << "{\"frames\": 60}\n";

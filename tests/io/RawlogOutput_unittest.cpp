@@ -19,19 +19,9 @@
 namespace fs = std::filesystem;
 using emslam::test::expectThrowContaining;
 
-namespace
-{
-std::string onFullDisk(const std::string& tag, const std::string& name)
-{
-    const std::string file = emslam::test::makeTempDir(tag) + "/" + name;
-    emslam::test::putOnFullDisk(file);
-    return file;
-}
-}  // namespace
-
 TEST(RawlogOutput, fullDiskNamesTheRawlogAndTheReason)
 {
-    const std::string file = onFullDisk("rawlog_full", "sim.rawlog");
+    const std::string file = emslam::test::fileOnFullDisk("rawlog_full", "sim.rawlog");
     {
         emslam::io::RawlogOutput out(file, 1);
         out.archive() << mrpt::obs::CObservationOdometry();

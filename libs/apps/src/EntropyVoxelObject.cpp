@@ -1,14 +1,12 @@
 // SPDX-License-Identifier: BSD-3-Clause
 #include <emslam/apps/EntropyVoxelObject.h>
+#include <emslam/apps/MapScene.h>
 #include <emslam/apps/MapStyle.h>
-#include <emslam/io/AtomicFile.h>
-#include <emslam/io/GzOutputStream.h>
 
 #include <mrpt/img/color_maps.h>
 #include <mrpt/opengl/COpenGLScene.h>
 #include <mrpt/opengl/CPointCloudColoured.h>
 #include <mrpt/opengl/stock_objects.h>
-#include <mrpt/serialization/CArchive.h>
 
 #include <algorithm>
 #include <cmath>
@@ -90,18 +88,7 @@ mrpt::opengl::COpenGLScene::Ptr buildEntropyMapScene(
 void writeEntropyMapScene(
     const emslam::CEntropyVoxelMap& map, std::size_t max_cells, const std::string& file)
 {
-    const auto scene = buildEntropyMapScene(map, max_cells);
-    emslam::io::writeFileAtomically(
-        file,
-        [&](const std::string& partial)
-        {
-            // As COpenGLScene::saveToFile() writes it (gzip level 1), but every
-            // write error thrown with the file's name and the OS reason.
-            emslam::io::GzOutputStream f(partial, 1, file);
-            mrpt::serialization::archiveFrom(f) << *scene;
-            f.close();
-            return true;
-        });
+    writeSceneFile(*buildEntropyMapScene(map, max_cells), file);
 }
 
 }  // namespace emslam::apps

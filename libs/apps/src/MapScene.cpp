@@ -212,9 +212,8 @@ mrpt::opengl::COpenGLScene::Ptr buildMapScene(const MapDrawingContent& c)
     return scene;
 }
 
-void writeMapScene(const MapDrawingContent& content, const std::string& file)
+void writeSceneFile(const mrpt::opengl::COpenGLScene& scene, const std::string& file)
 {
-    const auto scene = buildMapScene(content);
     emslam::io::writeFileAtomically(
         file,
         [&](const std::string& partial)
@@ -222,10 +221,15 @@ void writeMapScene(const MapDrawingContent& content, const std::string& file)
             // As COpenGLScene::saveToFile() writes it (gzip level 1), but every
             // write error thrown with the file's name and the OS reason.
             emslam::io::GzOutputStream f(partial, 1, file);
-            mrpt::serialization::archiveFrom(f) << *scene;
+            mrpt::serialization::archiveFrom(f) << scene;
             f.close();
             return true;
         });
+}
+
+void writeMapScene(const MapDrawingContent& content, const std::string& file)
+{
+    writeSceneFile(*buildMapScene(content), file);
 }
 
 }  // namespace emslam::apps

@@ -30,6 +30,12 @@ constexpr const char* LEGEND_NAME = "legend";
  * \ingroup emslam_apps_grp \sa writeMapScene() */
 mrpt::opengl::COpenGLScene::Ptr buildMapScene(const MapDrawingContent& content);
 
+/** Saves `scene` to `file` as the stock tools read it (COpenGLScene's gzip
+ * format), through a temporary file renamed on success; a write error names
+ * the file and the OS reason. Every .3Dscene output goes through it.
+ * \ingroup emslam_apps_grp */
+void writeSceneFile(const mrpt::opengl::COpenGLScene& scene, const std::string& file);
+
 /** Saves buildMapScene() to `file` through a temporary file renamed on
  * success. Throws std::runtime_error naming the file on failure.
  * \ingroup emslam_apps_grp */
