@@ -1,7 +1,7 @@
 // SPDX-License-Identifier: BSD-3-Clause
 // The live viewer: without a display it warns and does nothing; under a
 // virtual X server (Xvfb, started here; skipped without it) the window shows
-// the trajectories and the image; pushing never blocks the producer.
+// the trajectories, the loop closures and the image; pushing never blocks the producer.
 #include <emslam/apps/LiveViewer.h>
 #include <emslam/apps/MapStyle.h>
 
@@ -89,6 +89,8 @@ LiveViewSnapshot knownSnapshot()
     LiveViewSnapshot s;
     s.egomotion = square(4.0f, 0.0f);
     s.slam = square(2.5f, 0.0f);
+    // Two loop closures across the SLAM square, at its own height.
+    s.loops = {{s.slam[0], s.slam[2]}, {s.slam[1], s.slam[3]}};
     s.camera = mrpt::poses::CPose3D(0, 0, 2, 0, 0, 0);
     // A pure magenta image: easy to find in the window.
     cv::Mat img(120, 160, CV_8UC3, cv::Scalar(255, 0, 255));
@@ -203,7 +205,7 @@ std::vector<unsigned long> grab(const std::string& display, int w, int h)
 
 struct Counts
 {
-    int red{0}, green{0}, magenta{0}, non_background{0};
+    int red{0}, green{0}, magenta{0}, orange{0}, non_background{0};
 };
 
 /** Colour counts of a w x h grab: trajectories in the 3D area (below the
@@ -227,6 +229,7 @@ Counts countColors(const std::vector<unsigned long>& px, int w, int h)
             c.red += in_3d && r > 170 && g < 90 && b < 90;
             c.green += in_3d && g > 150 && r < 90 && b < 90;
             c.magenta += in_image && r > 200 && g < 60 && b > 200;
+            c.orange += in_3d && r > 200 && g > 100 && g < 180 && b < 60;
         }
     }
     return c;
@@ -309,7 +312,8 @@ ViewerRun runViewer(const std::string& display)
         std::this_thread::sleep_for(std::chrono::milliseconds(300));
         shot = grab(display, W, H);
         r.after = countColors(shot, W, H);
-        if (r.after.red > 100 && r.after.green > 60 && r.after.magenta > 5000)
+        if (r.after.red > 100 && r.after.green > 60 && r.after.magenta > 5000 &&
+            r.after.orange > 40)
         {
             break;
         }
@@ -373,9 +377,11 @@ TEST(LiveViewer, underXvfbTheWindowShowsTrajectoriesAndImage)
     EXPECT_LT(r.before.red, 5);
     EXPECT_LT(r.before.green, 5);
     EXPECT_LT(r.before.magenta, 5);
+    EXPECT_LT(r.before.orange, 5);
     EXPECT_GT(r.before.non_background, 1000);  // grid and legend: the window is drawn
     EXPECT_GT(r.after.red, 100);               // egomotion square
     EXPECT_GT(r.after.green, 60);              // SLAM square
+    EXPECT_GT(r.after.orange, 40);             // its two diagonals: loop closures
     EXPECT_GT(r.after.magenta, 5000);          // the image, ~0.33 x 0.37 of the window
 }
 #endif

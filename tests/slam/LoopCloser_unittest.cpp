@@ -364,6 +364,17 @@ TEST(LoopCloser, closesTheLoopOnlineBeforeTheEnd)
     ASSERT_GT(distance(drifted[40], drifted[0]), 0.5);
     EXPECT_LT(gap_online, 0.05);
     EXPECT_EQ(closer.loopEdges().size(), 2u);
+    // What a viewer reads from another thread: the same two loops, each
+    // joining the revisit (keyframe 40 or 41) to the start.
+    const auto loops = closer.currentLoops();
+    ASSERT_EQ(loops.size(), closer.loopEdges().size());
+    for (std::size_t n = 0; n < loops.size(); ++n)
+    {
+        EXPECT_EQ(loops[n].first, closer.loopEdges()[n].frame_from);
+        EXPECT_EQ(loops[n].second, closer.loopEdges()[n].frame_to);
+        EXPECT_GE(std::max(loops[n].first, loops[n].second), 40u);
+        EXPECT_LE(std::min(loops[n].first, loops[n].second), 1u);
+    }
     EXPECT_LE(closer.stats().kept_bytes, truth.size() * 32u * 1024u);
     // close() polishes what is there: the loop stays closed.
     const auto closed = closer.close(drifted, e);

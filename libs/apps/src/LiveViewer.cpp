@@ -64,7 +64,7 @@ struct SceneObjects
 {
     mrpt::opengl::CSetOfObjects::Ptr world;
     mrpt::opengl::CPointCloudColoured::Ptr cloud;
-    mrpt::opengl::CSetOfLines::Ptr egomotion, slam;
+    mrpt::opengl::CSetOfLines::Ptr egomotion, slam, loops;
     mrpt::opengl::CSetOfObjects::Ptr camera;
     mrpt::opengl::COpenGLViewport::Ptr image;
 };
@@ -82,6 +82,7 @@ SceneObjects createScene(mrpt::opengl::COpenGLScene& scene)
     o.cloud->setPointSize(2.0f);
     o.egomotion = linesOf(EGOMOTION_STYLE);
     o.slam = linesOf(SLAM_STYLE);
+    o.loops = linesOf(LOOP_STYLE);
     o.camera = mrpt::opengl::CSetOfObjects::Create();
     // CFrustum looks along its +X; the camera along its +z.
     auto frustum = mrpt::opengl::CFrustum::Create(0.05f, 0.8f, 70.0f, 50.0f, 2.0f, true, false);
@@ -92,7 +93,8 @@ SceneObjects createScene(mrpt::opengl::COpenGLScene& scene)
     o.camera->setVisibility(false);
     for (const auto& obj :
          {mrpt::opengl::CRenderizable::Ptr(o.cloud), mrpt::opengl::CRenderizable::Ptr(o.egomotion),
-          mrpt::opengl::CRenderizable::Ptr(o.slam), mrpt::opengl::CRenderizable::Ptr(o.camera)})
+          mrpt::opengl::CRenderizable::Ptr(o.slam), mrpt::opengl::CRenderizable::Ptr(o.loops),
+          mrpt::opengl::CRenderizable::Ptr(o.camera)})
     {
         o.world->insert(obj);
     }
@@ -244,11 +246,14 @@ void LiveViewer::run()
         win->setCameraElevationDeg(55.0f);
         win->setCameraAzimuthDeg(-120.0f);
         std::size_t line = LEGEND_FIRST;
-        for (const auto& style : {EGOMOTION_STYLE, SLAM_STYLE})
+        using Legend = std::pair<TrajectoryStyle, const char*>;
+        for (const auto& [style, suffix] :
+             {Legend{EGOMOTION_STYLE, " trajectory"}, Legend{SLAM_STYLE, " trajectory"},
+              Legend{LOOP_STYLE, ""}})
         {
             win->addTextMessage(
-                0.01, 0.97 - 0.035 * static_cast<double>(line),
-                style.label + std::string(" trajectory"), line, font(style.r, style.g, style.b));
+                0.01, 0.97 - 0.035 * static_cast<double>(line), style.label + std::string(suffix),
+                line, font(style.r, style.g, style.b));
             ++line;
         }
         win->addTextMessage(
@@ -307,6 +312,11 @@ void LiveViewer::run()
             {
                 setPolyline(*objects.egomotion, snap->egomotion);
                 setPolyline(*objects.slam, snap->slam);
+                objects.loops->clear();
+                for (const auto& [a, b] : snap->loops)
+                {
+                    objects.loops->appendLine(a.x, a.y, a.z, b.x, b.y, b.z);
+                }
                 if (snap->camera)
                 {
                     objects.camera->setPose(*snap->camera);

@@ -4,6 +4,8 @@
 
 #include <mrpt/core/format.h>
 
+#include <map>
+
 namespace emslam::apps
 {
 namespace
@@ -48,9 +50,19 @@ void MapperLiveFeed::update(const slam::EntropySlam& m)
     {
         s.egomotion.push_back(positionOf(p.T_world_frame));
     }
+    std::map<std::size_t, mrpt::math::TPoint3Df> keyframe_at;
     for (const auto& p : m.currentSlamPoses())
     {
         s.slam.push_back(positionOf(p.T_world_frame));
+        keyframe_at[p.frame_index] = s.slam.back();
+    }
+    for (const auto& [from, to] : m.currentLoops())
+    {
+        const auto a = keyframe_at.find(from), b = keyframe_at.find(to);
+        if (a != keyframe_at.end() && b != keyframe_at.end())
+        {
+            s.loops.emplace_back(a->second, b->second);
+        }
     }
     s.camera = T_world_cam;
     if (!m.lastImage().empty())

@@ -994,6 +994,14 @@ void LoopCloser::publishPoses(bool all)
     {
         m_published.push_back({m_keyframes[k].frame_index, x[k]});
     }
+    m_published_loops.clear();
+    for (std::size_t e = 0; e < m_edges.size(); ++e)
+    {
+        if (!m_dropped[e])
+        {
+            m_published_loops.emplace_back(m_edges[e].frame_from, m_edges[e].frame_to);
+        }
+    }
 }
 
 std::optional<LoopCloser::KeyframePose> LoopCloser::lastPose() const
@@ -1010,6 +1018,12 @@ std::vector<LoopCloser::KeyframePose> LoopCloser::currentPoses() const
 {
     std::lock_guard<std::mutex> lock(m_out_mutex);
     return m_published;
+}
+
+std::vector<std::pair<std::size_t, std::size_t>> LoopCloser::currentLoops() const
+{
+    std::lock_guard<std::mutex> lock(m_out_mutex);
+    return m_published_loops;
 }
 
 std::vector<mrpt::poses::CPose3D> LoopCloser::close(

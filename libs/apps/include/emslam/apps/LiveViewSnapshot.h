@@ -7,6 +7,7 @@
 
 #include <optional>
 #include <string>
+#include <utility>
 #include <vector>
 
 namespace emslam::apps
@@ -22,6 +23,9 @@ struct LiveViewSnapshot
     std::vector<mrpt::math::TPoint3Df> egomotion;
     /** Positions of the accepted frames as rectified so far [m] (green). */
     std::vector<mrpt::math::TPoint3Df> slam;
+    /** The loops closed so far: both ends at their positions in `slam` [m]
+     * (orange segments). */
+    std::vector<std::pair<mrpt::math::TPoint3Df, mrpt::math::TPoint3Df>> loops;
     /** The current camera pose T_world_cam, drawn as a frustum. */
     std::optional<mrpt::poses::CPose3D> camera;
     /** The current left (reference) image; empty: none. Give the viewer its

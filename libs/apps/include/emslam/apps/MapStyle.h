@@ -22,6 +22,8 @@ struct TrajectoryStyle
 constexpr TrajectoryStyle EGOMOTION_STYLE{"egomotion", 0.9f, 0.1f, 0.1f};
 constexpr TrajectoryStyle SLAM_STYLE{"SLAM (rectified)", 0.1f, 0.8f, 0.1f};
 constexpr TrajectoryStyle GROUND_TRUTH_STYLE{"ground truth", 0.2f, 0.45f, 1.0f};
+/** Loop closures: a segment between the two keyframes each one joins. */
+constexpr TrajectoryStyle LOOP_STYLE{"loop closures", 1.0f, 0.55f, 0.0f};
 
 /** Pose of the map (first camera) frame in the viewer frame of the drawings:
  * camera forward (+z) → viewer +X, right (+x) → −Y, down (+y) → −Z, so the

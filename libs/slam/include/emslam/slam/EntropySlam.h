@@ -179,6 +179,13 @@ public:
      * not reached yet left out); without, as rectified so far (AnyTime:
      * buffered frames not yet included). */
     std::vector<emslam::rectify::TimedPose> currentSlamPoses() const;
+    /** The loops closed in the current estimate (a copy): for each, the
+     * frame indices (as in frames()) of the two keyframes it joins; empty
+     * without loop closing. */
+    std::vector<std::pair<std::size_t, std::size_t>> currentLoops() const
+    {
+        return m_loops.currentLoops();
+    }
     /** For each processed frame, the pose the system had for it when it
      * was processed (causal): the latest keyframe of the current estimate
      * and the egomotion since. */

@@ -19,6 +19,7 @@
 #include <mutex>
 #include <optional>
 #include <string>
+#include <utility>
 #include <vector>
 
 namespace emslam::slam
@@ -236,6 +237,9 @@ public:
     /** The keyframes in the graph at their current poses (any thread; world
      * = the first keyframe). */
     std::vector<KeyframePose> currentPoses() const;
+    /** The loop edges in the current estimate (any thread): the frame
+     * indices of their ends, as given to addKeyframe(), oldest first. */
+    std::vector<std::pair<std::size_t, std::size_t>> currentLoops() const;
 
     /** The keyframe poses (world, one per addKeyframe(), in order) with the
      * loops closed, starting from `poses` (the rectified trajectory): the
@@ -326,6 +330,7 @@ private:
     // Published.
     mutable std::mutex m_out_mutex;
     std::vector<KeyframePose> m_published;
+    std::vector<std::pair<std::size_t, std::size_t>> m_published_loops;
 };
 
 }  // namespace emslam::slam
