@@ -74,6 +74,7 @@ emslam::apps::MapDrawingContent MapDrawingFixture::content() const
     c.slam = &slam;
     c.ground_truth = &ground_truth;
     c.entropy_map = &entropy_map;
+    c.loops = &loops;
     return c;
 }
 }  // namespace emslam::test

@@ -17,6 +17,10 @@ struct MapDrawingFixture
     emslam::slam::IntensityCloud cloud;
     emslam::io::TumTrajectory egomotion, slam, ground_truth;
     emslam::CEntropyVoxelMap entropy_map;
+    /** One loop closure, from a SLAM corner into the room, away from the
+     * room's middle. */
+    std::vector<std::pair<mrpt::math::TPoint3D, mrpt::math::TPoint3D>> loops{
+        {{-1.0, 0.0, 2.5}, {1.0, 0.0, 4.0}}};
 
     /** Everything above, with no height cut. */
     emslam::apps::MapDrawingContent content() const;

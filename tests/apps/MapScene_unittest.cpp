@@ -60,6 +60,9 @@ TEST(MapScene, hasEveryNamedObjectAndALegendLinePerObject)
         ASSERT_TRUE(lines) << name;
         EXPECT_EQ(lines->size(), traj->size() - 1) << name;
     }
+    const auto loops = byName<mrpt::opengl::CSetOfLines>(scene, LOOPS_NAME);
+    ASSERT_TRUE(loops);
+    EXPECT_EQ(loops->size(), f.loops.size());
     const auto red = byName<mrpt::opengl::CSetOfLines>(scene, EGOMOTION_NAME)->getColor_u8();
     EXPECT_GT(red.R, 200);
     EXPECT_LT(red.G, 50);
@@ -72,7 +75,7 @@ TEST(MapScene, hasEveryNamedObjectAndALegendLinePerObject)
     EXPECT_GT(cells->size(), 500U);
     EXPECT_LE(cells->size(), 20000U);
 
-    // Legend: cloud, 3 trajectories, voxels, axes.
+    // Legend: cloud, 3 trajectories, loops, voxels, axes.
     const auto legend = byName<mrpt::opengl::CSetOfObjects>(scene, LEGEND_NAME);
     ASSERT_TRUE(legend);
     std::string text;
@@ -85,8 +88,9 @@ TEST(MapScene, hasEveryNamedObjectAndALegendLinePerObject)
             ++labels;
         }
     }
-    EXPECT_EQ(labels, 6U) << text;
-    for (const char* word : {"height", "egomotion", "SLAM", "ground truth", "entropy voxels"})
+    EXPECT_EQ(labels, 7U) << text;
+    for (const char* word :
+         {"height", "egomotion", "SLAM", "ground truth", "loop closures: 1", "entropy voxels"})
     {
         EXPECT_NE(text.find(word), std::string::npos) << word << " missing in\n" << text;
     }
@@ -127,8 +131,10 @@ TEST(MapScene, withoutGroundTruthOrEntropyMapThoseObjectsAreAbsent)
     auto c = f.content();
     c.ground_truth = nullptr;
     c.entropy_map = nullptr;
+    c.loops = nullptr;
     const auto scene = buildMapScene(c);
     EXPECT_FALSE(byName<mrpt::opengl::CSetOfLines>(*scene, GROUND_TRUTH_NAME));
+    EXPECT_FALSE(byName<mrpt::opengl::CSetOfLines>(*scene, LOOPS_NAME));
     EXPECT_FALSE(byName<mrpt::opengl::CSetOfObjects>(*scene, ENTROPY_VOXELS_NAME));
     EXPECT_TRUE(byName<mrpt::opengl::CSetOfLines>(*scene, SLAM_NAME));
 }

@@ -107,6 +107,12 @@ TEST(MapTopView, floorPlanIsNotBlankAndTrajectoriesAreWhereExpected)
                 << style.label << " pose " << i << " at " << px;
         }
     }
+    // The loop closure: orange at its middle, not beyond its end.
+    const auto& [a, b] = f.loops.front();
+    const mrpt::math::TPoint3D middle{(a.x + b.x) / 2, 0.0, (a.z + b.z) / 2};
+    EXPECT_GE(pixelsOfColorNear(view.image, view.toPixel(middle), 2, LOOP_STYLE), 2);
+    const mrpt::math::TPoint3D beyond{b.x + 0.5 * (b.x - a.x), 0.0, b.z + 0.5 * (b.z - a.z)};
+    EXPECT_EQ(pixelsOfColorNear(view.image, view.toPixel(beyond), 2, LOOP_STYLE), 0);
     const auto floor = greyNear(view.image, view.toPixel({0.0, 0.0, 5.0}), 3);
     EXPECT_GT(floor.first, 150.0);
     EXPECT_GT(floor.second, 220.0);

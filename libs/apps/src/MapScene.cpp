@@ -135,6 +135,18 @@ mrpt::opengl::COpenGLScene::Ptr buildMapScene(const MapDrawingContent& c)
     {
         world->insert(trajectoryLines(*c.ground_truth, GROUND_TRUTH_STYLE, GROUND_TRUTH_NAME));
     }
+    if (c.loops && !c.loops->empty())
+    {
+        auto lines = mrpt::opengl::CSetOfLines::Create();
+        lines->setName(LOOPS_NAME);
+        lines->setColor(LOOP_STYLE.r, LOOP_STYLE.g, LOOP_STYLE.b);
+        lines->setLineWidth(1.0f);
+        for (const auto& [a, b] : *c.loops)
+        {
+            lines->appendLine(a.x, a.y, a.z, b.x, b.y, b.z);
+        }
+        world->insert(lines);
+    }
     if (c.entropy_map)
     {
         world->insert(entropyVoxelObject(*c.entropy_map, c.max_voxels));
@@ -188,6 +200,13 @@ mrpt::opengl::COpenGLScene::Ptr buildMapScene(const MapDrawingContent& c)
                 mrpt::img::TColorf(style.r, style.g, style.b), x, y, z);
             next();
         }
+    }
+    if (c.loops && !c.loops->empty())
+    {
+        addLegendLine(
+            *legend, mrpt::format("loop closures: %zu", c.loops->size()),
+            mrpt::img::TColorf(LOOP_STYLE.r, LOOP_STYLE.g, LOOP_STYLE.b), x, y, z);
+        next();
     }
     if (c.entropy_map)
     {

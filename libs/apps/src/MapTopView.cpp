@@ -141,6 +141,19 @@ MapTopView renderTopView(const MapDrawingContent& c, const TopViewOptions& o)
         }
         cv::polylines(view.image, line, false, bgr(style), 2, cv::LINE_AA);
     }
+    const auto pixel = [&](const mrpt::math::TPoint3D& p)
+    {
+        const auto px = view.toPixel(p);
+        return cv::Point(static_cast<int>(std::lround(px.x)), static_cast<int>(std::lround(px.y)));
+    };
+    const bool with_loops = c.loops && !c.loops->empty();
+    if (with_loops)
+    {
+        for (const auto& [a, b] : *c.loops)
+        {
+            cv::line(view.image, pixel(a), pixel(b), bgr(LOOP_STYLE), 1, cv::LINE_AA);
+        }
+    }
 
     if (o.legend)
     {
@@ -157,6 +170,10 @@ MapTopView renderTopView(const MapDrawingContent& c, const TopViewOptions& o)
             {
                 text(style.label, bgr(style));
             }
+        }
+        if (with_loops)
+        {
+            text(LOOP_STYLE.label, bgr(LOOP_STYLE));
         }
         if (c.cloud)
         {

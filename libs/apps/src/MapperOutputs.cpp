@@ -333,12 +333,30 @@ namespace
 struct DrawnTrajectories
 {
     emslam::io::TumTrajectory egomotion, slam, ground_truth;
+    /** The accepted loop edges, their ends at the final poses. */
+    std::vector<std::pair<mrpt::math::TPoint3D, mrpt::math::TPoint3D>> loops;
 
     DrawnTrajectories(const slam::EntropySlam& m, const emslam::io::TumTrajectory& gt)
         : egomotion(tumTrajectoryOf(m.egomotionPoses())),
           slam(tumTrajectoryOf(m.slamPoses())),
           ground_truth(groundTruthInMapFrame(gt, egomotion))
     {
+        const auto& poses = m.slamPoses();
+        for (const auto& e : m.loopCloser().loopEdges())
+        {
+            if (e.frame_from < poses.size() && e.frame_to < poses.size())
+            {
+                loops.emplace_back(
+                    poses[e.frame_from].T_world_frame.asTPose().translation(),
+                    poses[e.frame_to].T_world_frame.asTPose().translation());
+            }
+        }
+    }
+    MapDrawingContent content(const slam::EntropySlam& m) const
+    {
+        MapDrawingContent c = mapDrawingContent(m, egomotion, slam, ground_truth);
+        c.loops = &loops;
+        return c;
     }
 };
 }  // namespace
@@ -349,7 +367,7 @@ void writeScene(
     const std::string& file)
 {
     const DrawnTrajectories t(m, ground_truth);
-    writeMapScene(mapDrawingContent(m, t.egomotion, t.slam, t.ground_truth), file);
+    writeMapScene(t.content(m), file);
 }
 
 void writeTopViewPng(
@@ -358,7 +376,7 @@ void writeTopViewPng(
     const std::string& file)
 {
     const DrawnTrajectories t(m, ground_truth);
-    writeTopView(mapDrawingContent(m, t.egomotion, t.slam, t.ground_truth), file);
+    writeTopView(t.content(m), file);
 }
 
 void writeEntropyMap(const slam::EntropySlam& m, const std::string& file)

@@ -5,8 +5,12 @@
 #include <emslam/maps/CEntropyVoxelMap.h>
 #include <emslam/slam/IntensityCloud.h>
 
+#include <mrpt/math/TPoint3D.h>
+
 #include <cstddef>
 #include <limits>
+#include <utility>
+#include <vector>
 
 namespace emslam::apps
 {
@@ -21,6 +25,8 @@ struct MapDrawingContent
     const emslam::io::TumTrajectory* slam{nullptr};          //!< green
     const emslam::io::TumTrajectory* ground_truth{nullptr};  //!< blue, map frame
     const emslam::CEntropyVoxelMap* entropy_map{nullptr};    //!< its 3D cells
+    /** Loop closures: the two ends of each (orange segments). */
+    const std::vector<std::pair<mrpt::math::TPoint3D, mrpt::math::TPoint3D>>* loops{nullptr};
     /** Cloud points higher than this above the first camera (along −y) are
      * left out, e.g. to see the floor plan under a ceiling [m]; +inf: none. */
     double max_height{std::numeric_limits<double>::infinity()};

@@ -16,6 +16,7 @@ constexpr const char* MAP_CLOUD_NAME = "map cloud";
 constexpr const char* EGOMOTION_NAME = "egomotion trajectory";
 constexpr const char* SLAM_NAME = "SLAM trajectory";
 constexpr const char* GROUND_TRUTH_NAME = "ground truth trajectory";
+constexpr const char* LOOPS_NAME = "loop closures";
 constexpr const char* LEGEND_NAME = "legend";
 /** @} */
 
