@@ -55,6 +55,38 @@ TEST(ExperimentSuite, theShippedSuiteHasEveryExperimentOfThePaper)
     EXPECT_EQ(s.experiments[3].name, "polytechnic_two_floors_loop");
     EXPECT_DOUBLE_EQ(s.experiments[3].paper_slam_gap_m[1], 0.36);
     EXPECT_FALSE(s.experiments[1].loop);  // three corridors: acyclic
+    // The paper's method alone beside everything shipped.
+    ASSERT_EQ(s.variants.size(), 2u);
+    EXPECT_EQ(s.variants[0].name, "paper");
+    EXPECT_EQ(s.variants[0].sets, (std::vector<std::string>{"LoopCloser.enabled=false"}));
+    EXPECT_EQ(s.variants[1].name, "full");
+    EXPECT_TRUE(s.variants[1].sets.empty());
+}
+
+TEST(ExperimentSuite, variantsAreReadInOrderAndSelectedByName)
+{
+    // Without `variants`: one unnamed variant with no overrides.
+    const auto plain = ExperimentSuite::load(writeSuite("suite-plain", GOOD));
+    ASSERT_EQ(plain.variants.size(), 1u);
+    EXPECT_TRUE(plain.variants[0].name.empty());
+    EXPECT_TRUE(plain.variants[0].sets.empty());
+
+    const std::string text =
+        "[Experiments]\nexperiments = a\nvariants = y x\n"
+        "[Variants]\nx = Rectifier.seed=3 Stereo.max_range=9\ny =\n"
+        "[a]\nworld = world.ini\nmappers = mapper.ini\n";
+    const auto s = ExperimentSuite::load(writeSuite("suite-variants", text));
+    ASSERT_EQ(s.variants.size(), 2u);
+    EXPECT_EQ(s.variants[0].name, "y");  // the order of `variants`, not of [Variants]
+    EXPECT_TRUE(s.variants[0].sets.empty());
+    EXPECT_EQ(s.variants[1].name, "x");
+    EXPECT_EQ(
+        s.variants[1].sets, (std::vector<std::string>{"Rectifier.seed=3", "Stereo.max_range=9"}));
+    EXPECT_EQ(s.selectVariants("").size(), 2u);
+    ASSERT_EQ(s.selectVariants("x").size(), 1u);
+    EXPECT_EQ(s.selectVariants("x,y")[0].name, "y");
+    emslam::test::expectThrowContaining(
+        [&] { s.selectVariants("z"); }, {"--variants", "'z'", "valid: y, x"});
 }
 
 TEST(ExperimentSuite, loadsPathsRelativeToTheFileAndEveryKey)
@@ -111,6 +143,18 @@ TEST(ExperimentSuite, badSuitesNameTheFileSectionAndKey)
         {"[Experiments]\nexperiments = a\nquick_frames = 1.5\n[a]\nworld = world.ini\n"
          "mappers = mapper.ini\n",
          {"[Experiments] quick_frames", "'1.5'"}},
+        {"[Experiments]\nexperiments = a\nvariants = p q\n[Variants]\np =\n"
+         "[a]\nworld = world.ini\nmappers = mapper.ini\n",
+         {"[Experiments] variants", "no key 'q' in [Variants]"}},
+        {"[Experiments]\nexperiments = a\nvariants = p p\n[Variants]\np =\n"
+         "[a]\nworld = world.ini\nmappers = mapper.ini\n",
+         {"[Experiments] variants", "'p' is named twice"}},
+        {"[Experiments]\nexperiments = a\nvariants = p\n[Variants]\np = seed=2\n"
+         "[a]\nworld = world.ini\nmappers = mapper.ini\n",
+         {"[Variants] p", "Section.key=value", "'seed=2'"}},
+        {"[Experiments]\nexperiments = a\nvariants = p\n[Variants]\np =\nfull =\n"
+         "[a]\nworld = world.ini\nmappers = mapper.ini\n",
+         {"unknown key 'full'"}},
     };
     int k = 0;
     for (const auto& [text, parts] : cases)

@@ -62,7 +62,8 @@ TEST(ExperimentsApp, quickRunOfThePaperSuiteWritesEveryTableAndRun)
 {
     const std::string out = emslam::test::makeTempDir("experiments-quick");
     ExperimentsApp app;
-    initApp(app, {suite(), "--out", out, "--quick", "--quiet", "--seeds", "7"});
+    initApp(
+        app, {suite(), "--out", out, "--quick", "--quiet", "--seeds", "7", "--variants", "full"});
     app.run();
 
     // Every experiment x energy of the paper, quick_frames frames each.
@@ -80,8 +81,9 @@ TEST(ExperimentsApp, quickRunOfThePaperSuiteWritesEveryTableAndRun)
         EXPECT_GE(r.rectifications, 1u);
         EXPECT_EQ(r.ground_truth.size(), 40u);
         EXPECT_EQ(r.egomotion.size(), 40u);
-        const std::string run =
-            out + "/runs/" + r.experiment + "/" + fs::path(r.mapper).stem().string() + "/seed7";
+        EXPECT_EQ(r.variant, "full");
+        const std::string run = out + "/runs/" + r.experiment + "/" +
+                                fs::path(r.mapper).stem().string() + "/full/seed7";
         for (const char* f :
              {"groundtruth.tum", "trajectory_egomotion.tum", "trajectory_slam.tum", "summary.json",
               "report.html"})
@@ -95,9 +97,11 @@ TEST(ExperimentsApp, quickRunOfThePaperSuiteWritesEveryTableAndRun)
 
     const std::string md = readFile(out + "/experiments.md");
     EXPECT_NE(md.find("--quick"), std::string::npos);
-    EXPECT_NE(md.find("| experiment | energy | seed | path [m] | obs. |"), std::string::npos);
+    EXPECT_NE(
+        md.find("| experiment | energy | variant | seed | path [m] | obs. |"), std::string::npos);
     EXPECT_NE(md.find("paper SLAM gap [m]"), std::string::npos);
     EXPECT_NE(md.find("| three_corridors (open) |"), std::string::npos);
+    EXPECT_NE(md.find("H rect. (before LC)"), std::string::npos);
     EXPECT_EQ(count(md, "\n| "), 1u + 11u);  // header and one row per run (one seed: no medians)
 
     const std::string json = readFile(out + "/experiments.json");
@@ -126,7 +130,7 @@ TEST(ExperimentsApp, energyScanWritesItsCsvAndColumns)
     ExperimentsApp app;
     initApp(
         app, {suite(), "--out", out, "--quick", "--quiet", "--only", "three_corridors", "--seeds",
-              "1", "--energy-scan"});
+              "1", "--energy-scan", "--variants", "full"});
     app.run();
     ASSERT_EQ(app.results().size(), 2u);
     for (const auto& r : app.results())
@@ -137,7 +141,7 @@ TEST(ExperimentsApp, energyScanWritesItsCsvAndColumns)
         EXPECT_GE(r.energy_scan->fraction_at_truth, 0.0);
         EXPECT_LE(r.energy_scan->fraction_at_truth, 1.0);
         const std::string run =
-            out + "/runs/three_corridors/" + fs::path(r.mapper).stem().string() + "/seed1";
+            out + "/runs/three_corridors/" + fs::path(r.mapper).stem().string() + "/full/seed1";
         const std::string csv = readFile(run + "/energy_scan.csv");
         EXPECT_EQ(count(csv, "\n"), 1u + r.energy_scan->lines);
         EXPECT_NE(readFile(run + "/summary.json").find("\"energy_scan\": {"), std::string::npos);
@@ -156,7 +160,7 @@ TEST(ExperimentsApp, severalSeedsGetAMedianRow)
     ExperimentsApp app;
     initApp(
         app, {suite(), "--out", out, "--quick", "--quiet", "--only", "three_corridors", "--seeds",
-              "1,2"});
+              "1,2", "--variants", "paper"});
     app.run();
     ASSERT_EQ(app.results().size(), 4u);
     const std::string md = readFile(out + "/experiments.md");
@@ -172,13 +176,66 @@ TEST(ExperimentsApp, severalSeedsGetAMedianRow)
         << md;
 }
 
+TEST(ExperimentsApp, variantsRunSideBySideAndSetAppliesToEveryRun)
+{
+    const std::string out = emslam::test::makeTempDir("experiments-variants");
+    {
+        ExperimentsApp app;
+        initApp(
+            app, {suite(), "--out", out, "--quick", "--quiet", "--only", "three_corridors",
+                  "--seeds", "3"});
+        app.run();
+        // Per energy: the paper's method alone, then everything shipped.
+        ASSERT_EQ(app.results().size(), 4u);
+        for (std::size_t i = 0; i < 4; ++i)
+        {
+            const auto& r = app.results()[i];
+            SCOPED_TRACE(r.label + " " + r.variant);
+            EXPECT_EQ(r.variant, i % 2 == 0 ? "paper" : "full");
+            EXPECT_TRUE(fs::is_regular_file(
+                out + "/runs/three_corridors/" + fs::path(r.mapper).stem().string() + "/" +
+                r.variant + "/seed3/summary.json"));
+            if (r.variant == "paper")
+            {
+                // No loop closing: SLAM is the rectifier's trajectory, so the
+                // entropy of the output is the rectifier's own.
+                EXPECT_NEAR(r.entropy_slam, r.entropy_rectified, 1e-9 * std::abs(r.entropy_slam));
+            }
+        }
+        const std::string md = readFile(out + "/experiments.md");
+        EXPECT_NE(md.find("| experiment | energy | variant | seed |"), std::string::npos);
+        EXPECT_EQ(count(md, " | paper | 3 |"), 2u) << md;
+        EXPECT_EQ(count(md, " | full | 3 |"), 2u) << md;
+        const std::string json = readFile(out + "/experiments.json");
+        EXPECT_EQ(count(json, "\"variant\": \"paper\""), 2u);
+        EXPECT_EQ(count(json, "\"variant\": \"full\""), 2u);
+    }
+    {
+        // --set comes last, each of them: no rectification and no loop
+        // closing, whatever the variant says.
+        ExperimentsApp app;
+        initApp(
+            app, {suite(), "--out", out, "--quick", "--quiet", "--only", "three_corridors",
+                  "--seeds", "3", "--variants", "full", "--set", "Mapper.egomotion_only=true",
+                  "--set", "LoopCloser.enabled=false"});
+        app.run();
+        ASSERT_EQ(app.results().size(), 2u);
+        for (const auto& r : app.results())
+        {
+            EXPECT_EQ(r.rectifications, 0u) << r.label;
+            EXPECT_NEAR(r.entropy_slam, r.entropy_rectified, 1e-9 * std::abs(r.entropy_slam))
+                << r.label;
+        }
+    }
+}
+
 TEST(ExperimentsApp, exactDepthFeedsTheRenderersDepth)
 {
     const std::string out = emslam::test::makeTempDir("experiments-exact");
     ExperimentsApp app;
     initApp(
         app, {suite(), "--out", out, "--quick", "--quiet", "--exact-depth", "--only",
-              "polytechnic_two_floors_loop"});
+              "polytechnic_two_floors_loop", "--variants", "full"});
     app.run();
     ASSERT_EQ(app.results().size(), 2u);
     for (const auto& r : app.results())
@@ -246,6 +303,23 @@ TEST(ExperimentsApp, badArgumentsAreRefusedBeforeAnyWork)
                 initApp(app, {"missing.ini", "--out", out});
             },
             {"missing.ini", "not a file"});
+    }
+    {
+        ExperimentsApp app;
+        emslam::test::expectThrowContaining(
+            [&] {
+                initApp(app, {suite(), "--out", out, "--variants", "ful"});
+            },
+            {"--variants", "'ful'", "valid: paper, full"});
+    }
+    {
+        // A bad override is refused before the first run, naming the variant.
+        ExperimentsApp app;
+        emslam::test::expectThrowContaining(
+            [&] {
+                initApp(app, {suite(), "--out", out, "--set", "Rectifier.nope=1"});
+            },
+            {"[hall_double_loop] variant 'paper'", "nope"});
     }
     {
         // An --out that is a file, or in which a report name is a folder,

@@ -63,6 +63,8 @@ const std::vector<Column>& columns()
         {"H truth", "entropy_truth", 3, [](const R& r) { return r.entropy_truth; }},
         {"H ego", "entropy_egomotion", 3, [](const R& r) { return r.entropy_egomotion; }},
         {"H SLAM", "entropy_slam", 3, [](const R& r) { return r.entropy_slam; }},
+        {"H rect. (before LC)", "entropy_rectified", 3,
+         [](const R& r) { return r.entropy_rectified; }},
         {"H phase spread", "entropy_phase_spread", 3,
          [](const R& r) { return r.entropy_phase_spread; }},
         {"scan at truth", "scan_fraction_at_truth", 2,
@@ -122,7 +124,7 @@ std::vector<Row> tableRows(const std::vector<ExperimentResult>& results)
     {
         std::size_t j = i;
         while (j < results.size() && results[j].experiment == results[i].experiment &&
-               results[j].mapper == results[i].mapper)
+               results[j].mapper == results[i].mapper && results[j].variant == results[i].variant)
         {
             Row r{&results[j], std::to_string(results[j].seed), {}};
             if (results[j].interrupted)
@@ -160,8 +162,16 @@ std::string experimentName(const ExperimentResult& r)
     return r.experiment + (r.loop ? "" : " (open)");
 }
 
+/** A variant column only when the runs have named variants. */
+bool withVariants(const std::vector<Row>& rows)
+{
+    return std::any_of(
+        rows.begin(), rows.end(), [](const Row& r) { return !r.first->variant.empty(); });
+}
+
 std::string markdown(const std::vector<Row>& rows, const ExperimentReportInfo& info)
 {
+    const bool variants = withVariants(rows);
     std::ostringstream s;
     s << "# emslam: the paper's experiments\n\n"
       << "Made by `" << info.command << "`"
@@ -179,13 +189,15 @@ std::string markdown(const std::vector<Row>& rows, const ExperimentReportInfo& i
          "(--energy-scan): the fraction of scanned lines (one action perturbed along one "
          "dimension around the truth) whose minimum is at the truth, and the median |offset| of "
          "the minimum over the translation and the rotation lines (runs/.../energy_scan.csv "
-         "has every line). Paper figures: Sáez & Escolano, §3 (– where the paper gives none).\n\n"
-      << "| experiment | energy | seed |";
+         "has every line). H rect. (before LC): the same entropy at the rectifier's element "
+         "poses, before loop closing moved them. Paper figures: Sáez & Escolano, §3 (– where "
+         "the paper gives none).\n\n"
+      << "| experiment | energy |" << (variants ? " variant |" : "") << " seed |";
     for (const auto& c : columns())
     {
         s << ' ' << c.header << " |";
     }
-    s << "\n|---|---|---|";
+    s << "\n|---|---|" << (variants ? "---|" : "") << "---|";
     for (std::size_t c = 0; c < columns().size(); ++c)
     {
         s << "---:|";
@@ -195,7 +207,12 @@ std::string markdown(const std::vector<Row>& rows, const ExperimentReportInfo& i
     {
         const std::string b = r.median ? "**" : "";
         s << "| " << b << experimentName(*r.first) << b << " | " << b << r.first->label << " ("
-          << r.first->energy << ")" << b << " | " << b << r.seed << b << " |";
+          << r.first->energy << ")" << b << " | ";
+        if (variants)
+        {
+            s << b << r.first->variant << b << " | ";
+        }
+        s << b << r.seed << b << " |";
         for (std::size_t c = 0; c < columns().size(); ++c)
         {
             s << ' ' << b << cell(r.values[c], columns()[c].decimals) << b << " |";
@@ -233,7 +250,8 @@ std::string json(const std::vector<Row>& rows, const ExperimentReportInfo& info)
               << ", \"loop\": " << (r.first->loop ? "true" : "false")
               << ", \"mapper\": " << io::jsonString(r.first->mapper)
               << ", \"energy\": " << io::jsonString(r.first->energy)
-              << ", \"label\": " << io::jsonString(r.first->label);
+              << ", \"label\": " << io::jsonString(r.first->label)
+              << ", \"variant\": " << io::jsonString(r.first->variant);
             if (r.median)
             {
                 s << ", \"seeds\": " << io::jsonString(r.seed);
@@ -264,7 +282,7 @@ std::string topViews(const std::vector<ExperimentResult>& results)
     std::string current;
     for (const auto& r : results)
     {
-        const std::string id = r.experiment + "/" + r.mapper;
+        const std::string id = r.experiment + "/" + r.mapper + "/" + r.variant;
         if (!shown.insert(id).second)
         {
             continue;
@@ -280,13 +298,14 @@ std::string topViews(const std::vector<ExperimentResult>& results)
             {&r.ground_truth, "ground truth", GT_COLOUR, "6,4"},
             {&r.egomotion, "egomotion", EGO_COLOUR, ""},
             {&r.slam, "SLAM", SLAM_COLOUR, ""}};
-        const std::string title = r.label + " (" + r.energy + "), seed " + std::to_string(r.seed) +
-                                  (r.loop ? ": gap " : ": end error ") +
-                                  cell(r.egomotion_gap_m, 2) + " m → " + cell(r.slam_gap_m, 2) +
-                                  " m";
+        const std::string title =
+            r.label + " (" + r.energy + ")" + (r.variant.empty() ? "" : ", " + r.variant) +
+            ", seed " + std::to_string(r.seed) + (r.loop ? ": gap " : ": end error ") +
+            cell(r.egomotion_gap_m, 2) + " m → " + cell(r.slam_gap_m, 2) + " m";
         s << trajectoryPlot(
-            tracks, "top-" + r.experiment + "-" + r.energy, title, topViewProjection, "x [m]",
-            "z [m]", 240, 560);
+            tracks,
+            "top-" + r.experiment + "-" + r.energy + (r.variant.empty() ? "" : "-" + r.variant),
+            title, topViewProjection, "x [m]", "z [m]", 240, 560);
     }
     if (!current.empty())
     {
@@ -301,6 +320,7 @@ std::string html(
     const ExperimentReportInfo& info)
 {
     using emslam::apps::svg::escapeHtml;
+    const bool variants = withVariants(rows);
     std::ostringstream s;
     s << "<!DOCTYPE html>\n<html lang=\"en\"><head><meta charset=\"utf-8\">"
       << "<title>emslam: the paper's experiments</title>\n<style>"
@@ -322,7 +342,8 @@ std::string html(
       << " min. Gaps: end-point error after anchoring at the first pose (the loop gap on "
          "a loop); ATE after SE(3) alignment; H: the paper's entropy of the final map at "
          "the ground truth, the egomotion and SLAM.</p>\n<table id=\"experiments\">\n<tr>"
-      << "<th>experiment</th><th>energy</th><th>seed</th>";
+      << "<th>experiment</th><th>energy</th>" << (variants ? "<th>variant</th>" : "")
+      << "<th>seed</th>";
     for (const auto& c : columns())
     {
         s << "<th>" << escapeHtml(c.header) << "</th>";
@@ -332,8 +353,12 @@ std::string html(
     {
         s << "<tr" << (r.median ? " class=\"median\"" : "") << "><td class=\"l\">"
           << escapeHtml(experimentName(*r.first)) << "</td><td class=\"l\">"
-          << escapeHtml(r.first->label + " (" + r.first->energy + ")") << "</td><td class=\"l\">"
-          << escapeHtml(r.seed) << "</td>";
+          << escapeHtml(r.first->label + " (" + r.first->energy + ")") << "</td>";
+        if (variants)
+        {
+            s << "<td class=\"l\">" << escapeHtml(r.first->variant) << "</td>";
+        }
+        s << "<td class=\"l\">" << escapeHtml(r.seed) << "</td>";
         for (std::size_t c = 0; c < columns().size(); ++c)
         {
             s << "<td>" << cell(r.values[c], columns()[c].decimals) << "</td>";

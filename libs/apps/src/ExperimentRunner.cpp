@@ -116,6 +116,18 @@ std::string paperEnergyLabel(const std::string& energy)
     return "Exp. " + std::to_string(8 + static_cast<int>(e));
 }
 
+slam::EntropySlam::TParameters experimentMapperParameters(
+    const ExperimentSpec& spec, std::size_t mapper_index, const std::vector<std::string>& sets)
+{
+    if (mapper_index >= spec.mappers.size())
+    {
+        throw std::out_of_range("runExperiment: no mapper " + std::to_string(mapper_index));
+    }
+    std::vector<std::string> all = spec.sets;
+    all.insert(all.end(), sets.begin(), sets.end());
+    return loadMapper(spec.mappers[mapper_index], all);
+}
+
 ExperimentResult runExperiment(
     const ExperimentSpec& spec,
     std::size_t mapper_index,
@@ -123,13 +135,10 @@ ExperimentResult runExperiment(
     const ExperimentRunOptions& options)
 {
     const auto t_start = std::chrono::steady_clock::now();
-    if (mapper_index >= spec.mappers.size())
-    {
-        throw std::out_of_range("runExperiment: no mapper " + std::to_string(mapper_index));
-    }
+    const slam::EntropySlam::TParameters p =
+        experimentMapperParameters(spec, mapper_index, options.sets);
     const std::string& mapper_file = spec.mappers[mapper_index];
     const emslam::sim::StereoSimulator sim = loadWorld(spec.world, seed);
-    const slam::EntropySlam::TParameters p = loadMapper(mapper_file, spec.sets);
 
     ExperimentResult r;
     r.experiment = spec.name;
@@ -138,6 +147,7 @@ ExperimentResult runExperiment(
     r.mapper = std::filesystem::path(mapper_file).filename().string();
     r.energy = emslam::maps::toString(p.map.energy);
     r.label = paperEnergyLabel(r.energy);
+    r.variant = options.variant;
     r.seed = seed;
     r.loop = spec.loop;
     r.paper_path_m = spec.paper_path_m;
@@ -211,6 +221,7 @@ ExperimentResult runExperiment(
     if (!traj.empty())
     {
         const auto& ego = r.egomotion.poses;
+        const auto& out = r.slam.poses;
         const auto at_truth =
             emslam::rectify::elementPosesAt(traj, [&](std::size_t i) { return truth.at(i); });
         r.entropy_truth = emslam::rectify::entropyAtElementPoses(traj, at_truth);
@@ -218,12 +229,15 @@ ExperimentResult runExperiment(
         r.entropy_egomotion = emslam::rectify::entropyAtElementPoses(
             traj,
             emslam::rectify::elementPosesAt(traj, [&](std::size_t i) { return ego.at(i).pose; }));
-        std::vector<mrpt::poses::CPose3D> slam_elements;
+        r.entropy_slam = emslam::rectify::entropyAtElementPoses(
+            traj,
+            emslam::rectify::elementPosesAt(traj, [&](std::size_t i) { return out.at(i).pose; }));
+        std::vector<mrpt::poses::CPose3D> rectified_elements;
         for (std::size_t i = 0; i < traj.size(); ++i)
         {
-            slam_elements.push_back(traj.pose(i));
+            rectified_elements.push_back(traj.pose(i));
         }
-        r.entropy_slam = emslam::rectify::entropyAtElementPoses(traj, slam_elements);
+        r.entropy_rectified = emslam::rectify::entropyAtElementPoses(traj, rectified_elements);
     }
     r.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t_start).count();
     info.seconds = r.seconds;

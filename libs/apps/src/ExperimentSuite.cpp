@@ -19,7 +19,8 @@ namespace emslam::apps
 namespace
 {
 constexpr const char* SUITE_SECTION = "Experiments";
-const std::vector<std::string> SUITE_KEYS{"experiments", "seeds", "quick_frames"};
+constexpr const char* VARIANTS_SECTION = "Variants";
+const std::vector<std::string> SUITE_KEYS{"experiments", "seeds", "quick_frames", "variants"};
 const std::vector<std::string> EXPERIMENT_KEYS{
     "title",
     "figure",
@@ -194,6 +195,7 @@ ExperimentSuite ExperimentSuite::load(const std::string& file)
     const mrpt::config::CConfigFileMemory cfg(io::readIniFile(file, "experiment set"));
     SuiteReader r(file, cfg);
     const auto names = words(r.text(SUITE_SECTION, "experiments", true));
+    const auto variant_names = words(r.text(SUITE_SECTION, "variants", false));
 
     // Every section and key must be one we read: a typo must not go unnoticed.
     mrpt::config::CConfigFileMemory reference;
@@ -211,6 +213,20 @@ ExperimentSuite ExperimentSuite::load(const std::string& file)
         {
             reference.write(n, k, "x");
         }
+    }
+    std::vector<std::string> defined;
+    cfg.getAllKeys(VARIANTS_SECTION, defined);
+    for (const auto& v : variant_names)
+    {
+        if (std::find(defined.begin(), defined.end(), v) == defined.end())
+        {
+            r.fail(SUITE_SECTION, "variants", "no key '" + v + "' in [Variants]");
+        }
+        if (std::count(variant_names.begin(), variant_names.end(), v) > 1)
+        {
+            r.fail(SUITE_SECTION, "variants", "'" + v + "' is named twice");
+        }
+        reference.write(VARIANTS_SECTION, v, "x");
     }
     const auto problems = findUnknownConfigEntries(cfg, reference);
     if (!problems.empty())
@@ -246,6 +262,22 @@ ExperimentSuite ExperimentSuite::load(const std::string& file)
     {
         suite.experiments.push_back(r.experiment(n));
     }
+    if (!variant_names.empty())
+    {
+        suite.variants.clear();
+        for (const auto& v : variant_names)
+        {
+            ExperimentVariant variant{v, words(r.text(VARIANTS_SECTION, v, false))};
+            for (const auto& s : variant.sets)
+            {
+                if (s.find('=') == std::string::npos || s.find('.') > s.find('='))
+                {
+                    r.fail(VARIANTS_SECTION, v, "expected Section.key=value, got '" + s + "'");
+                }
+            }
+            suite.variants.push_back(std::move(variant));
+        }
+    }
     if (suite.experiments.empty())
     {
         r.fail(SUITE_SECTION, "experiments", "the list is empty");
@@ -253,43 +285,55 @@ ExperimentSuite ExperimentSuite::load(const std::string& file)
     return suite;
 }
 
-std::vector<ExperimentSpec> ExperimentSuite::select(const std::string& only) const
+namespace
+{
+/** The items of `all` named in `only` (comma-separated; empty: all), in
+ * `all`'s order; `what` names the option in the error. */
+template <class T>
+std::vector<T> selectByName(
+    const std::vector<T>& all,
+    const std::string& only,
+    const std::string& option,
+    const std::string& kind)
 {
     if (only.empty())
     {
-        return experiments;
+        return all;
     }
     const auto wanted = commaOrSpaceSeparated(only);
     for (const auto& w : wanted)
     {
-        bool known = false;
-        for (const auto& e : experiments)
-        {
-            known = known || e.name == w;
-        }
-        if (!known)
+        if (std::none_of(all.begin(), all.end(), [&](const T& x) { return x.name == w; }))
         {
             std::string valid;
-            for (const auto& e : experiments)
+            for (const auto& x : all)
             {
-                valid += (valid.empty() ? "" : ", ") + e.name;
+                valid += (valid.empty() ? "" : ", ") + x.name;
             }
-            throw std::invalid_argument("--only: no experiment '" + w + "' (valid: " + valid + ")");
+            throw std::invalid_argument(
+                option + ": no " + kind + " '" + w + "' (valid: " + valid + ")");
         }
     }
-    std::vector<ExperimentSpec> out;
-    for (const auto& e : experiments)
+    std::vector<T> out;
+    for (const auto& x : all)
     {
-        for (const auto& w : wanted)
+        if (std::find(wanted.begin(), wanted.end(), x.name) != wanted.end())
         {
-            if (e.name == w)
-            {
-                out.push_back(e);
-                break;
-            }
+            out.push_back(x);
         }
     }
     return out;
+}
+}  // namespace
+
+std::vector<ExperimentVariant> ExperimentSuite::selectVariants(const std::string& only) const
+{
+    return selectByName(variants, only, "--variants", "variant");
+}
+
+std::vector<ExperimentSpec> ExperimentSuite::select(const std::string& only) const
+{
+    return selectByName(experiments, only, "--only", "experiment");
 }
 
 }  // namespace emslam::apps

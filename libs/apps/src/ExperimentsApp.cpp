@@ -19,6 +19,22 @@ namespace emslam::apps
 namespace
 {
 constexpr const char* PROGRAM = "emslam-experiments";
+
+/** Every (variant, seed) pair, the seeds of one variant together: the table
+ * shows a variant's seeds and their median, then the next variant's. */
+std::vector<std::pair<const ExperimentVariant*, int>> runsOf(
+    const std::vector<ExperimentVariant>& variants, const std::vector<int>& seeds)
+{
+    std::vector<std::pair<const ExperimentVariant*, int>> runs;
+    for (const auto& v : variants)
+    {
+        for (const int seed : seeds)
+        {
+            runs.emplace_back(&v, seed);
+        }
+    }
+    return runs;
+}
 }  // namespace
 
 ExperimentsApp::ExperimentsApp() : App(PROGRAM) {}
@@ -45,6 +61,14 @@ bool ExperimentsApp::parseArguments(int argc, const char** argv)
     TCLAP::ValueArg<std::string> seeds(
         "", "seeds", "World seeds (default: [Experiments] seeds of the suite)", false, "",
         "S[,S...]", cmd);
+    TCLAP::ValueArg<std::string> variants(
+        "", "variants",
+        "Only these variants of the suite ([Experiments] variants; default: all of them)", false,
+        "", "NAME[,NAME]", cmd);
+    addSetOption(
+        cmd,
+        "Override a mapper parameter in every run (after the experiment's set and the "
+        "variant's): SECTION.key=value");
     TCLAP::SwitchArg quick(
         "", "quick",
         "Smoke run: the first [Experiments] quick_frames frames of each run, and only the "
@@ -78,6 +102,31 @@ bool ExperimentsApp::parseArguments(int argc, const char** argv)
     m_energy_scan = energy_scan.getValue();
     const ExperimentSuite s = ExperimentSuite::load(m_suite_file);
     m_experiments = s.select(only.getValue());
+    m_variants = s.selectVariants(variants.getValue());
+    for (auto& v : m_variants)
+    {
+        v.sets.insert(v.sets.end(), overrides().begin(), overrides().end());
+    }
+    // Before hours of runs: every configuration must load.
+    for (const auto& e : m_experiments)
+    {
+        for (std::size_t m = 0; m < e.mappers.size(); ++m)
+        {
+            for (const auto& v : m_variants)
+            {
+                try
+                {
+                    experimentMapperParameters(e, m, v.sets);
+                }
+                catch (const std::exception& ex)
+                {
+                    throw std::invalid_argument(
+                        "[" + e.name + "]" + (v.name.empty() ? "" : " variant '" + v.name + "'") +
+                        ": " + ex.what());
+                }
+            }
+        }
+    }
     m_seeds = seeds.isSet() ? parseSeedList(seeds.getValue()) : s.seeds;
     if (m_quick && !seeds.isSet())
     {
@@ -110,7 +159,7 @@ void ExperimentsApp::execute()
     std::size_t total = 0;
     for (const auto& e : m_experiments)
     {
-        total += e.mappers.size() * m_seeds.size();
+        total += e.mappers.size() * m_variants.size() * m_seeds.size();
     }
     ExperimentReportInfo info;
     info.command = m_command;
@@ -126,7 +175,7 @@ void ExperimentsApp::execute()
     {
         for (std::size_t m = 0; m < e.mappers.size() && !StopSignal::requested(); ++m)
         {
-            for (const int seed : m_seeds)
+            for (const auto& [variant, seed] : runsOf(m_variants, m_seeds))
             {
                 if (StopSignal::requested())
                 {
@@ -135,15 +184,19 @@ void ExperimentsApp::execute()
                 ++k;
                 const std::string mapper = std::filesystem::path(e.mappers[m]).stem().string();
                 const std::string what = "[" + std::to_string(k) + "/" + std::to_string(total) +
-                                         "] " + e.name + " " + mapper + " seed " +
-                                         std::to_string(seed);
+                                         "] " + e.name + " " + mapper +
+                                         (variant->name.empty() ? "" : " " + variant->name) +
+                                         " seed " + std::to_string(seed);
                 ProgressLine progress(std::string(PROGRAM) + ": " + what, 1, !quiet());
                 ExperimentRunOptions opt;
                 opt.max_frames = m_quick ? m_quick_frames : 0;
                 opt.exact_depth = m_exact_depth;
                 opt.energy_scan = m_energy_scan;
-                opt.out_dir =
-                    m_out + "/runs/" + e.name + "/" + mapper + "/seed" + std::to_string(seed);
+                opt.sets = variant->sets;
+                opt.variant = variant->name;
+                opt.out_dir = m_out + "/runs/" + e.name + "/" + mapper + "/" +
+                              (variant->name.empty() ? "" : variant->name + "/") + "seed" +
+                              std::to_string(seed);
                 opt.on_frame = [&](std::size_t done, std::size_t n)
                 {
                     progress.updateFraction(done, static_cast<double>(done) / n);

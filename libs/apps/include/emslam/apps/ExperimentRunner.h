@@ -4,6 +4,7 @@
 #include <emslam/apps/ExperimentSuite.h>
 #include <emslam/io/TumTrajectory.h>
 #include <emslam/rectify/EnergyScan.h>
+#include <emslam/slam/EntropySlam.h>
 
 #include <cstddef>
 #include <functional>
@@ -20,9 +21,10 @@ namespace emslam::apps
 struct ExperimentResult
 {
     std::string experiment, title, figure;
-    std::string mapper;  //!< the mapper INI's file name
-    std::string energy;  //!< e.g. "planar_low_structured"
-    std::string label;   //!< the paper's name of the energy, e.g. "Exp. 11"
+    std::string mapper;   //!< the mapper INI's file name
+    std::string energy;   //!< e.g. "planar_low_structured"
+    std::string label;    //!< the paper's name of the energy, e.g. "Exp. 11"
+    std::string variant;  //!< ExperimentVariant::name (empty: the only one)
     int seed{1};
     bool loop{true};
     bool interrupted{false};  //!< stopped by Ctrl-C: a partial run
@@ -37,9 +39,12 @@ struct ExperimentResult
     std::size_t rectifications{0}, attempts{0}, successes{0};
     double rect_median_ms{0}, rect_max_ms{0};  //!< per call [ms]
     /** The paper's entropy (no prior) of the final map's elements placed by
-     * the ground truth, by the egomotion and by SLAM: is the minimum at the
-     * truth, and did the search reach it? */
+     * the ground truth, by the egomotion and by SLAM (the output
+     * trajectory): is the minimum at the truth, and did the search reach it? */
     double entropy_truth{0}, entropy_egomotion{0}, entropy_slam{0};
+    /** The same entropy at the rectifier's own element poses, before loop
+     * closing moved them (equal to entropy_slam without loop closing). */
+    double entropy_rectified{0};
     /** How much the entropy of the same true map changes when the whole map
      * is moved by 1/4, 1/2 and 3/4 of a cell along (1, 1, 1): max − min over
      * the four grid phases. A rectification whose "gain" is smaller than this
@@ -66,6 +71,11 @@ std::string paperEnergyLabel(const std::string& energy);
 /** How runExperiment() runs. */
 struct ExperimentRunOptions
 {
+    /** `Section.key=value` overrides applied after the spec's `set` (a
+     * variant's, the command line's). */
+    std::vector<std::string> sets;
+    /** ExperimentResult::variant of the result. */
+    std::string variant;
     /** Frames rendered and mapped (0: the whole trajectory). */
     std::size_t max_frames{0};
     /** Folder for this run's trajectories, summary.json and report.html
@@ -84,8 +94,15 @@ struct ExperimentRunOptions
     std::function<bool(std::size_t, std::size_t)> on_frame;
 };
 
+/** The mapper parameters of run `mapper_index` of `spec`: its INI, then the
+ * spec's `set`, then `sets`. Throws naming the file on an unreadable INI,
+ * an unknown key or a bad value, so that a suite can be checked before its
+ * first run. \ingroup emslam_apps_grp */
+slam::EntropySlam::TParameters experimentMapperParameters(
+    const ExperimentSpec& spec, std::size_t mapper_index, const std::vector<std::string>& sets);
+
 /** Renders the world of `spec` with world seed `seed`, maps it with mapper
- * INI `mapper_index` (plus the spec's `set` overrides) and measures the
+ * INI `mapper_index` (plus the spec's `set` overrides, then the options') and measures the
  * result against the exact ground truth. Throws naming the file on bad
  * configuration. \ingroup emslam_apps_grp */
 ExperimentResult runExperiment(

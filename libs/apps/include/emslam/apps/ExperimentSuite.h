@@ -32,12 +32,27 @@ struct ExperimentSpec
     std::vector<double> paper_slam_gap_m;
 };
 
+/** One way of running every experiment of a suite: overrides applied to
+ * every mapper INI after the experiment's own `set`, e.g. `paper`
+ * (`LoopCloser.enabled=false`: the paper's method alone) beside `full`
+ * (none: everything the configs ship). \ingroup emslam_apps_grp */
+struct ExperimentVariant
+{
+    std::string name;               //!< a column of the tables; empty: the only, unnamed one
+    std::vector<std::string> sets;  //!< `Section.key=value`
+};
+
 /** The experiment set `emslam-experiments` runs, from an INI file:
  * \code
  * [Experiments]
  * experiments = hall_double_loop three_corridors   ; section names, in order
  * seeds = 1 2 3                                    ; world seeds (--seeds overrides)
  * quick_frames = 60                                ; frames per run with --quick
+ * variants = paper full                            ; optional: [Variants] keys, in order
+ *
+ * [Variants]                                       ; needed with `variants`
+ * paper = LoopCloser.enabled=false                 ; overrides, after each `set`
+ * full =                                           ; none
  *
  * [hall_double_loop]
  * title = Hall double loop (3DOF robot)
@@ -57,6 +72,8 @@ struct ExperimentSuite
     std::vector<ExperimentSpec> experiments;
     std::vector<int> seeds{1, 2, 3};
     std::size_t quick_frames{60};
+    /** At least one (without `variants`: one unnamed, with no overrides). */
+    std::vector<ExperimentVariant> variants{ExperimentVariant{}};
 
     /** Reads and checks `file`: unknown sections and keys (with the closest
      * valid name), missing worlds or mapper INIs, list lengths that do not
@@ -67,6 +84,9 @@ struct ExperimentSuite
     /** The experiments named in `only` (comma-separated; empty: all), in the
      * suite's order; throws naming an unknown name and the valid ones. */
     std::vector<ExperimentSpec> select(const std::string& only) const;
+    /** The variants named in `only` (comma-separated; empty: all), in the
+     * suite's order; throws naming an unknown name and the valid ones. */
+    std::vector<ExperimentVariant> selectVariants(const std::string& only) const;
 };
 
 /** "1,2,3" or "1 2 3" → {1, 2, 3}; throws std::invalid_argument on anything

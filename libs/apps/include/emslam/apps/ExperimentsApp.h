@@ -19,8 +19,11 @@ namespace emslam::apps
  *
  * \code
  * emslam-experiments SUITE.ini --out DIR [--only NAME[,NAME...]] [--seeds 1,2,3]
+ *                    [--variants NAME[,NAME...]] [--set Section.key=value ...]
  *                    [--quick] [--exact-depth] [--energy-scan] [--quiet]
  * \endcode
+ * - `--variants`: only these of the suite's variants (ExperimentVariant);
+ *   `--set`: overrides applied to every run, after the variant's.
  * - `--quick`: only the suite's `quick_frames` first frames of each run and,
  *   unless `--seeds` is given, only the first seed (a smoke test of the
  *   whole chain, a minute).
@@ -52,6 +55,7 @@ private:
     bool m_energy_scan{false};
     std::string m_suite_file, m_out, m_command;
     std::vector<ExperimentSpec> m_experiments;
+    std::vector<ExperimentVariant> m_variants;
     std::vector<int> m_seeds;
     std::size_t m_quick_frames{0};
     std::vector<ExperimentResult> m_results;
