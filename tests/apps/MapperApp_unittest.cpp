@@ -17,8 +17,10 @@
 #include <emslam/io/TumTrajectory.h>
 #include <emslam/maps/CEntropyVoxelMap.h>
 
+#include <mrpt/io/CFileGZInputStream.h>
 #include <mrpt/io/CFileGZOutputStream.h>
 #include <mrpt/io/CFileInputStream.h>
+#include <mrpt/maps/COccupancyGridMap2D.h>
 #include <mrpt/obs/CObservationOdometry.h>
 #include <mrpt/obs/CObservationStereoImages.h>
 #include <mrpt/opengl/COpenGLScene.h>
@@ -206,6 +208,32 @@ TEST(MapperApp, mapsASimulatedRawlogAndWritesEveryOutput)
     mrpt::opengl::COpenGLScene voxels;
     EXPECT_TRUE(voxels.loadFromFile(out + "/entropy_map.3Dscene"));
     EXPECT_TRUE(voxels.getByName(emslam::apps::ENTROPY_VOXELS_NAME));
+
+    // The occupancy grid: an MRPT grid in a gzip file, free space around the
+    // path, obstacles met, and its picture.
+    {
+        mrpt::io::CFileGZInputStream g(out + "/map_grid.gridmap");
+        mrpt::maps::COccupancyGridMap2D grid;
+        mrpt::serialization::archiveFrom(g) >> grid;
+        EXPECT_NEAR(grid.getResolution(), 0.1, 1e-6);
+        std::size_t free = 0, occupied = 0;
+        for (unsigned cy = 0; cy < grid.getSizeY(); ++cy)
+        {
+            for (unsigned cx = 0; cx < grid.getSizeX(); ++cx)
+            {
+                free += grid.getCell(cx, cy) > 0.9f;
+                occupied += grid.getCell(cx, cy) < 0.1f;
+            }
+        }
+        EXPECT_GT(free, 200U);
+        EXPECT_GT(occupied, 20U);
+        // The first camera's position (the map origin) was seen from: free.
+        EXPECT_GT(grid.getPos(0.05f, 0.0f), 0.9f);
+        const cv::Mat picture = cv::imread(out + "/map_grid.png", cv::IMREAD_GRAYSCALE);
+        ASSERT_FALSE(picture.empty());
+        EXPECT_EQ(picture.cols, static_cast<int>(grid.getSizeX()));
+        EXPECT_EQ(picture.rows, static_cast<int>(grid.getSizeY()));
+    }
 
     mrpt::io::CFileInputStream f(out + "/entropy_map.bin");
     auto obj = mrpt::serialization::archiveFrom(f).ReadObject();
@@ -701,7 +729,8 @@ TEST(MapperApp, fullDiskKeepsTheSmallOutputsAndNamesTheFileAndReason)
     {
         EXPECT_TRUE(std::filesystem::is_regular_file(out + "/" + f)) << f;
     }
-    for (const char* f : {"map.3Dscene", "map_top.png", "entropy_map.bin", "report.html"})
+    for (const char* f :
+         {"map.3Dscene", "map_top.png", "map_grid.gridmap", "entropy_map.bin", "report.html"})
     {
         EXPECT_FALSE(std::filesystem::exists(out + "/" + f)) << f;
     }

@@ -7,9 +7,12 @@
 #include <emslam/apps/MapperOutputs.h>
 #include <emslam/io/AtomicFile.h>
 #include <emslam/io/AtomicTextFile.h>
+#include <emslam/io/GzOutputStream.h>
+#include <emslam/io/ImageOutput.h>
 #include <emslam/io/Json.h>
 #include <emslam/io/OutputFile.h>
 #include <emslam/maps/EntropyEnergy.h>
+#include <emslam/slam/OccupancyGridBuilder.h>
 
 #include <mrpt/core/bits_math.h>
 #include <mrpt/serialization/CArchive.h>
@@ -377,6 +380,35 @@ void writeTopViewPng(
 {
     const DrawnTrajectories t(m, ground_truth);
     writeTopView(t.content(m), file);
+}
+
+void writeOccupancyGrid(
+    const slam::EntropySlam& m, const std::string& gridmap_file, const std::string& png_file)
+{
+    if (m.parameters().occupancy_grid.cell_size <= 0)
+    {
+        return;
+    }
+    slam::OccupancyGridBuilder builder(m.parameters().occupancy_grid);
+    const mrpt::maps::COccupancyGridMap2D grid = builder.build(m.mapCloud(), m.keyframePoses());
+    io::writeFileAtomically(
+        gridmap_file,
+        [&](const std::string& partial)
+        {
+            io::GzOutputStream f(partial, 1, gridmap_file);
+            mrpt::serialization::archiveFrom(f) << grid;
+            f.close();
+            return true;
+        });
+    mrpt::img::CImage picture;
+    grid.getAsImage(picture, true);  // +Y (left) up
+    io::writeFileAtomically(
+        png_file,
+        [&](const std::string& partial)
+        {
+            io::writeImageFile(partial, picture.asCvMatRef(), png_file);
+            return true;
+        });
 }
 
 void writeEntropyMap(const slam::EntropySlam& m, const std::string& file)

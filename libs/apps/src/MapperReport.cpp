@@ -410,6 +410,8 @@ const std::vector<std::pair<std::string, std::string>> KNOWN_OUTPUTS = {
     {"map.ply", "map point cloud (PLY)"},
     {"map.3Dscene", "map and trajectories for SceneViewer3D"},
     {"map_top.png", "top view of the map"},
+    {"map_grid.gridmap", "2D occupancy grid (MRPT COccupancyGridMap2D, gzip-serialized)"},
+    {"map_grid.png", "the occupancy grid: free white, occupied black, unknown grey"},
     {"entropy_map.bin", "serialized CEntropyVoxelMap (emslam-mapview opens it)"},
     {"entropy_map.3Dscene", "the entropy voxels for SceneViewer3D"},
     {"stats.csv", "per-frame and per-rectification statistics"},

@@ -26,6 +26,7 @@ constexpr const char* MAP_SECTION = "EntropyVoxelMap";
 constexpr const char* SAMPLING_SECTION = "SpaceSampling";
 constexpr const char* RECTIFIER_SECTION = "Rectifier";
 constexpr const char* LOOP_CLOSER_SECTION = "LoopCloser";
+constexpr const char* OCCUPANCY_GRID_SECTION = "OccupancyGrid";
 /** A failed egomotion step is predicted by the previous one, and may be off
  * by that whole motion or at least by these. */
 constexpr double FAILED_STEP_MIN_SIGMA_XYZ = 0.1;      // [m]
@@ -129,6 +130,9 @@ void EntropySlam::TParameters::loadFromConfigFile(const mrpt::config::CConfigFil
     loadSection(MAPPER_SECTION, [&] { mapper.loadFromConfigFile(c, MAPPER_SECTION); });
     loadSection(
         LOOP_CLOSER_SECTION, [&] { loop_closer.loadFromConfigFile(c, LOOP_CLOSER_SECTION); });
+    loadSection(
+        OCCUPANCY_GRID_SECTION,
+        [&] { occupancy_grid.loadFromConfigFile(c, OCCUPANCY_GRID_SECTION); });
 }
 
 void EntropySlam::TParameters::saveToConfigFile(mrpt::config::CConfigFileBase& c) const
@@ -141,6 +145,7 @@ void EntropySlam::TParameters::saveToConfigFile(mrpt::config::CConfigFileBase& c
     rectifier.saveToConfigFile(c, RECTIFIER_SECTION);
     mapper.saveToConfigFile(c, MAPPER_SECTION);
     loop_closer.saveToConfigFile(c, LOOP_CLOSER_SECTION);
+    occupancy_grid.saveToConfigFile(c, OCCUPANCY_GRID_SECTION);
 }
 
 EntropySlam::EntropySlam(const TParameters& p)

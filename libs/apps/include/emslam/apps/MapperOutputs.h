@@ -121,6 +121,14 @@ void writeTopViewPng(
     const emslam::io::TumTrajectory& ground_truth,
     const std::string& file);
 
+/** map_grid.gridmap and map_grid.png: the 2D occupancy grid of the final
+ * map (emslam::slam::OccupancyGridBuilder, `[OccupancyGrid]`): an MRPT
+ * COccupancyGridMap2D serialized into a gzip file, as MRPT's apps write
+ * `.gridmap` files, and its picture (free white, occupied black, unknown
+ * grey; forward to the right, left up). Nothing with `cell_size` 0. */
+void writeOccupancyGrid(
+    const slam::EntropySlam& m, const std::string& gridmap_file, const std::string& png_file);
+
 /** entropy_map.bin: the serialized CEntropyVoxelMap (an MRPT CArchive of one
  * object; read back with `archiveFrom(stream).ReadObject()`). */
 void writeEntropyMap(const slam::EntropySlam& m, const std::string& file);

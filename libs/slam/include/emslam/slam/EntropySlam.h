@@ -12,6 +12,7 @@
 #include <emslam/slam/FrameRecord.h>
 #include <emslam/slam/IntensityCloud.h>
 #include <emslam/slam/LoopCloser.h>
+#include <emslam/slam/OccupancyGridBuilder.h>
 #include <emslam/slam/StereoOdometry.h>
 #include <emslam/stereo/StereoFrontEnd.h>
 
@@ -90,6 +91,7 @@ public:
         emslam::rectify::TRectifierOptions rectifier;                  //!< [Rectifier]
         TOptions mapper;                                               //!< [Mapper]
         LoopCloser::TParameters loop_closer;                           //!< [LoopCloser]
+        OccupancyGridBuilder::TParameters occupancy_grid;              //!< [OccupancyGrid]
 
         /** Loads every section (missing keys keep their defaults) and
          * validates; throws std::invalid_argument naming the section and key
