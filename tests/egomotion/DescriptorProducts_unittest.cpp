@@ -37,9 +37,14 @@ std::vector<float> unitRows(int n, int dim, unsigned seed)
 
 /** Largest |S(i, j) - p_i . c_j| over every pair, the dot products in double. */
 double largestError(
-    const std::vector<float>& p, int np, const std::vector<float>& c, int nc, int dim)
+    const std::vector<float>& p,
+    int np,
+    const std::vector<float>& c,
+    int nc,
+    int dim,
+    DescriptorProducts::Kernel kernel)
 {
-    const DescriptorProducts products(c.data(), nc, dim);
+    const DescriptorProducts products(c.data(), nc, dim, kernel);
     DescriptorProducts::RowMajorMatrix s;
     products.multiply(p.data(), np, s);
     EXPECT_EQ(s.rows(), np);
@@ -64,16 +69,19 @@ double largestError(
 
 // Sizes off the kernel's blocks (6 rows, 16 columns) on both sides, the
 // log-polar descriptor's 128 values and an odd short one: every product is
-// the dot product to float rounding, whichever kernel runs.
+// the dot product to float rounding, by this CPU's fastest kernel and by the
+// portable one.
 TEST(DescriptorProducts, equalTheDotProductsAtEverySize)
 {
     for (const auto& [np, nc, dim] : std::vector<std::tuple<int, int, int>>{
              {1, 1, 128}, {6, 16, 128}, {37, 23, 128}, {50, 97, 7}})
     {
         const auto p = unitRows(np, dim, 1), c = unitRows(nc, dim, 2);
-        EXPECT_LT(largestError(p, np, c, nc, dim), 2e-6)
+        EXPECT_LT(largestError(p, np, c, nc, dim, DescriptorProducts::Kernel::Fastest), 2e-6)
             << np << " x " << nc << " x " << dim
             << (DescriptorProducts::vectorized() ? " (AVX2 kernel)" : " (Eigen)");
+        EXPECT_LT(largestError(p, np, c, nc, dim, DescriptorProducts::Kernel::Portable), 2e-6)
+            << np << " x " << nc << " x " << dim << " (Eigen)";
     }
 }
 

@@ -105,10 +105,11 @@ bool DescriptorProducts::vectorized()
 #endif
 }
 
-DescriptorProducts::DescriptorProducts(const float* c, Eigen::Index rows, Eigen::Index dim)
+DescriptorProducts::DescriptorProducts(
+    const float* c, Eigen::Index rows, Eigen::Index dim, Kernel kernel)
     : m_c(c), m_rows(rows), m_dim(dim)
 {
-    if (!vectorized() || rows <= 0 || dim <= 0)
+    if (kernel == Kernel::Portable || !vectorized() || rows <= 0 || dim <= 0)
     {
         return;
     }

@@ -23,8 +23,17 @@ class DescriptorProducts
 public:
     using RowMajorMatrix = Eigen::Matrix<float, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor>;
 
+    /** Which product multiply() runs: the fastest this CPU has, or Eigen's
+     * (what a CPU without AVX2 runs; for tests of that path). */
+    enum class Kernel
+    {
+        Fastest,
+        Portable
+    };
+
     /** C: `rows` x `dim`, row-major; it must outlive this object. */
-    DescriptorProducts(const float* c, Eigen::Index rows, Eigen::Index dim);
+    DescriptorProducts(
+        const float* c, Eigen::Index rows, Eigen::Index dim, Kernel kernel = Kernel::Fastest);
 
     /** S = P C^T for P (`rows` x dim, row-major); S is resized to rows x |C|. */
     void multiply(const float* p, Eigen::Index rows, RowMajorMatrix& s) const;
