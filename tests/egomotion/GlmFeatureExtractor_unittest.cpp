@@ -305,3 +305,38 @@ TEST(GlmFeatureExtractor, locateFindsThePixelsExtractKeeps)
     EXPECT_TRUE(GlmFeatureExtractor().locate(cv::Mat(2, 2, CV_8UC1, cv::Scalar(0))).empty());
     EXPECT_THROW(GlmFeatureExtractor().locate(cv::Mat(10, 10, CV_8UC3)), std::exception);
 }
+
+// The gradient maps locate() hands out serve extract() of the same image
+// (a copy of it too) and give its features exactly; those of another image,
+// or of other parameters, are not used: the features are still the image's own.
+TEST(GlmFeatureExtractor, gradientsOfLocateServeOnlyTheirOwnImage)
+{
+    const cv::Mat img = randomTexture(160, 120, 22, 1.5);
+    const cv::Mat other = randomTexture(160, 120, 23, 1.5);
+    const auto same = [](const FeatureList& a, const FeatureList& b)
+    {
+        ASSERT_EQ(a.size(), b.size());
+        for (std::size_t i = 0; i < a.size(); ++i)
+        {
+            EXPECT_EQ(a[i].u, b[i].u);
+            EXPECT_EQ(a[i].v, b[i].v);
+            EXPECT_EQ(a[i].gradient_angle, b[i].gradient_angle);
+            EXPECT_EQ(a[i].gradient_magnitude, b[i].gradient_magnitude);
+        }
+    };
+    GlmFeatureExtractor::TParameters p;
+    p.window_size = 8;
+    p.min_gradient = 10.0f;
+    const GlmFeatureExtractor glm(p);
+    std::shared_ptr<const GlmFeatureExtractor::Gradients> maps;
+    const auto located = glm.locate(img, maps);
+    ASSERT_NE(maps, nullptr);
+    ASSERT_GT(located.size(), 50U);
+    const FeatureList own = glm.extract(frameFromImage(img));
+    same(glm.extract(frameFromImage(img.clone()), maps.get()), own);
+    same(glm.extract(frameFromImage(other), maps.get()), glm.extract(frameFromImage(other)));
+    p.window_size = 3;
+    const GlmFeatureExtractor glm3(p);
+    same(glm3.extract(frameFromImage(img), maps.get()), glm3.extract(frameFromImage(img)));
+    EXPECT_NE(glm3.extract(frameFromImage(img)).size(), own.size());
+}

@@ -175,7 +175,7 @@ std::vector<emslam::stereo::PixelCoord> EgomotionEstimator::locateFeatures(
     GlmFeatureExtractor::TParameters gp;
     gp.window_size = m_params.window_size;
     gp.min_gradient = static_cast<float>(m_params.min_gradient);
-    return GlmFeatureExtractor(gp).locate(intensity);
+    return GlmFeatureExtractor(gp).locate(intensity, m_located);
 }
 
 EgomotionEstimator::Described EgomotionEstimator::describe(
@@ -190,7 +190,7 @@ EgomotionEstimator::Described EgomotionEstimator::describe(
         GlmFeatureExtractor::TParameters gp;
         gp.window_size = m_params.window_size;
         gp.min_gradient = static_cast<float>(m_params.min_gradient);
-        d.features = GlmFeatureExtractor(gp).extract(f);
+        d.features = GlmFeatureExtractor(gp).extract(f, m_located.get());
         // A NaN/inf point would poison LWO's sums and the pose energy.
         d.features.erase(
             std::remove_if(
@@ -198,6 +198,7 @@ EgomotionEstimator::Described EgomotionEstimator::describe(
                 [](const Feature& ft) { return !finite(ft.point); }),
             d.features.end());
     }
+    m_located.reset();  // one frame's: never read for another
     d.ms_features = msSince(t0);
     t0 = Clock::now();
     if (!d.features.empty())

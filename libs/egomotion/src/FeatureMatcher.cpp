@@ -1,4 +1,5 @@
 // SPDX-License-Identifier: BSD-3-Clause
+#include <emslam/egomotion/DescriptorProducts.h>
 #include <emslam/egomotion/FeatureMatcher.h>
 
 #include <mrpt/core/exceptions.h>
@@ -31,8 +32,7 @@ MatchList matchMutual(const Descriptors& prev, const Descriptors& cur, float sim
     ASSERT_EQUAL_(prev.dim, cur.dim);
     const Eigen::Index dim = prev.dim;
 
-    const Eigen::Map<const RowMajorMatrix> P(prev.data.data(), np, dim);
-    const Eigen::Map<const RowMajorMatrix> C(cur.data.data(), nc, dim);
+    const DescriptorProducts products(cur.data.data(), nc, dim);
 
     // Best of each prev row, and best of each cur column over all blocks.
     // A score must be > 0: a zero (flat) descriptor matches nothing.
@@ -45,7 +45,7 @@ MatchList matchMutual(const Descriptors& prev, const Descriptors& cur, float sim
     for (Eigen::Index i0 = 0; i0 < np; i0 += BLOCK)
     {
         const Eigen::Index rows = std::min(BLOCK, np - i0);
-        S.noalias() = P.middleRows(i0, rows) * C.transpose();
+        products.multiply(prev.row(static_cast<std::size_t>(i0)), rows, S);
         for (Eigen::Index r = 0; r < rows; ++r)
         {
             const auto i = static_cast<std::size_t>(i0 + r);

@@ -5,7 +5,9 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstring>
 #include <opencv2/imgproc.hpp>
+#include <optional>
 
 namespace emslam::egomotion
 {
@@ -32,15 +34,22 @@ bool isUniqueInWindow(const cv::Mat& sq, int u, int v, int lo, int hi, float val
     return true;
 }
 
+}  // namespace
+
 /** |grad I| (squared), its direction and its window maximum: what the GLM
  * tests read. */
-struct GradientMaps
+class GlmFeatureExtractor::Gradients
 {
+public:
+    cv::Mat image;  //!< a copy of the image they are of (its buffer may be reused)
     cv::Mat gx, gy, sq, local_max;
+    int window{0};
+    float min_gradient{0};
     int lo{0}, hi{0};  //!< window offsets
     float min_sq{0};
 
-    GradientMaps(const cv::Mat& img, int w, float min_gradient)
+    Gradients(const cv::Mat& img, int w, float min_gradient_)
+        : image(img.clone()), window(w), min_gradient(min_gradient_)
     {
         cv::Sobel(img, gx, CV_32F, 1, 0, 3);
         cv::Sobel(img, gy, CV_32F, 0, 1, 3);
@@ -64,8 +73,28 @@ struct GradientMaps
         min_sq = 0.999f * min_gradient * min_gradient;
     }
 
+    /** Whether these are the maps of `img` with these parameters: its
+     * pixels compared, since a caller may copy the image or reuse a buffer. */
+    bool areOf(const cv::Mat& img, int w, float min_gradient_) const
+    {
+        if (w != window || min_gradient_ != min_gradient || img.size() != image.size() ||
+            img.type() != image.type())
+        {
+            return false;
+        }
+        const std::size_t row_bytes = static_cast<std::size_t>(img.cols) * img.elemSize();
+        for (int r = 0; r < img.rows; ++r)
+        {
+            if (std::memcmp(img.ptr(r), image.ptr(r), row_bytes) != 0)
+            {
+                return false;
+            }
+        }
+        return true;
+    }
+
     /** Every test but the 3D point's; `mag` gets |grad I| when true. */
-    bool isFeature(int u, int v, float min_gradient, float& mag) const
+    bool isFeature(int u, int v, float floor, float& mag) const
     {
         // The Sobel response on the outermost pixels sees a mirrored image:
         // not a real gradient, so never a feature.
@@ -83,12 +112,17 @@ struct GradientMaps
             return false;
         }
         mag = std::sqrt(m2);
-        return mag >= min_gradient;
+        return mag >= floor;
     }
 };
-}  // namespace
 
 FeatureList GlmFeatureExtractor::extract(const emslam::stereo::StereoFrame& frame) const
+{
+    return extract(frame, nullptr);
+}
+
+FeatureList GlmFeatureExtractor::extract(
+    const emslam::stereo::StereoFrame& frame, const Gradients* gradients) const
 {
     ASSERT_GE_(m_params.window_size, 1);
     ASSERT_GE_(m_params.min_gradient, 0.0f);
@@ -106,7 +140,12 @@ FeatureList GlmFeatureExtractor::extract(const emslam::stereo::StereoFrame& fram
     {
         return out;
     }
-    const GradientMaps g(img, m_params.window_size, m_params.min_gradient);
+    std::optional<Gradients> computed;
+    if (gradients == nullptr || !gradients->areOf(img, m_params.window_size, m_params.min_gradient))
+    {
+        gradients = &computed.emplace(img, m_params.window_size, m_params.min_gradient);
+    }
+    const Gradients& g = *gradients;
     const int w = m_params.window_size;
     out.reserve(frame.pixels.size() / static_cast<std::size_t>(std::max(1, w * w / 4)) + 16);
     // Visiting the 3D points (instead of all pixels) looks the point up for
@@ -138,15 +177,25 @@ FeatureList GlmFeatureExtractor::extract(const emslam::stereo::StereoFrame& fram
 
 std::vector<emslam::stereo::PixelCoord> GlmFeatureExtractor::locate(const cv::Mat& img) const
 {
+    std::shared_ptr<const Gradients> unused;
+    return locate(img, unused);
+}
+
+std::vector<emslam::stereo::PixelCoord> GlmFeatureExtractor::locate(
+    const cv::Mat& img, std::shared_ptr<const Gradients>& gradients) const
+{
     ASSERT_GE_(m_params.window_size, 1);
     ASSERT_GE_(m_params.min_gradient, 0.0f);
     ASSERT_(img.type() == CV_8UC1);
     std::vector<emslam::stereo::PixelCoord> out;
+    gradients.reset();
     if (img.rows < 3 || img.cols < 3)
     {
         return out;
     }
-    const GradientMaps g(img, m_params.window_size, m_params.min_gradient);
+    auto maps = std::make_shared<const Gradients>(img, m_params.window_size, m_params.min_gradient);
+    const Gradients& g = *maps;
+    gradients = maps;
     for (int v = 1; v < img.rows - 1; ++v)
     {
         const float* sq = g.sq.ptr<float>(v);

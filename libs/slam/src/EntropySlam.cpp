@@ -279,13 +279,21 @@ bool EntropySlam::process(const mrpt::obs::CObservation& obs)
             m_sampler.accepted() == 1 ? mrpt::poses::CPose3D() : m_sampler.actionSinceAccepted();
         if (auto task = m_odometry.frontEnd().mapFrameTask(f))
         {
-            k.cloud = std::async(std::launch::async, std::move(task));
+            k.cloud = std::async(
+                std::launch::async,
+                [this, task = std::move(task)]
+                {
+                    DenseKeyframe d;
+                    d.frame = task();
+                    d.clouds = mapClouds(d.frame);
+                    return d;
+                });
             m_pending = std::move(k);
         }
         else
         {
             const auto t_rect = Clock::now();
-            addAccepted(f, k);
+            addAccepted(f, mapClouds(f), k);
             r.ms_rectification = msSince(t_rect);
         }
     }
@@ -340,10 +348,10 @@ void EntropySlam::completePendingKeyframe(FrameRecord* record)
     PendingKeyframe k = std::move(*m_pending);
     m_pending.reset();
     const auto t_wait = Clock::now();
-    const emslam::stereo::StereoFrame cloud = k.cloud.get();
+    DenseKeyframe cloud = k.cloud.get();
     const double ms_wait = msSince(t_wait);
     const auto t_rect = Clock::now();
-    addAccepted(cloud, k);
+    addAccepted(cloud.frame, std::move(cloud.clouds), k);
     if (record != nullptr)
     {
         record->ms_stereo += ms_wait;  // the dense cloud was late
@@ -351,13 +359,20 @@ void EntropySlam::completePendingKeyframe(FrameRecord* record)
     }
 }
 
-void EntropySlam::addAccepted(const emslam::stereo::StereoFrame& f, const PendingKeyframe& k)
+EntropySlam::MapClouds EntropySlam::mapClouds(const emslam::stereo::StereoFrame& f) const
+{
+    // Reads only parameters fixed at construction: safe on the map task's thread.
+    return {toWeightedCloud(f, m_p.insertion), downsampleFrame(f, m_p.mapper.map_cell_size)};
+}
+
+void EntropySlam::addAccepted(
+    const emslam::stereo::StereoFrame& f, MapClouds clouds, const PendingKeyframe& k)
 {
     const mrpt::poses::CPose3D& action = k.action;
     const std::size_t index = k.index;
     const double t = k.timestamp;
     const emslam::rectify::ActionCovariance& covariance = k.covariance;
-    m_runner->addFrame(action, toWeightedCloud(f, m_p.insertion), t, index, covariance);
+    m_runner->addFrame(action, std::move(clouds.weighted), t, index, covariance);
     if (loopClosing())
     {
         // The keyframe is the last or, with the sparse front-end, the one
@@ -370,7 +385,7 @@ void EntropySlam::addAccepted(const emslam::stereo::StereoFrame& f, const Pendin
             m_loops.observeVertical(index, f, it->T_world_frame);
         }
     }
-    m_last_cloud = downsampleFrame(f, m_p.mapper.map_cell_size);
+    m_last_cloud = std::move(clouds.downsampled);
     m_last_cloud_frame = index;
     m_cloud_added = true;
     m_clouds.append(index, m_last_cloud);

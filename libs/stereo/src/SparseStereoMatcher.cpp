@@ -25,7 +25,12 @@ constexpr int PREFILTER_CAP = 31;
  * ua + sign * d, rows v-h .. v+h, of two prefiltered images (values in
  * [0, 2 PREFILTER_CAP]). Written so that the inner loops run over contiguous
  * pixels of `b` in 8-bit lanes: a difference is at most 62, so four of them
- * add up in 8 bits before being widened into the 16-bit costs. */
+ * add up in 8 bits before being widened into the 16-bit costs. Integer
+ * arithmetic: the AVX2 clone (32 lanes instead of SSE2's 16, picked at run
+ * time) gives the same costs, in ~half the time. */
+#if defined(__x86_64__) && defined(__GNUC__) && !defined(__clang__)
+__attribute__((target_clones("avx2", "default")))
+#endif
 void blockCosts(
     const cv::Mat& a,
     const cv::Mat& b,

@@ -153,7 +153,9 @@ public:
 
     /** The pixels of a rectified 8-bit image that would be features if they
      * had a 3D point (GlmFeatureExtractor::locate with these parameters):
-     * the pixel selector of a sparse StereoFrontEnd. */
+     * the pixel selector of a sparse StereoFrontEnd. The gradient maps are
+     * kept until the next describe (process(), estimate()) reads them again
+     * for the same image: not to be called from two threads at once. */
     std::vector<emslam::stereo::PixelCoord> locateFeatures(const cv::Mat& intensity) const;
 
     /** Forget the previous frame (e.g. after a failure, to restart). */
@@ -221,6 +223,10 @@ private:
 
     TParameters m_params;
     std::shared_ptr<const Described> m_prev;
+    /** The gradient maps of the image locateFeatures() saw last, for the
+     * describe of that image's frame (GlmFeatureExtractor::extract checks
+     * that it is the same image). */
+    mutable std::shared_ptr<const GlmFeatureExtractor::Gradients> m_located;
     /** The last successful step's action: the constant-velocity prediction. */
     std::optional<mrpt::poses::CPose3D> m_velocity;
 };

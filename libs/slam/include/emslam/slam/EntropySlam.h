@@ -234,18 +234,35 @@ public:
 
 private:
     /** A keyframe whose map cloud is being computed on another thread. */
+    /** What the map takes of a keyframe's cloud: the points the entropy map
+     * weighs and the downsampled cloud of the map outputs. Pure functions of
+     * the cloud, so the sparse front-end's map task computes them on its own
+     * thread, beside the frame loop. */
+    struct MapClouds
+    {
+        emslam::maps::WeightedPointCloud weighted;
+        IntensityCloud downsampled;
+    };
+    MapClouds mapClouds(const emslam::stereo::StereoFrame& f) const;
+    /** A keyframe's dense cloud with its map clouds (from the map task). */
+    struct DenseKeyframe
+    {
+        emslam::stereo::StereoFrame frame;
+        MapClouds clouds;
+    };
     struct PendingKeyframe
     {
         std::size_t index{0};
         double timestamp{0};
         mrpt::poses::CPose3D action;  //!< since the previous keyframe
         emslam::rectify::ActionCovariance covariance;
-        std::future<emslam::stereo::StereoFrame> cloud;
+        std::future<DenseKeyframe> cloud;
     };
     /** Waits for the pending keyframe's cloud (if any) and adds it; its
      * times go to `record` (if given). */
     void completePendingKeyframe(FrameRecord* record);
-    void addAccepted(const emslam::stereo::StereoFrame& f, const PendingKeyframe& k);
+    void addAccepted(
+        const emslam::stereo::StereoFrame& f, MapClouds clouds, const PendingKeyframe& k);
     bool loopClosing() const { return m_loop_worker != nullptr; }
     /** The online pose of frame `index` (see onlinePoses()). */
     mrpt::poses::CPose3D onlinePose(std::size_t index);

@@ -1,0 +1,155 @@
+// SPDX-License-Identifier: BSD-3-Clause
+#include <emslam/egomotion/DescriptorProducts.h>
+
+#include <algorithm>
+#include <cstddef>
+
+#if defined(__x86_64__) && (defined(__GNUC__) || defined(__clang__))
+#define EMSLAM_DESCRIPTOR_PRODUCTS_AVX2 1
+#include <immintrin.h>
+#endif
+
+namespace emslam::egomotion
+{
+namespace
+{
+/** Columns of C^T per panel: two 8-float registers. */
+constexpr Eigen::Index PANEL = 16;
+
+#ifdef EMSLAM_DESCRIPTOR_PRODUCTS_AVX2
+/** Rows of P per step: 6 x 2 accumulators + 2 panel loads + 1 broadcast
+ * fill the 16 AVX registers. */
+constexpr Eigen::Index ROWS = 6;
+
+/** S(i, j0 .. j0+15) for every row i of P, from one panel (dim x 16, k-major)
+ * of C^T: each step of k adds P(i, k) times the panel's row k. */
+__attribute__((target("avx2,fma"))) void panelTimesRows(
+    const float* panel,
+    Eigen::Index width,  // columns of the panel that are real (<= PANEL)
+    const float* p,
+    Eigen::Index rows,
+    Eigen::Index dim,
+    float* s,
+    Eigen::Index s_stride)
+{
+    for (Eigen::Index i = 0; i < rows; i += ROWS)
+    {
+        const Eigen::Index n = std::min(ROWS, rows - i);
+        // Missing rows of the last step repeat the last real row (not stored).
+        const float* r[ROWS];
+        for (Eigen::Index k = 0; k < ROWS; ++k)
+        {
+            r[k] = p + (i + std::min(k, n - 1)) * dim;
+        }
+        const float *r0 = r[0], *r1 = r[1], *r2 = r[2], *r3 = r[3], *r4 = r[4], *r5 = r[5];
+        __m256 a00 = _mm256_setzero_ps(), a01 = a00, a10 = a00, a11 = a00, a20 = a00, a21 = a00,
+               a30 = a00, a31 = a00, a40 = a00, a41 = a00, a50 = a00, a51 = a00;
+        const float* c = panel;
+        for (Eigen::Index k = 0; k < dim; ++k, c += PANEL)
+        {
+            const __m256 c0 = _mm256_loadu_ps(c), c1 = _mm256_loadu_ps(c + 8);
+            __m256 b = _mm256_broadcast_ss(r0 + k);
+            a00 = _mm256_fmadd_ps(b, c0, a00);
+            a01 = _mm256_fmadd_ps(b, c1, a01);
+            b = _mm256_broadcast_ss(r1 + k);
+            a10 = _mm256_fmadd_ps(b, c0, a10);
+            a11 = _mm256_fmadd_ps(b, c1, a11);
+            b = _mm256_broadcast_ss(r2 + k);
+            a20 = _mm256_fmadd_ps(b, c0, a20);
+            a21 = _mm256_fmadd_ps(b, c1, a21);
+            b = _mm256_broadcast_ss(r3 + k);
+            a30 = _mm256_fmadd_ps(b, c0, a30);
+            a31 = _mm256_fmadd_ps(b, c1, a31);
+            b = _mm256_broadcast_ss(r4 + k);
+            a40 = _mm256_fmadd_ps(b, c0, a40);
+            a41 = _mm256_fmadd_ps(b, c1, a41);
+            b = _mm256_broadcast_ss(r5 + k);
+            a50 = _mm256_fmadd_ps(b, c0, a50);
+            a51 = _mm256_fmadd_ps(b, c1, a51);
+        }
+        alignas(32) float out[ROWS][PANEL];
+        _mm256_store_ps(out[0], a00);
+        _mm256_store_ps(out[0] + 8, a01);
+        _mm256_store_ps(out[1], a10);
+        _mm256_store_ps(out[1] + 8, a11);
+        _mm256_store_ps(out[2], a20);
+        _mm256_store_ps(out[2] + 8, a21);
+        _mm256_store_ps(out[3], a30);
+        _mm256_store_ps(out[3] + 8, a31);
+        _mm256_store_ps(out[4], a40);
+        _mm256_store_ps(out[4] + 8, a41);
+        _mm256_store_ps(out[5], a50);
+        _mm256_store_ps(out[5] + 8, a51);
+        for (Eigen::Index k = 0; k < n; ++k)
+        {
+            std::copy(out[k], out[k] + width, s + (i + k) * s_stride);
+        }
+    }
+}
+
+bool cpuHasAvx2Fma()
+{
+    __builtin_cpu_init();
+    return __builtin_cpu_supports("avx2") && __builtin_cpu_supports("fma");
+}
+#endif
+}  // namespace
+
+bool DescriptorProducts::vectorized()
+{
+#ifdef EMSLAM_DESCRIPTOR_PRODUCTS_AVX2
+    static const bool has = cpuHasAvx2Fma();
+    return has;
+#else
+    return false;
+#endif
+}
+
+DescriptorProducts::DescriptorProducts(
+    const float* c, Eigen::Index rows, Eigen::Index dim, Kernel kernel)
+    : m_c(c), m_rows(rows), m_dim(dim)
+{
+    if (kernel == Kernel::Portable || !vectorized() || rows <= 0 || dim <= 0)
+    {
+        return;
+    }
+    // Panel q holds rows q*16 .. q*16+15 of C as columns, k-major, zero padded.
+    const Eigen::Index panels = (rows + PANEL - 1) / PANEL;
+    m_panels.assign(static_cast<std::size_t>(panels * dim * PANEL), 0.0f);
+    for (Eigen::Index j = 0; j < rows; ++j)
+    {
+        float* dst = m_panels.data() + (j / PANEL) * dim * PANEL + (j % PANEL);
+        const float* src = c + j * dim;
+        for (Eigen::Index k = 0; k < dim; ++k)
+        {
+            dst[k * PANEL] = src[k];
+        }
+    }
+}
+
+void DescriptorProducts::multiply(const float* p, Eigen::Index rows, RowMajorMatrix& s) const
+{
+    s.resize(rows, m_rows);
+    if (rows == 0 || m_rows == 0)
+    {
+        return;
+    }
+#ifdef EMSLAM_DESCRIPTOR_PRODUCTS_AVX2
+    if (!m_panels.empty())
+    {
+        // Panel by panel: one panel (dim x 16 floats) stays in L1 while the
+        // rows of P stream past it.
+        for (Eigen::Index j0 = 0; j0 < m_rows; j0 += PANEL)
+        {
+            panelTimesRows(
+                m_panels.data() + (j0 / PANEL) * m_dim * PANEL, std::min(PANEL, m_rows - j0), p,
+                rows, m_dim, s.data() + j0, m_rows);
+        }
+        return;
+    }
+#endif
+    using ConstMap = Eigen::Map<const RowMajorMatrix>;
+    s.noalias() = ConstMap(p, rows, m_dim) * ConstMap(m_c, m_rows, m_dim).transpose();
+}
+
+}  // namespace emslam::egomotion
