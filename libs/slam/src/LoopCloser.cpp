@@ -438,7 +438,6 @@ std::vector<LoopCloser::Keyframe> LoopCloser::takeIncoming()
         if (in != taken.end())
         {
             in->vertical = v;
-            m_ungated_from = std::min(m_ungated_from, m_keyframes.size());
         }
     }
     return taken;
@@ -1144,9 +1143,10 @@ std::size_t LoopCloser::relevel()
         }
     }
     const LevelFloorsStats level = relevelFloors(
-        m_graph, verticals, tilt_variance, m_levelled_for, std::min(m_ungated_from, n),
+        m_graph, verticals, tilt_variance, m_levelled_for, std::min(m_ungated_from, m_gated_upto),
         mrpt::DEG2RAD(m_p.vertical_max_bias_deg));
     m_ungated_from = NONE_UNSOLVED;
+    m_gated_upto = n;
     m_stats.verticals_measured = level.measured;
     m_stats.verticals_used = level.used;
     m_stats.vertical_drift_deg = level.drift_deg;

@@ -333,7 +333,9 @@ private:
     std::size_t m_solved_upto{0};
     /** The levelling the keyframes were last solved with, all of them. */
     emslam::rectify::PoseGraph::DirectionFrame m_levelled_for;
-    /** The first keyframe whose up came since the last relevel(). */
+    /** Keyframes at the last relevel(); of them, the first whose up came
+     * since. */
+    std::size_t m_gated_upto{0};
     std::size_t m_ungated_from{static_cast<std::size_t>(-1)};
     std::vector<std::unique_ptr<Registration>> m_pool;      // gated, waiting for consensus
     std::vector<std::unique_ptr<Registration>> m_accepted;  // recent loop edges, for consensus
