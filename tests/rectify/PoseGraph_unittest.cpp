@@ -196,3 +196,83 @@ TEST(PoseGraph, directionPriorsLevelAChainThatTilts)
     g.clearDirectionPriors();
     EXPECT_TRUE(g.directionPriors().empty());
 }
+
+// Direction priors in a local solve: the held nodes stay, the free ones
+// are levelled by their priors; with every node held, only the shared
+// world direction moves (what the online levelling does between solves).
+TEST(PoseGraph, directionPriorsCountInALocalSolveAndWithEveryNodeHeld)
+{
+    const auto truth = emslam::test::squareLoop(40);
+    PoseGraph g;
+    g.addNode(CPose3D());
+    const ActionCovariance step_cov = diagonalCovariance(0.02, mrpt::DEG2RAD(0.5));
+    for (std::size_t k = 1; k < truth.size(); ++k)
+    {
+        // Level until node 20, then 0.3 degrees of dive per step.
+        CPose3D step = truth[k] - truth[k - 1];
+        if (k > 20)
+        {
+            step = step + CPose3D(0, 0, 0, 0, 0, mrpt::DEG2RAD(0.3));
+        }
+        g.addNode(g.node(k - 1) + step);
+        g.addEdge(k - 1, k, step, step_cov);
+    }
+    mrpt::math::CMatrixDouble33 info;
+    info.setZero();
+    info(0, 0) = info(2, 2) = 1.0 / std::pow(mrpt::DEG2RAD(0.5), 2);
+    for (std::size_t k = 0; k < truth.size(); ++k)
+    {
+        g.addDirectionPrior(k, mrpt::math::TVector3D(0, -1, 0), info);
+    }
+    const auto tiltDeg = [](const CPose3D& p)
+    { return mrpt::RAD2DEG(std::acos(std::min(1.0, p.getRotationMatrix()(1, 1)))); };
+    ASSERT_GT(tiltDeg(g.node(truth.size() - 1)), 3.0);
+
+    // With every node held, only the world direction moves: it starts
+    // 2 degrees off and ends where the priors of the level half put it
+    // (the diving half pulls it a little).
+    PoseGraph::DirectionFrame frame;
+    frame.world = {std::sin(mrpt::DEG2RAD(2.0)), -std::cos(mrpt::DEG2RAD(2.0)), 0};
+    frame.solve_world = true;
+    g.setDirectionFrame(frame);
+    const std::vector<CPose3D> before = g.nodes();
+    g.optimize(10, g.nodeCount());
+    for (std::size_t k = 0; k < before.size(); ++k)
+    {
+        EXPECT_EQ(g.node(k).asVectorVal(), before[k].asVectorVal()) << k;
+    }
+    // Equal, isotropic priors: the world direction is their mean in the
+    // world, at the held poses.
+    double mx = 0, my = 0, mz = 0;
+    for (const auto& p : before)
+    {
+        const auto& R = p.getRotationMatrix();
+        mx -= R(0, 1);
+        my -= R(1, 1);
+        mz -= R(2, 1);
+    }
+    const double mn = std::sqrt(mx * mx + my * my + mz * mz);
+    const auto& w = g.directionFrame().world;
+    const double off_mean = std::acos(std::min(1.0, (w.x * mx + w.y * my + w.z * mz) / mn));
+    EXPECT_LT(mrpt::RAD2DEG(off_mean), 0.05);
+
+    // A local solve from node 21: nodes 0-20 stay, the dive is undone by
+    // the priors of the free nodes (and the held nodes' priors still pull
+    // on the world direction, which stays level).
+    g.optimize(30, 21);
+    for (std::size_t k = 0; k <= 20; ++k)
+    {
+        EXPECT_EQ(g.node(k).asVectorVal(), before[k].asVectorVal()) << k;
+    }
+    double tilt_after = 0;
+    for (std::size_t k = 21; k < truth.size(); ++k)
+    {
+        tilt_after = std::max(tilt_after, tiltDeg(g.node(k)));
+    }
+    EXPECT_LT(tilt_after, 0.5);
+    const double w_tilt = std::acos(std::min(1.0, -g.directionFrame().world.y));
+    std::printf(
+        "local levelling: max tilt of the free nodes %.3f deg, world direction %.3f deg off\n",
+        tilt_after, mrpt::RAD2DEG(w_tilt));
+    EXPECT_LT(mrpt::RAD2DEG(w_tilt), 0.2);
+}

@@ -227,3 +227,117 @@ TEST(LevelFloors, theSolvedBiasStaysWithinItsBound)
     EXPECT_LE(stats.bias_deg, 3.0 + 1e-9);
     EXPECT_GT(stats.bias_deg, 2.0);
 }
+
+// The staircase walk again, but the graph grows a node at a time and is
+// levelled online: every 5 nodes relevelFloors() gates the ups seen so far
+// and a local solve moves only the nodes added since the last one. It must
+// level the walk as the batch levelFloors() does, leave the ramps out, and
+// find the same bias, with no solve of the whole graph.
+TEST(LevelFloors, relevellingAGrowingGraphLevelsItAsTheBatchDoes)
+{
+    const auto truth = emslam::test::squareLoop(40);
+    const auto step_cov = diagonalCovariance(0.02, mrpt::DEG2RAD(0.5));
+    std::vector<CPose3D> steps{CPose3D()};
+    for (std::size_t k = 1; k < truth.size(); ++k)
+    {
+        CPose3D step = truth[k] - truth[k - 1];
+        if (k >= 11 && k <= 13)
+        {
+            step = step + CPose3D(0, 0, 0, 0, 0, mrpt::DEG2RAD(1.0));
+        }
+        steps.push_back(step);
+    }
+    const double sigma = mrpt::DEG2RAD(0.3);
+    std::mt19937 rng(7);
+    std::normal_distribution<double> noise(0.0, sigma);
+    std::vector<std::optional<VerticalMeasurement>> verticals(truth.size());
+    for (std::size_t k = 0; k < truth.size(); ++k)
+    {
+        const double ramp = (k == 5 || k == 25) ? mrpt::DEG2RAD(10.0) : 0.0;
+        verticals[k] = measured(tilted(mrpt::DEG2RAD(0.5) + ramp + noise(rng), noise(rng)), sigma);
+    }
+    verticals[30].reset();
+    const double step_tilt_var = std::pow(mrpt::DEG2RAD(0.5), 2);
+
+    // Batch, as the first test.
+    PoseGraph batch;
+    batch.addNode(CPose3D());
+    for (std::size_t k = 1; k < truth.size(); ++k)
+    {
+        batch.addNode(batch.node(k - 1) + steps[k]);
+        batch.addEdge(k - 1, k, steps[k], step_cov);
+    }
+    const double rmse_before = positionRmse(batch.nodes(), truth);
+    std::vector<double> tilt_variance(truth.size());
+    for (std::size_t k = 0; k < truth.size(); ++k)
+    {
+        tilt_variance[k] = static_cast<double>(k) * step_tilt_var;
+    }
+    const auto batch_stats = levelFloors(batch, verticals, tilt_variance);
+
+    // Online.
+    PoseGraph online;
+    online.addNode(CPose3D());
+    std::size_t solved_upto = 1, gated_upto = 0;
+    PoseGraph::DirectionFrame levelled_for;
+    int whole_graph_solves = 0, relevels = 0;
+    emslam::slam::LevelFloorsStats stats;
+    const auto levelAndSolve = [&]
+    {
+        const std::size_t n = online.nodeCount();
+        // The nodes not yet solved may be tilted by their chain since then.
+        std::vector<std::optional<VerticalMeasurement>> seen(
+            verticals.begin(), verticals.begin() + static_cast<long>(n));
+        std::vector<double> pose_var(n, 0.0);
+        for (std::size_t k = solved_upto; k < n; ++k)
+        {
+            pose_var[k] = static_cast<double>(k - solved_upto + 1) * step_tilt_var;
+        }
+        stats = emslam::slam::relevelFloors(online, seen, pose_var, levelled_for, gated_upto);
+        gated_upto = n;
+        const std::size_t first_free = std::min(solved_upto, stats.first_changed);
+        if (first_free <= 1)
+        {
+            ++whole_graph_solves;
+            levelled_for = online.directionFrame();
+        }
+        online.optimize(8, first_free, 1e-9);
+        solved_upto = n;
+    };
+    for (std::size_t k = 1; k < truth.size(); ++k)
+    {
+        online.addNode(online.node(k - 1) + steps[k]);
+        online.addEdge(k - 1, k, steps[k], step_cov);
+        if ((k + 1) % 5 == 0 || k + 1 == truth.size())
+        {
+            levelAndSolve();
+            ++relevels;
+        }
+    }
+    const double tilt_online = maxTiltDeg(online.nodes());
+    const double rmse_online = positionRmse(online.nodes(), truth);
+    std::printf(
+        "staircase online: max tilt %.2f deg (batch %.2f), position RMSE %.3f m (batch %.3f, "
+        "before %.3f), bias %.2f deg (batch %.2f), %zu of %zu used (batch %zu), %d whole-graph "
+        "solves\n",
+        tilt_online, maxTiltDeg(batch.nodes()), rmse_online, positionRmse(batch.nodes(), truth),
+        rmse_before, stats.bias_deg, batch_stats.bias_deg, stats.used, stats.measured,
+        batch_stats.used, whole_graph_solves);
+    // The first, and when the bias is first seen and while it settles:
+    // the other relevellings move only the nodes added since.
+    EXPECT_LT(whole_graph_solves, relevels);
+    EXPECT_EQ(stats.measured, batch_stats.measured);
+    EXPECT_EQ(stats.used, batch_stats.used);
+    std::set<std::size_t> in_graph;
+    for (const auto& p : online.directionPriors())
+    {
+        in_graph.insert(p.node);
+    }
+    EXPECT_EQ(in_graph.count(5), 0u);
+    EXPECT_EQ(in_graph.count(25), 0u);
+    EXPECT_TRUE(stats.bias_observable);
+    EXPECT_NEAR(stats.bias_deg, batch_stats.bias_deg, 0.2);
+    EXPECT_LT(tilt_online, 1.0);
+    EXPECT_LT(rmse_online, 0.25 * rmse_before);
+    EXPECT_LT(rmse_online, 1.5 * positionRmse(batch.nodes(), truth));
+}

@@ -267,7 +267,8 @@ void writeSummaryJson(
       << ", \"vertical_drift_deg\": " << io::jsonNumber(lc.vertical_drift_deg)
       << ", \"vertical_bias_deg\": " << io::jsonNumber(lc.vertical_bias_deg)
       << ", \"vertical_correlation_time\": " << io::jsonNumber(lc.vertical_correlation_time)
-      << ", \"rounds\": " << lc.rounds << ", \"initial_cost\": " << io::jsonNumber(lc.initial_cost)
+      << ", \"level_resolves\": " << lc.level_resolves << ", \"rounds\": " << lc.rounds
+      << ", \"initial_cost\": " << io::jsonNumber(lc.initial_cost)
       << ", \"final_cost\": " << io::jsonNumber(lc.final_cost)
       << ", \"dropped_edges\": " << lc.dropped_edges
       << ", \"refused_groups\": " << lc.refused_groups << ", \"local_solves\": " << lc.local_solves

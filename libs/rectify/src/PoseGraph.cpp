@@ -201,11 +201,7 @@ PoseGraph::Result PoseGraph::optimize(
     int max_iterations, std::size_t first_free, double min_relative_decrease)
 {
     const std::size_t n = m_nodes.size();
-    first_free = std::max<std::size_t>(first_free, 1);
-    if (first_free > 1 && !m_priors.empty())
-    {
-        throw std::invalid_argument("PoseGraph::optimize: direction priors need every node free");
-    }
+    first_free = std::min(std::max<std::size_t>(first_free, 1), n);
     // Only the edges that reach a free node change the cost.
     std::vector<std::size_t> active;
     for (std::size_t e = 0; e < m_edges.size(); ++e)
@@ -215,6 +211,20 @@ PoseGraph::Result PoseGraph::optimize(
             active.push_back(e);
         }
     }
+    // Nodes before first_free are fixed (node 0 always: the world): the
+    // unknowns are the others, six each, then the shared world direction
+    // and bias of the direction priors (two each). The priors of fixed
+    // nodes pull on those two only: without them, they change nothing.
+    const bool any_prior = !m_priors.empty();
+    const bool shared_unknowns = any_prior && (m_frame.solve_world || m_frame.solve_bias);
+    std::vector<const DirectionPrior*> active_priors;
+    for (const auto& p : m_priors)
+    {
+        if (shared_unknowns || p.node >= first_free)
+        {
+            active_priors.push_back(&p);
+        }
+    }
     const auto activeCost = [&]
     {
         double c = 0;
@@ -222,23 +232,19 @@ PoseGraph::Result PoseGraph::optimize(
         {
             c += edgeCost(m_edges[e]);
         }
-        for (const auto& p : m_priors)
+        for (const DirectionPrior* p : active_priors)
         {
-            c += priorCost(p);
+            c += priorCost(*p);
         }
         return c;
     };
     Result res;
     res.initial_cost = activeCost();
     res.final_cost = res.initial_cost;
-    if (first_free >= n || (active.empty() && m_priors.empty()))
+    if ((first_free >= n || active.empty()) && active_priors.empty())
     {
         return res;
     }
-    // Nodes before first_free are fixed (node 0 always: the world): the
-    // unknowns are the others, six each, then the shared world direction
-    // and bias of the direction priors (two each).
-    const bool any_prior = !m_priors.empty();
     const auto world_col = static_cast<Eigen::Index>(6 * (n - first_free));
     const Eigen::Index bias_col = world_col + (any_prior && m_frame.solve_world ? 2 : 0);
     const Eigen::Index dim = bias_col + (any_prior && m_frame.solve_bias ? 2 : 0);
@@ -302,12 +308,13 @@ PoseGraph::Result PoseGraph::optimize(
         const Vec3 w = toVec3(m_frame.world);
         const Vec3 b = toVec3(m_frame.bias);
         const Mat32 Ew = tangentBasis(w);
-        for (const auto& p : m_priors)
+        for (const DirectionPrior* prior : active_priors)
         {
+            const DirectionPrior& p = *prior;
             const auto& x = m_nodes[p.node];
             const Vec3 r = priorResidual(x, p, w, b);
             std::vector<std::pair<Eigen::Index, Eigen::MatrixXd>> blocks;
-            if (p.node != 0)
+            if (!fixed(p.node))
             {
                 Eigen::MatrixXd J(3, 6);
                 for (int k = 0; k < 6; ++k)

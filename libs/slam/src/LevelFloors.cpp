@@ -23,6 +23,8 @@ double median(std::vector<double> v)
 // The median and the 99.73 % bulk of a χ²(2).
 constexpr double CHI2_2DOF_MEDIAN = 1.386;
 constexpr double CHI2_2DOF_GATE = 11.83;
+// The same bulk of a χ²(4): the world up and the bias, two each.
+constexpr double CHI2_4DOF_GATE = 16.25;
 
 Vec3 toEigen(const mrpt::math::TVector3D& v)
 {
@@ -173,6 +175,139 @@ double correlationTime(const std::vector<Disagreement>& dis)
     }
     return tau;
 }
+/** Starts the world up at the mean measured up (no bias); false if there
+ * is none. */
+bool startWorldUp(
+    emslam::rectify::PoseGraph& graph,
+    const std::vector<std::optional<emslam::stereo::VerticalMeasurement>>& verticals,
+    std::size_t n,
+    double max_bias)
+{
+    Vec3 sum = Vec3::Zero();
+    for (std::size_t k = 0; k < n; ++k)
+    {
+        if (verticals[k])
+        {
+            sum += graph.node(k).getRotationMatrix().asEigen() * toEigen(verticals[k]->up);
+        }
+    }
+    if (!(sum.norm() > 0) || !sum.allFinite())
+    {
+        return false;
+    }
+    emslam::rectify::PoseGraph::DirectionFrame frame;
+    const Vec3 g0 = sum.normalized();
+    frame.world = {g0.x(), g0.y(), g0.z()};
+    frame.solve_world = true;
+    frame.max_bias = max_bias;
+    graph.setDirectionFrame(frame);
+    return true;
+}
+
+/** One pass's gate: the measurements that agree with the world up at the
+ * current poses replace the graph's priors; those of nodes before
+ * `regate_from` keep their decision (and prior). A measurement's pose may be
+ * tilted by `pose_variance[k]` (nothing: 0) and, with `spread`, by the
+ * spread the measurements show beyond their own noise (by their median);
+ * with `spread` the measurements' information is also divided by their
+ * correlation time. Returns false (and no priors) if fewer than two agree. */
+bool gateVerticals(
+    emslam::rectify::PoseGraph& graph,
+    const std::vector<std::optional<emslam::stereo::VerticalMeasurement>>& verticals,
+    std::size_t n,
+    const std::vector<double>& pose_variance,
+    bool spread,
+    LevelFloorsStats& stats,
+    std::size_t regate_from = 0)
+{
+    const std::vector<emslam::rectify::PoseGraph::DirectionPrior> before = graph.directionPriors();
+    const std::vector<Disagreement> dis = disagreements(graph, verticals, n);
+    double drift_var = 0;
+    double correlation_time = 1;
+    if (spread && !dis.empty())
+    {
+        correlation_time = correlationTime(dis);
+        stats.correlation_time = correlation_time;
+        std::vector<double> d2, var_m;
+        for (const auto& d : dis)
+        {
+            d2.push_back(d.r.squaredNorm());
+            var_m.push_back(0.5 * d.C.trace());
+        }
+        drift_var = std::max(0.0, median(d2) / CHI2_2DOF_MEDIAN / 2 - median(var_m));
+        stats.drift_deg = mrpt::RAD2DEG(std::sqrt(drift_var));
+    }
+    graph.clearDirectionPriors();
+    stats.used = 0;
+    for (const auto& p : before)
+    {
+        if (p.node < regate_from)
+        {
+            graph.addDirectionPrior(p.node, p.in_node, p.information);
+            ++stats.used;
+        }
+    }
+    for (const auto& d : dis)
+    {
+        if (d.node < regate_from)
+        {
+            continue;
+        }
+        const double pose_var =
+            drift_var + (d.node < pose_variance.size() ? pose_variance[d.node] : 0.0);
+        const Eigen::Matrix2d S = d.C + pose_var * Eigen::Matrix2d::Identity();
+        if (!(d.r.dot(S.ldlt().solve(d.r)) <= CHI2_2DOF_GATE))
+        {
+            continue;
+        }
+        ++stats.used;
+        const auto& m = *verticals[d.node];
+        mrpt::math::CMatrixDouble33 information = m.information();
+        information.asEigen() /= correlation_time;
+        graph.addDirectionPrior(d.node, m.up, information);
+    }
+    if (stats.used < 2)
+    {
+        graph.clearDirectionPriors();
+        stats.used = 0;
+        return false;
+    }
+    return true;
+}
+
+/** The bias is an unknown only while the graph's priors observe it (the
+ * data pin it to a third of its bound, 3 σ within it); otherwise zero. */
+void decideBias(emslam::rectify::PoseGraph& graph, double max_bias)
+{
+    const double min_bias_information = max_bias > 0 ? std::pow(3 / max_bias, 2) : 0.0;
+    auto f = graph.directionFrame();
+    f.solve_bias = max_bias > 0 && biasInformation(graph) >= min_bias_information;
+    if (!f.solve_bias)
+    {
+        f.bias = {0, 0, 0};
+    }
+    graph.setDirectionFrame(f);
+}
+
+void reportBias(const emslam::rectify::PoseGraph& graph, LevelFloorsStats& stats)
+{
+    stats.bias_observable = graph.directionFrame().solve_bias;
+    if (stats.bias_observable)
+    {
+        stats.bias_deg = mrpt::RAD2DEG(toEigen(graph.directionFrame().bias).norm());
+    }
+}
+
+std::size_t countMeasured(
+    const std::vector<std::optional<emslam::stereo::VerticalMeasurement>>& verticals, std::size_t n)
+{
+    std::size_t c = 0;
+    for (std::size_t k = 0; k < n; ++k)
+    {
+        c += verticals[k] ? 1 : 0;
+    }
+    return c;
+}
 }  // namespace
 
 LevelFloorsStats levelFloors(
@@ -184,96 +319,109 @@ LevelFloorsStats levelFloors(
 {
     LevelFloorsStats stats;
     const std::size_t n = std::min(graph.nodeCount(), verticals.size());
-    for (std::size_t k = 0; k < n; ++k)
+    stats.measured = countMeasured(verticals, n);
+    if (stats.measured < 2 || !startWorldUp(graph, verticals, n, max_bias))
     {
-        stats.measured += verticals[k] ? 1 : 0;
+        return stats;
     }
+    for (int pass = 0; pass < passes; ++pass)
+    {
+        // The first pass gates by how far the egomotion may have tilted
+        // each pose; later passes by the tilt spread the measurements show
+        // beyond their own noise (by their median).
+        const bool gated = pass == 0
+                               ? gateVerticals(graph, verticals, n, tilt_variance, false, stats)
+                               : gateVerticals(graph, verticals, n, {}, true, stats);
+        if (!gated)
+        {
+            break;
+        }
+        decideBias(graph, max_bias);
+        // Far below any measurement's noise; a tighter stop only costs time.
+        graph.optimize(8, 1, 1e-6);
+    }
+    reportBias(graph, stats);
+    return stats;
+}
+
+LevelFloorsStats relevelFloors(
+    emslam::rectify::PoseGraph& graph,
+    const std::vector<std::optional<emslam::stereo::VerticalMeasurement>>& verticals,
+    const std::vector<double>& pose_tilt_variance,
+    const emslam::rectify::PoseGraph::DirectionFrame& levelled_for,
+    std::size_t regate_from,
+    double max_bias)
+{
+    LevelFloorsStats stats;
+    const std::size_t n = std::min(graph.nodeCount(), verticals.size());
+    stats.measured = countMeasured(verticals, n);
+    stats.first_changed = graph.nodeCount();
     if (stats.measured < 2)
     {
         return stats;
     }
-    // Start: the world up is the mean of the measured ups, no bias.
-    Vec3 sum = Vec3::Zero();
-    for (std::size_t k = 0; k < n; ++k)
+    std::vector<bool> had_prior(graph.nodeCount(), false);
+    for (const auto& p : graph.directionPriors())
     {
-        if (verticals[k])
-        {
-            sum += graph.node(k).getRotationMatrix().asEigen() * toEigen(verticals[k]->up);
-        }
+        had_prior[p.node] = true;
     }
-    if (!(sum.norm() > 0) || !sum.allFinite())
+    if (graph.directionPriors().empty() && !startWorldUp(graph, verticals, n, max_bias))
     {
         return stats;
     }
-    emslam::rectify::PoseGraph::DirectionFrame frame;
-    const Vec3 g0 = sum.normalized();
-    frame.world = {g0.x(), g0.y(), g0.z()};
-    frame.solve_world = true;
-    frame.max_bias = max_bias;
-    graph.setDirectionFrame(frame);
-    // The data must pin the bias to a third of its bound (3 σ within it).
-    const double min_bias_information = max_bias > 0 ? std::pow(3 / max_bias, 2) : 0.0;
-    for (int pass = 0; pass < passes; ++pass)
+    const auto solveShared = [&]
     {
-        const std::vector<Disagreement> dis = disagreements(graph, verticals, n);
-        // The first pass gates by how far the egomotion may have tilted
-        // each pose; later passes by the tilt spread the measurements show
-        // beyond their own noise (by their median).
-        double drift_var = 0;
-        double correlation_time = 1;
-        if (pass > 0)
+        decideBias(graph, max_bias);
+        // Every node held: the world up and the bias only.
+        graph.optimize(8, graph.nodeCount(), 1e-9);
+        reportBias(graph, stats);
+    };
+    bool gated = gateVerticals(graph, verticals, n, pose_tilt_variance, true, stats, regate_from);
+    if (gated)
+    {
+        solveShared();
+    }
+    // What the next solve must free: a node whose prior came or went, and
+    // every node once the world up and bias have moved beyond their own
+    // noise since `levelled_for` (what the priors would gain, at the held
+    // poses, is beyond the bulk of a χ² of those four unknowns): a bias
+    // found only after the first turns must level what came before it.
+    std::vector<bool> has_prior(graph.nodeCount(), false);
+    for (const auto& p : graph.directionPriors())
+    {
+        has_prior[p.node] = true;
+    }
+    for (std::size_t k = 1; k < graph.nodeCount(); ++k)
+    {
+        if (had_prior[k] != has_prior[k])
         {
-            correlation_time = correlationTime(dis);
-            stats.correlation_time = correlation_time;
-            std::vector<double> d2, var_m;
-            for (const auto& d : dis)
-            {
-                d2.push_back(d.r.squaredNorm());
-                var_m.push_back(0.5 * d.C.trace());
-            }
-            drift_var = std::max(0.0, median(d2) / CHI2_2DOF_MEDIAN / 2 - median(var_m));
-            stats.drift_deg = mrpt::RAD2DEG(std::sqrt(drift_var));
-        }
-        graph.clearDirectionPriors();
-        stats.used = 0;
-        for (const auto& d : dis)
-        {
-            const double pose_var =
-                pass == 0 ? (d.node < tilt_variance.size() ? tilt_variance[d.node] : 0.0)
-                          : drift_var;
-            const Eigen::Matrix2d S = d.C + pose_var * Eigen::Matrix2d::Identity();
-            if (!(d.r.dot(S.ldlt().solve(d.r)) <= CHI2_2DOF_GATE))
-            {
-                continue;
-            }
-            ++stats.used;
-            const auto& m = *verticals[d.node];
-            mrpt::math::CMatrixDouble33 information = m.information();
-            information.asEigen() /= correlation_time;
-            graph.addDirectionPrior(d.node, m.up, information);
-        }
-        if (stats.used < 2)
-        {
-            graph.clearDirectionPriors();
-            stats.used = 0;
+            stats.first_changed = k;
             break;
         }
-        // The bias is solved only while these measurements observe it;
-        // otherwise it stays at zero.
-        auto f = graph.directionFrame();
-        f.solve_bias = max_bias > 0 && biasInformation(graph) >= min_bias_information;
-        if (!f.solve_bias)
-        {
-            f.bias = {0, 0, 0};
-        }
-        graph.setDirectionFrame(f);
-        // Far below any measurement's noise; a tighter stop only costs time.
-        graph.optimize(8, 1, 1e-6);
     }
-    stats.bias_observable = graph.directionFrame().solve_bias;
-    if (stats.bias_observable)
+    if (gated)
     {
-        stats.bias_deg = mrpt::RAD2DEG(toEigen(graph.directionFrame().bias).norm());
+        const Vec3 w0 = toEigen(levelled_for.world), b0 = toEigen(levelled_for.bias);
+        double gain = 0;
+        for (const auto& p : graph.directionPriors())
+        {
+            const Vec3 r = (toEigen(p.in_node) - b0).normalized() -
+                           graph.node(p.node).getRotationMatrix().asEigen().transpose() * w0;
+            gain += 0.5 * r.dot(p.information.asEigen() * r) - graph.priorCost(p);
+        }
+        if (gain > CHI2_4DOF_GATE / 2)
+        {
+            // Every node is solved again: every up is gated again.
+            stats.first_changed = 1;
+            if (regate_from > 0)
+            {
+                gated = gateVerticals(graph, verticals, n, pose_tilt_variance, true, stats);
+                if (gated)
+                {
+                    solveShared();
+                }
+            }
+        }
     }
     return stats;
 }

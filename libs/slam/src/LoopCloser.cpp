@@ -429,6 +429,7 @@ std::vector<LoopCloser::Keyframe> LoopCloser::takeIncoming()
         if (it != m_keyframe_of_frame.end())
         {
             m_keyframes[it->second].vertical = v;
+            m_ungated_from = std::min(m_ungated_from, it->second);
             continue;
         }
         const auto in = std::find_if(
@@ -513,12 +514,15 @@ std::size_t LoopCloser::update(
         rectified && !(stop && stop()) ? applyRectified(*rectified) : m_keyframes.size();
     if (first_changed < m_keyframes.size())
     {
+        // The ups seen since the last solve join it.
+        relevel();
         // The rectifier moves the path a little at a time: a few iterations
         // from where the graph is, of the keyframes it moved (and those the
         // local edges added since the last solve reach).
         const std::size_t first_free = std::min(first_changed, m_unsolved_from);
         const auto solved = m_graph.optimize(RECTIFIED_ITERATIONS, first_free, SOLVE_TOLERANCE);
         m_unsolved_from = NONE_UNSOLVED;
+        m_solved_upto = m_keyframes.size();
         m_stats.final_cost = solved.final_cost;
         ++m_stats.rounds;
         m_stats.local_solves += first_free > 1 ? 1 : 0;
@@ -884,8 +888,10 @@ bool LoopCloser::tryAccept(std::vector<std::unique_ptr<Registration>> group)
         {
             const std::vector<mrpt::poses::CPose3D> before(
                 m_graph.nodes().begin() + static_cast<long>(free_from), m_graph.nodes().end());
+            const auto frame_before = m_graph.directionFrame();
             const auto solved = m_graph.optimize(ONLINE_ITERATIONS, free_from, SOLVE_TOLERANCE);
             m_stats.local_solves += free_from > 1 ? 1 : 0;
+            m_solved_upto = m_keyframes.size();
             if (m_stats.rounds == 0)
             {
                 m_stats.initial_cost = solved.initial_cost;
@@ -903,6 +909,7 @@ bool LoopCloser::tryAccept(std::vector<std::unique_ptr<Registration>> group)
                     {
                         m_graph.setNode(free_from + k, before[k]);
                     }
+                    m_graph.setDirectionFrame(frame_before);
                     return false;
                 }
             }
@@ -948,6 +955,7 @@ void LoopCloser::solve(int max_iterations, std::size_t first_free)
 {
     first_free = std::min(first_free, m_unsolved_from);
     m_unsolved_from = NONE_UNSOLVED;
+    m_solved_upto = m_keyframes.size();
     for (int pass = 0; pass < MAX_DROP_PASSES; ++pass)
     {
         const auto solved = m_graph.optimize(max_iterations, first_free, SOLVE_TOLERANCE);
@@ -1071,6 +1079,15 @@ std::vector<mrpt::poses::CPose3D> LoopCloser::close(
     {
         m_graph.setNode(k, origin + m_graph.node(k));
     }
+    // The levelling's world up turns with the graph's world.
+    const auto turned = [&origin](emslam::rectify::PoseGraph::DirectionFrame f)
+    {
+        const Vec3 w = origin.getRotationMatrix().asEigen() * Vec3(f.world.x, f.world.y, f.world.z);
+        f.world = {w.x(), w.y(), w.z()};
+        return f;
+    };
+    m_graph.setDirectionFrame(turned(m_graph.directionFrame()));
+    m_levelled_for = turned(m_levelled_for);
     if (!stopped())
     {
         // The odometry edges take the rectified relative poses; the
@@ -1081,18 +1098,16 @@ std::vector<mrpt::poses::CPose3D> LoopCloser::close(
             rectified.push_back({m_keyframes[k].frame_index, poses[k]});
         }
         const std::size_t first_changed = applyRectified(rectified);
+        // The levelling is online: the ups of the last keyframes join and
+        // the polish's solve levels them with the rest.
+        const auto t_level = std::chrono::steady_clock::now();
+        relevel();
         const auto t_solve = std::chrono::steady_clock::now();
         solve(POLISH_ITERATIONS, std::min(first_changed, n - 1));
-        const auto t_level = std::chrono::steady_clock::now();
-        if (m_p.vertical_prior)
-        {
-            levelWithVerticals();
-        }
-        m_stats.polish_solve_ms =
-            std::chrono::duration<double, std::milli>(t_level - t_solve).count();
-        m_stats.polish_level_ms =
-            std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t_level)
-                .count();
+        const auto ms = [](auto a, auto b)
+        { return std::chrono::duration<double, std::milli>(b - a).count(); };
+        m_stats.polish_level_ms = ms(t_level, t_solve);
+        m_stats.polish_solve_ms = ms(t_solve, std::chrono::steady_clock::now());
     }
     const std::size_t accepted = m_stats.loop_edges;
     if (m_stats.dropped_edges > 3 && 2 * m_stats.dropped_edges > accepted)
@@ -1121,28 +1136,44 @@ std::vector<mrpt::poses::CPose3D> LoopCloser::close(
     return m_graph.nodes();
 }
 
-void LoopCloser::levelWithVerticals()
+std::size_t LoopCloser::relevel()
 {
-    // How far the egomotion may have tilted each keyframe: its chain's
-    // rotation variance, per axis (no loop or local edge counted).
     const std::size_t n = m_keyframes.size();
+    if (!m_p.vertical_prior || n < 2)
+    {
+        return n;
+    }
+    // How far each keyframe may be tilted beyond the levelled ones: the
+    // egomotion's rotation variance (per axis) along the chain since the
+    // last keyframe a solve moved; none for those.
     std::vector<std::optional<emslam::stereo::VerticalMeasurement>> verticals(n);
     std::vector<double> tilt_variance(n, 0.0);
     for (std::size_t k = 0; k < n; ++k)
     {
         verticals[k] = m_keyframes[k].vertical;
-        if (k > 0)
+        if (k >= m_solved_upto && k > 0)
         {
             tilt_variance[k] = tilt_variance[k - 1] + rotationTrace(m_keyframes[k].covariance) / 3;
         }
     }
-    const LevelFloorsStats level =
-        levelFloors(m_graph, verticals, tilt_variance, 3, mrpt::DEG2RAD(m_p.vertical_max_bias_deg));
+    const LevelFloorsStats level = relevelFloors(
+        m_graph, verticals, tilt_variance, m_levelled_for, std::min(m_ungated_from, m_gated_upto),
+        mrpt::DEG2RAD(m_p.vertical_max_bias_deg));
+    m_ungated_from = NONE_UNSOLVED;
+    m_gated_upto = n;
     m_stats.verticals_measured = level.measured;
     m_stats.verticals_used = level.used;
     m_stats.vertical_drift_deg = level.drift_deg;
     m_stats.vertical_bias_deg = level.bias_deg;
     m_stats.vertical_correlation_time = level.correlation_time;
+    if (level.first_changed <= 1)
+    {
+        // The next solve levels every keyframe for these.
+        m_levelled_for = m_graph.directionFrame();
+        ++m_stats.level_resolves;
+    }
+    m_unsolved_from = std::min(m_unsolved_from, level.first_changed);
+    return level.first_changed;
 }
 
 }  // namespace emslam::slam

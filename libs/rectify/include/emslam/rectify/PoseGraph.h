@@ -117,8 +117,10 @@ public:
      * `min_relative_decrease` or `max_iterations`; node 0 and every node
      * before `first_free` stay where they are (a local solve: only the
      * edges that reach a free node are looked at, so its cost follows them,
-     * not the graph). Direction priors need `first_free` <= 1
-     * (std::invalid_argument otherwise). Result costs are of those edges. */
+     * not the graph). Every direction prior counts: a free node's moves its
+     * node, and each pulls on w and b where they are solved (so with every
+     * node fixed, `first_free` >= nodeCount(), only w and b move). Result
+     * costs are of those edges and of the priors that count. */
     Result optimize(
         int max_iterations = 30, std::size_t first_free = 1, double min_relative_decrease = 1e-9);
 

@@ -28,6 +28,9 @@ struct LevelFloorsStats
     /** Keyframes that share one measurement error (last pass): the
      * measurements' information is divided by it. */
     double correlation_time{1};
+    /** relevelFloors(): the first node the next solve must free (the node
+     * count: none). */
+    std::size_t first_changed{0};
 };
 
 /** The default bound of the camera's bias in levelFloors() [rad]: 3 degrees,
@@ -69,6 +72,43 @@ LevelFloorsStats levelFloors(
     const std::vector<std::optional<emslam::stereo::VerticalMeasurement>>& verticals,
     const std::vector<double>& tilt_variance,
     int passes = 3,
+    double max_bias = DEFAULT_MAX_CAMERA_BIAS);
+
+/** levelFloors() for a graph that grows, without its solves of the poses
+ * (the online levelling of LoopCloser): one pass of gating at the current
+ * poses, the agreeing measurements replacing the graph's direction priors,
+ * then the world up (and the bias, once observed) solved with every node
+ * held. The poses move in the caller's own solves, local or not, which
+ * count the priors (PoseGraph::optimize()): each keyframe is levelled when
+ * its neighbourhood is solved anyway, and no solve of the whole graph is
+ * needed for it.
+ *
+ * The gate is that of levelFloors()' later passes (the spread the
+ * measurements show beyond their own noise, by the median; information
+ * divided by the correlation time) plus `pose_tilt_variance[k]` [rad², per
+ * axis]: how far node k may be tilted beyond that spread, e.g. the
+ * egomotion's chain since the last node a solve levelled (nothing: 0).
+ * The first call (no priors in the graph) starts the world up at the mean
+ * measured up. The measurements of nodes before `regate_from` (those gated
+ * before) keep their decision and prior, unless every node is to be solved
+ * again (below): a decision flipping on an old node would make the next
+ * solve reach back to it, every time.
+ *
+ * The next solve must free LevelFloorsStats::first_changed on: the first
+ * node whose prior came or went, or every node (1) when the world up and
+ * the bias moved beyond their own noise since `levelled_for`, the
+ * direction frame the held nodes were last solved with (the priors would
+ * gain more than the 99.73 % bulk of a χ²(4) at the held poses): a bias
+ * observed only after the first turns must level what came before. Why: a full levelFloors() of a
+ * long run's graph is three solves of every keyframe, seconds after the last frame; and the online
+ * estimate would stay tilted until then.
+ * \ingroup emslam_slam_grp */
+LevelFloorsStats relevelFloors(
+    emslam::rectify::PoseGraph& graph,
+    const std::vector<std::optional<emslam::stereo::VerticalMeasurement>>& verticals,
+    const std::vector<double>& pose_tilt_variance,
+    const emslam::rectify::PoseGraph::DirectionFrame& levelled_for,
+    std::size_t regate_from,
     double max_bias = DEFAULT_MAX_CAMERA_BIAS);
 
 }  // namespace emslam::slam

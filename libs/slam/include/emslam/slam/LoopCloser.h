@@ -76,10 +76,16 @@ namespace emslam::slam
  *    iterations); a loop edge the solved graph still disagrees with beyond
  *    that bulk is dropped and the graph solved again.
  *
+ * Levelling (`vertical_prior`) is online too: the up each keyframe saw in
+ * its dense cloud is gated once, at the first rectification after it came,
+ * and joins the graph as a prior on its tilt (relevelFloors()); every solve
+ * from then on, local or not, counts the priors. Only when the world up and
+ * the camera's bias moved beyond their noise are all ups gated again and
+ * the graph solved whole.
+ *
  * close() polishes: the odometry edges take the rectified relative poses,
- * the graph is solved once more, inconsistent loop edges dropped, and with
- * `vertical_prior` the up each keyframe saw in its dense cloud levels the
- * graph (levelFloors()).
+ * the ups of the last keyframes join, the graph is solved once more from
+ * the first keyframe that changed, inconsistent loop edges dropped.
  * \ingroup emslam_slam_grp \sa EntropySlam */
 class LoopCloser
 {
@@ -117,7 +123,7 @@ public:
         int local_edges{0};
         /** Level the floors: each keyframe's dense cloud says where up is
          * (emslam::stereo::VerticalFromPlanes), and those that agree join
-         * the pose graph as priors on its tilt (levelFloors()). For
+         * the pose graph as priors on its tilt, online (relevelFloors()). For
          * buildings (floors, ceilings, stair treads are level); not for
          * open terrain. (Default: false) */
         bool vertical_prior{false};
@@ -157,8 +163,11 @@ public:
          * observable (see levelFloors()). */
         double vertical_bias_deg{std::numeric_limits<double>::quiet_NaN()};
         double vertical_correlation_time{1};  //!< keyframes that share one error
-        int rounds{0};                        //!< solves of the graph
-        std::size_t local_solves{0};          //!< of them: the recent keyframes only
+        /** Solves of every keyframe because the levelling's world up and
+         * bias moved beyond their noise (relevelFloors()). */
+        std::size_t level_resolves{0};
+        int rounds{0};                //!< solves of the graph
+        std::size_t local_solves{0};  //!< of them: the recent keyframes only
         /** From a keyframe's addKeyframe() to its loop edges in the
          * current poses [ms], over the keyframes that closed a loop. */
         double latency_ms_mean{0}, latency_ms_max{0};
@@ -292,8 +301,10 @@ private:
     /** Solve (the keyframes from `first_free` on), drop loop edges the
      * solution refuses, solve again. */
     void solve(int max_iterations, std::size_t first_free = 1);
-    /** The polish's levelling (levelFloors()) with the keyframes' ups. */
-    void levelWithVerticals();
+    /** The online levelling (relevelFloors()) with the keyframes' ups so
+     * far: the next solve counts them. Returns the first keyframe whose
+     * prior came or went (keyframeCount(): none). */
+    std::size_t relevel();
     emslam::egomotion::EgomotionEstimator::Description descriptionOf(std::size_t k) const;
     /** Takes the keyframes added since the last call (producer's lock). */
     std::vector<Keyframe> takeIncoming();
@@ -322,6 +333,14 @@ private:
     /** The first keyframe a local edge added since the last solve that
      * covered it reaches (max: none). */
     std::size_t m_unsolved_from{static_cast<std::size_t>(-1)};
+    /** Keyframes before it were free in a solve since they were added. */
+    std::size_t m_solved_upto{0};
+    /** The levelling the keyframes were last solved with, all of them. */
+    emslam::rectify::PoseGraph::DirectionFrame m_levelled_for;
+    /** Keyframes at the last relevel(); of them, the first whose up came
+     * since. */
+    std::size_t m_gated_upto{0};
+    std::size_t m_ungated_from{static_cast<std::size_t>(-1)};
     std::vector<std::unique_ptr<Registration>> m_pool;      // gated, waiting for consensus
     std::vector<std::unique_ptr<Registration>> m_accepted;  // recent loop edges, for consensus
     Stats m_stats;
