@@ -412,7 +412,7 @@ TEST(MapperApp, everyFrameHasASlamPoseAndTheKeyframesAreListed)
 
 // A frame without texture: its egomotion fails (and the next one's, measured
 // from it); such steps are predicted by constant velocity, in the egomotion
-// and in the SLAM trajectory.
+// and in the SLAM trajectory, and the run says it is unreliable.
 TEST(MapperApp, egomotionFailureStepsRepeatThePreviousStep)
 {
     const std::string dir = emslam::test::makeTempDir("mapper_failure");
@@ -439,6 +439,12 @@ TEST(MapperApp, egomotionFailureStepsRepeatThePreviousStep)
     ASSERT_EQ(m.frameCount(), 16U);
     EXPECT_GE(m.egomotionFailures(), 1U);
     EXPECT_FALSE(m.frames()[8].egomotion_ok);
+    // 1 or 2 of 15 steps guessed: more than 2 %, the run says it is unreliable.
+    const auto reasons = m.unreliableReasons();
+    ASSERT_EQ(reasons.size(), 1U);
+    EXPECT_EQ(reasons[0].rfind("egomotion: ", 0), 0U) << reasons[0];
+    EXPECT_NE(
+        readText(out + "/summary.json").find("\"unreliable\": [\"egomotion: "), std::string::npos);
     const auto& slam = m.slamPoses();
     const auto& ego = m.egomotionPoses();
     ASSERT_EQ(slam.size(), 16U);
@@ -687,8 +693,11 @@ TEST(MapperApp, repeatedConfigSectionOrKeyIsRefusedNamingBothLines)
     const std::string rawlog = simulatedHall(8);
     std::ifstream in(config("3dof-low-structured"));
     const std::string text{std::istreambuf_iterator<char>(in), {}};
-    // The shipped file has [Rectifier] at line 135.
-    ASSERT_NE(text.find("\n[Rectifier]\n"), std::string::npos);
+    // The line of the shipped file's [Rectifier] (from 1).
+    const auto at = text.find("\n[Rectifier]\n");
+    ASSERT_NE(at, std::string::npos);
+    const auto rectifier_line =
+        static_cast<std::size_t>(std::count(text.begin(), text.begin() + at + 1, '\n')) + 1;
     const auto lines = static_cast<std::size_t>(std::count(text.begin(), text.end(), '\n'));
     emslam::test::writeFile(dir + "/dup.ini", text + "[Rectifier]\n");
     MapperApp a;
@@ -697,7 +706,8 @@ TEST(MapperApp, repeatedConfigSectionOrKeyIsRefusedNamingBothLines)
             initApp(a, {dir + "/dup.ini", rawlog, "--out", dir});
         },
         {dir + "/dup.ini:" + std::to_string(lines + 1) +
-         ": section [Rectifier] repeated (first at " + dir + "/dup.ini:135)"});
+         ": section [Rectifier] repeated (first at " + dir +
+         "/dup.ini:" + std::to_string(rectifier_line) + ")"});
 
     emslam::test::writeFile(dir + "/key.ini", "[Rectifier]\nseed = 1\n; again\nSeed = 2\n");
     MapperApp b;
@@ -1075,23 +1085,26 @@ std::pair<emslam::eval::TrajectoryMetrics, emslam::eval::TrajectoryMetrics> mapW
     return {*info.egomotion_vs_gt, *info.slam_vs_gt};
 }
 
-/** Renders config/sim/`world`.ini with `seed` into `dir`, maps it with
- * config/mapper/`mapper_config`.ini (plus `extra` arguments) and prints and
- * returns the egomotion's and SLAM's metrics against the ground truth. */
+/** Renders config/sim/`world`.ini with `seed` (plus `sim_extra` arguments)
+ * into `dir`, maps it with config/mapper/`mapper_config`.ini (plus `extra`
+ * arguments) and prints and returns the egomotion's and SLAM's metrics
+ * against the ground truth. */
 std::pair<emslam::eval::TrajectoryMetrics, emslam::eval::TrajectoryMetrics> mapSimulatedWorld(
     const std::string& world,
     int seed,
     const std::string& mapper_config,
     const std::string& dir,
-    const std::vector<std::string>& extra = {})
+    const std::vector<std::string>& extra = {},
+    const std::vector<std::string>& sim_extra = {})
 {
     emslam::apps::SimApp sim;
-    const std::vector<std::string> sim_args = {
+    std::vector<std::string> sim_args = {
         "emslam-sim", emslam::test::sourceDir() + "/config/sim/" + world + ".ini",
         "--seed",     std::to_string(seed),
         "-o",         dir + "/world.rawlog",
         "--gt-out",   dir + "/world.tum",
         "--quiet"};
+    sim_args.insert(sim_args.end(), sim_extra.begin(), sim_extra.end());
     auto argv = argvOf(sim_args);
     sim.initialize(static_cast<int>(argv.size()), argv.data());
     sim.run();
@@ -1182,13 +1195,15 @@ TEST(MapperApp, chancellorLoop6dofRectifierAloneDoesNoHarm)
 // revisited: every place of the upper floor looks like the one below, 3.2 m
 // away. No accepted loop edge may join places truly more than 1 m apart,
 // and SLAM must not end worse than the egomotion.
-TEST(MapperApp, lookAlikeFloorsCloseNoFalseLoop)
+namespace
 {
-    const std::string dir = emslam::test::makeTempDir("mapper_lookalike");
-    const auto [ego, slam] = mapSimulatedWorld("lookalike_floors", 2, "6dof-structured", dir);
+/** Checks every loop edge of `dir`/map/loop_closures.txt against the truth
+ * `dir`/world.tum (its ends at most 1 m apart); returns how many there are. */
+std::size_t checkLoopEdgesAgainstTruth(const std::string& dir)
+{
     const auto truth = emslam::io::TumTrajectory::fromFile(dir + "/world.tum");
     std::ifstream edges(dir + "/map/loop_closures.txt");
-    ASSERT_TRUE(edges.good());
+    EXPECT_TRUE(edges.good());
     std::string line;
     std::size_t accepted = 0;
     while (std::getline(edges, line))
@@ -1200,14 +1215,56 @@ TEST(MapperApp, lookAlikeFloorsCloseNoFalseLoop)
         std::istringstream in(line);
         std::size_t from = 0, to = 0;
         in >> from >> to;
-        ASSERT_LT(std::max(from, to), truth.size());
+        if (std::max(from, to) >= truth.size())
+        {
+            ADD_FAILURE() << "loop edge " << from << " -> " << to << " beyond the truth";
+            continue;
+        }
         const auto& a = truth.poses[from].pose;
         const auto& b = truth.poses[to].pose;
         EXPECT_LE(a.distanceTo(b), 1.0) << "loop edge " << from << " -> " << to;
         ++accepted;
     }
+    return accepted;
+}
+}  // namespace
+
+TEST(MapperApp, lookAlikeFloorsCloseNoFalseLoop)
+{
+    const std::string dir = emslam::test::makeTempDir("mapper_lookalike");
+    const auto [ego, slam] = mapSimulatedWorld("lookalike_floors", 2, "6dof-structured", dir);
+    const std::size_t accepted = checkLoopEdgesAgainstTruth(dir);
     std::printf("look-alike floors: %zu loop edges accepted\n", accepted);
     EXPECT_LE(slam.ate_rmse_m, ego.ate_rmse_m);
+}
+
+// The look-alike floors with periodic textures on every surface (no true
+// revisit): the first 700 frames, the ground floor and most of the upper
+// one. The loop closer registered the upper floor's places to the ones
+// below (before issue 40: 162 loop edges over the whole walk, all 1.5-7.2 m
+// off, SLAM ATE 2.54 m against the egomotion's 0.86 m). Now the solved graph
+// contradicts them more than chance explains, the run says it is unreliable
+// and no loop edge is kept. The rectifier runs only at the end (serial,
+// rectify_every 0: the test is about the loops). Measured (sim seed 63): no
+// loop edge (4 groups refused among 132 loop edges tested, all withdrawn),
+// ATE egomotion 0.728 m, SLAM 0.756 m; 51 s, 31 s of CPU, on a loaded
+// machine.
+TEST(MapperApp, lookAlikePeriodicFloorsCloseNoFalseLoopAndSayItIsUnreliable)
+{
+    const std::string dir = emslam::test::makeTempDir("mapper_lookalike_periodic");
+    const auto [ego, slam] = mapSimulatedWorld(
+        "lookalike_periodic", 63, "6dof-structured", dir,
+        {"--set", "Rectifier.mode=serial", "--set", "Rectifier.rectify_every=0"},
+        {"--max-frames", "700"});
+    const std::size_t accepted = checkLoopEdgesAgainstTruth(dir);
+    const std::string summary = readText(dir + "/map/summary.json");
+    std::printf("look-alike periodic floors: %zu loop edges accepted\n", accepted);
+    EXPECT_NE(summary.find("\"unreliable\": [\"loop closing: "), std::string::npos);
+    // Its loop edges withdrawn and unpolished, the SLAM estimate is the
+    // egomotion's chain with the local edges (no rectification before the
+    // end here): within 5 % of the egomotion. The whole walks with the
+    // shipped rectifier end below it (doc/rectify.md, issue 40's table).
+    EXPECT_LE(slam.ate_rmse_m, 1.05 * ego.ate_rmse_m);
 }
 
 namespace

@@ -281,3 +281,110 @@ TEST(FeatureMatcher, kittiConsecutiveFramesMatchMostlyCorrectly)
     // structural filter of §2.1.3 (LWO) is there to remove the rest.
     EXPECT_GT(ratio, 0.55) << good << " of " << m.size() << " matches within 3 px";
 }
+
+namespace
+{
+/** The `width` x 120 window at column `offset` of a canvas whose left 100
+ * columns are a texture of its own and the rest one 24-pixel tile repeated
+ * (a periodic wallpaper), with the camera's own noise (seeded). */
+cv::Mat periodicView(int offset, int width, unsigned noise_seed)
+{
+    constexpr int ROWS = 120, UNIQUE = 100, PERIOD = 24;
+    // Blurred noise; a tile blurred between copies of itself, so that it
+    // repeats seamlessly.
+    const auto blurredNoise = [](int rows, int cols, unsigned seed)
+    {
+        cv::Mat m(rows, cols, CV_32F);
+        cv::RNG rng(seed);
+        rng.fill(m, cv::RNG::UNIFORM, 0.0, 1.0);
+        cv::Mat three;
+        cv::hconcat(std::vector<cv::Mat>{m, m, m}, three);
+        cv::GaussianBlur(three, three, cv::Size(), 1.5);
+        m = three.colRange(cols, 2 * cols).clone();
+        cv::normalize(m, m, 30, 220, cv::NORM_MINMAX);
+        return m;
+    };
+    const cv::Mat tile = blurredNoise(ROWS, PERIOD, 7);
+    cv::Mat canvas(ROWS, offset + width, CV_32F);
+    blurredNoise(ROWS, UNIQUE, 8).copyTo(canvas.colRange(0, UNIQUE));
+    for (int u = UNIQUE; u < canvas.cols; ++u)
+    {
+        tile.col(u % PERIOD).copyTo(canvas.col(u));
+    }
+    cv::Mat view = canvas.colRange(offset, offset + width).clone();
+    cv::Mat noise(view.size(), CV_32F);
+    cv::RNG rng(noise_seed);
+    rng.fill(noise, cv::RNG::NORMAL, 0.0, 2.0);
+    view += noise;
+    cv::Mat out;
+    view.convertTo(out, CV_8U);
+    return out;
+}
+
+emslam::egomotion::FeatureList featuresOf(const cv::Mat& image)
+{
+    emslam::egomotion::FeatureList f;
+    for (const auto& p : emslam::egomotion::GlmFeatureExtractor().locate(image))
+    {
+        emslam::egomotion::Feature x;
+        x.u = p.u;
+        x.v = p.v;
+        f.push_back(x);
+    }
+    return f;
+}
+}  // namespace
+
+// A wall of one repeated tile beside a texture of its own, seen again 5 px
+// further on with fresh noise: on the wall a feature's true match and its
+// look-alikes a period (24 px) away score alike, and the paper's mutual
+// consistency takes whichever the noise favours. Distinctiveness refuses
+// those and keeps the unique texture's matches.
+TEST(FeatureMatcher, distinctivenessRefusesPeriodicLookAlikes)
+{
+    constexpr int SHIFT = 5, WIDTH = 240;
+    const cv::Mat prev_image = periodicView(0, WIDTH, 1);
+    const cv::Mat cur_image = periodicView(SHIFT, WIDTH, 2);
+    const auto prev_f = featuresOf(prev_image), cur_f = featuresOf(cur_image);
+    const emslam::egomotion::LogPolarDescriptorExtractor lp;
+    const auto prev_d = lp.compute(prev_image, prev_f), cur_d = lp.compute(cur_image, cur_f);
+    const auto count = [&](const emslam::egomotion::MatchList& m)
+    {
+        std::size_t right = 0, wrong = 0;
+        for (const auto& x : m)
+        {
+            const auto& a = prev_f[static_cast<std::size_t>(x.prev)];
+            const auto& b = cur_f[static_cast<std::size_t>(x.cur)];
+            const bool ok =
+                std::abs(int(b.u) + SHIFT - int(a.u)) <= 1 && std::abs(int(b.v) - int(a.v)) <= 1;
+            (ok ? right : wrong) += 1;
+        }
+        return std::pair(right, wrong);
+    };
+    const auto [paper_right, paper_wrong] = count(matchMutual(prev_d, cur_d, 0.8f));
+    emslam::egomotion::Distinctiveness distinct;
+    distinct.ratio = 2.0f;
+    distinct.same_place_px = 8.0f;
+    distinct.prev_features = &prev_f;
+    distinct.cur_features = &cur_f;
+    const auto matches = matchMutual(prev_d, cur_d, 0.8f, distinct);
+    const auto [right, wrong] = count(matches);
+    std::printf(
+        "periodic wall: paper %zu right, %zu wrong; distinct %zu right, %zu wrong\n", paper_right,
+        paper_wrong, right, wrong);
+    // Measured: paper 86 right, 48 wrong; distinct 74 right, 1 wrong (a
+    // feature whose look-alikes the noise left without a feature of their
+    // own: nothing to compare it with).
+    EXPECT_GE(paper_wrong * 4, paper_right + paper_wrong);
+    EXPECT_LE(wrong * 20, right + wrong);
+    EXPECT_GE(right, 40U);
+    // The guided search over the whole image decides as the full search.
+    const std::vector<cv::Point2f> anywhere(prev_f.size(), cv::Point2f(120, 60));
+    const auto guided = matchMutualGuided(prev_d, cur_d, anywhere, cur_f, 1000.0f, 0.8f, distinct);
+    ASSERT_EQ(guided.size(), matches.size());
+    for (std::size_t k = 0; k < guided.size(); ++k)
+    {
+        EXPECT_EQ(guided[k].prev, matches[k].prev);
+        EXPECT_EQ(guided[k].cur, matches[k].cur);
+    }
+}

@@ -85,16 +85,19 @@ void writeEffectiveIni(const slam::EntropySlam::TParameters& p, const std::strin
     f.commit();
 }
 
-/** The progress line's energy: none before the first rectification gives one. */
+/** The progress line's energy (none before the first rectification gives
+ * one), and UNRELIABLE once the run is (EntropySlam::unreliableReasons()). */
 std::string energyText(const slam::EntropySlam& m)
 {
+    // A run found unreliable says so as soon as it is known.
+    const std::string unreliable = m.unreliableReasons().empty() ? "" : "UNRELIABLE";
     if (!m.hasEnergy())
     {
-        return {};
+        return unreliable;
     }
     char buf[48];
     std::snprintf(buf, sizeof(buf), "energy %.4f", m.currentEnergy());
-    return buf;
+    return unreliable.empty() ? std::string(buf) : std::string(buf) + ", " + unreliable;
 }
 
 /** keyframes.txt: the frames space sampling accepted (rectified), one per line. */
@@ -538,13 +541,6 @@ void MapperApp::writeOutputs(const emslam::io::TumTrajectory& ground_truth)
             lc.loop_edges, lc.registrations, lc.dropped_edges, lc.local_edges,
             lc.local_registrations, (lc.ms - lc.polish_ms) / 1000.0, lc.polish_ms / 1000.0,
             lc.latency_ms_mean / 1000.0, lc.latency_ms_max / 1000.0);
-        if (!lc.unreliable.empty())
-        {
-            std::fflush(stdout);
-            std::fprintf(
-                stderr, "%s: warning: loop closing is unreliable: %s\n", PROGRAM,
-                lc.unreliable.c_str());
-        }
         if (m.parameters().loop_closer.vertical_prior)
         {
             // The bias is NaN until the keyframes' orientations observe it.
@@ -558,6 +554,11 @@ void MapperApp::writeOutputs(const emslam::io::TumTrajectory& ground_truth)
                 lc.verticals_used, lc.verticals_measured, lc.vertical_drift_deg, bias.c_str(),
                 lc.vertical_correlation_time);
         }
+    }
+    for (const auto& why : m.unreliableReasons())
+    {
+        std::fflush(stdout);
+        std::fprintf(stderr, "%s: warning: the estimate is unreliable: %s\n", PROGRAM, why.c_str());
     }
     if (m_info.slam_vs_gt)
     {

@@ -75,6 +75,21 @@ std::string cameraChangeJson(const MapperRunInfo& info)
            ", \"warning\": " + io::jsonString(info.camera_change_warning) + "}";
 }
 
+/** summary.json's "unreliable": null, or the reasons as a list of strings. */
+std::string unreliableJson(const std::vector<std::string>& reasons)
+{
+    if (reasons.empty())
+    {
+        return "null";
+    }
+    std::string out = "[";
+    for (std::size_t k = 0; k < reasons.size(); ++k)
+    {
+        out += (k > 0 ? ", " : "") + io::jsonString(reasons[k]);
+    }
+    return out + "]";
+}
+
 std::string fixed(double v, int decimals)
 {
     char buf[64];
@@ -271,7 +286,10 @@ void writeSummaryJson(
       << ", \"initial_cost\": " << io::jsonNumber(lc.initial_cost)
       << ", \"final_cost\": " << io::jsonNumber(lc.final_cost)
       << ", \"dropped_edges\": " << lc.dropped_edges
-      << ", \"refused_groups\": " << lc.refused_groups << ", \"local_solves\": " << lc.local_solves
+      << ", \"refused_groups\": " << lc.refused_groups
+      << ", \"refused_edges\": " << lc.refused_edges
+      << ", \"withdrawn_edges\": " << lc.withdrawn_edges
+      << ", \"local_solves\": " << lc.local_solves
       << ", \"latency_ms_mean\": " << io::jsonNumber(lc.latency_ms_mean)
       << ", \"latency_ms_max\": " << io::jsonNumber(lc.latency_ms_max)
       << ", \"kept_bytes\": " << lc.kept_bytes << ", \"unreliable\": "
@@ -280,6 +298,7 @@ void writeSummaryJson(
       << ", \"polish_solve_ms\": " << io::jsonNumber(lc.polish_solve_ms)
       << ", \"polish_level_ms\": " << io::jsonNumber(lc.polish_level_ms)
       << ", \"ms\": " << io::jsonNumber(lc.ms) << "},\n"
+      << "  \"unreliable\": " << unreliableJson(m.unreliableReasons()) << ",\n"
       << "  \"trajectory_elements\": " << m.trajectoryElements() << ",\n"
       << "  \"compressions\": " << m.compressions() << ",\n"
       << "  \"final_energy\": " << io::jsonNumber(m.finalEnergy()) << ",\n"
@@ -454,6 +473,13 @@ MapperReportData makeReportData(
         "frames / accepted",
         std::to_string(m.frameCount()) + " / " + std::to_string(m.acceptedCount()));
     s.emplace_back("egomotion failures", std::to_string(m.egomotionFailures()));
+    const auto unreliable = m.unreliableReasons();
+    std::string why;
+    for (const auto& r : unreliable)
+    {
+        why += (why.empty() ? "" : "; ") + r;
+    }
+    s.emplace_back("unreliable", unreliable.empty() ? std::string("no reason known") : why);
     s.emplace_back(
         "ms per frame: stereo / egomotion / rectification / total",
         fixed(ms.stereo, 1) + " / " + fixed(ms.egomotion, 1) + " / " + fixed(ms.rectification, 1) +

@@ -70,6 +70,7 @@ void EgomotionEstimator::TParameters::loadFromConfigFile(
     MRPT_LOAD_CONFIG_VAR(guided_matching, bool, c, s);
     MRPT_LOAD_CONFIG_VAR(guided_radius, double, c, s);
     MRPT_LOAD_CONFIG_VAR(covariance_lwo_truncation, bool, c, s);
+    MRPT_LOAD_CONFIG_VAR(match_distinctiveness, double, c, s);
     validate();
 }
 
@@ -97,6 +98,9 @@ void EgomotionEstimator::TParameters::saveToConfigFile(
         guided_radius, "guided search radius, fraction of the image width");
     MRPT_SAVE_CONFIG_VAR_COMMENT(
         covariance_lwo_truncation, "widen the pose covariance for the residuals LWO cut off");
+    MRPT_SAVE_CONFIG_VAR_COMMENT(
+        match_distinctiveness,
+        "a match's runner-up elsewhere must be this times as far (Pearson distance); 1: off");
 }
 
 void EgomotionEstimator::TParameters::validate() const
@@ -135,6 +139,9 @@ void EgomotionEstimator::TParameters::validate() const
     require(
         guided_radius > 0 && guided_radius <= 1, "guided_radius",
         "must be in (0, 1] of the image width (got " + std::to_string(guided_radius) + ")");
+    require(
+        match_distinctiveness >= 1 && match_distinctiveness <= 100, "match_distinctiveness",
+        "must be in [1, 100] (1: off; got " + std::to_string(match_distinctiveness) + ")");
 }
 
 double lwoTruncationVarianceFactor(double q)
@@ -217,7 +224,8 @@ MatchList EgomotionEstimator::guidedMatches(
     const Described& prev,
     const Described& cur,
     const mrpt::poses::CPose3D& T_prev_cur,
-    double radius_factor) const
+    double radius_factor,
+    bool distinct) const
 {
     // Where each previous feature appears if the camera moves as predicted:
     // its point in the current frame (inverse action), projected.
@@ -238,11 +246,52 @@ MatchList EgomotionEstimator::guidedMatches(
         static_cast<float>(radius_factor * m_params.guided_radius * static_cast<double>(K.ncols));
     return matchMutualGuided(
         prev.descriptors, cur.descriptors, predicted, cur.features, radius,
-        static_cast<float>(m_params.similarity_min));
+        static_cast<float>(m_params.similarity_min),
+        distinct ? distinctiveness(prev, cur) : Distinctiveness{});
+}
+
+Distinctiveness EgomotionEstimator::distinctiveness(
+    const Described& prev, const Described& cur) const
+{
+    Distinctiveness d;
+    d.ratio = static_cast<float>(m_params.match_distinctiveness);
+    // A candidate within the descriptor window of the best describes much
+    // of the same pixels: the best shifted, not a look-alike.
+    d.same_place_px = static_cast<float>(m_params.lp_radius);
+    d.prev_features = &prev.features;
+    d.cur_features = &cur.features;
+    return d;
 }
 
 EgomotionResult EgomotionEstimator::estimateDescribed(
-    const Described& prev, const Described& cur, const mrpt::poses::CPose3D* prediction) const
+    const Described& prev,
+    const Described& cur,
+    const mrpt::poses::CPose3D* prediction,
+    bool fall_back_to_paper) const
+{
+    const bool distinct = m_params.match_distinctiveness > 1;
+    EgomotionResult r = estimateMatching(prev, cur, prediction, distinct);
+    if (!r.ok && distinct && fall_back_to_paper)
+    {
+        // Too few distinct matches (a view of one periodic wall): the
+        // paper's matching, whose look-alikes LWO must sort out, rather than
+        // a lost step.
+        EgomotionResult paper = estimateMatching(prev, cur, prediction, false);
+        paper.distinct_fallback = true;
+        paper.ms_matching += r.ms_matching;
+        paper.ms_lwo += r.ms_lwo;
+        paper.ms_pose += r.ms_pose;
+        paper.ms_total += r.ms_total - r.ms_features - r.ms_descriptors;
+        return paper;
+    }
+    return r;
+}
+
+EgomotionResult EgomotionEstimator::estimateMatching(
+    const Described& prev,
+    const Described& cur,
+    const mrpt::poses::CPose3D* prediction,
+    bool distinct) const
 {
     const auto fullSearch = [&]
     {
@@ -251,7 +300,8 @@ EgomotionResult EgomotionEstimator::estimateDescribed(
             [&]
             {
                 return matchMutual(
-                    prev.descriptors, cur.descriptors, static_cast<float>(m_params.similarity_min));
+                    prev.descriptors, cur.descriptors, static_cast<float>(m_params.similarity_min),
+                    distinct ? distinctiveness(prev, cur) : Distinctiveness{});
             });
     };
     // The attempt `spent` was made before `r` on the same frames: charge its time to r.
@@ -271,7 +321,7 @@ EgomotionResult EgomotionEstimator::estimateDescribed(
     const auto firstPass = [&](PoseStage stage)
     {
         return estimateWithMatches(
-            prev, cur, [&] { return guidedMatches(prev, cur, *prediction, 1.0); }, stage);
+            prev, cur, [&] { return guidedMatches(prev, cur, *prediction, 1.0, distinct); }, stage);
     };
     EgomotionResult guided = firstPass(PoseStage::ClosedFormOnly);
     guided.guided = true;
@@ -281,7 +331,7 @@ EgomotionResult EgomotionEstimator::estimateDescribed(
         // window: features whose true match lay outside the window of a wrong
         // prediction now get it, and far look-alikes drop out.
         EgomotionResult again = estimateWithMatches(
-            prev, cur, [&] { return guidedMatches(prev, cur, guided.T_prev_cur, 0.25); },
+            prev, cur, [&] { return guidedMatches(prev, cur, guided.T_prev_cur, 0.25, distinct); },
             PoseStage::Dpp);
         if (!again.ok)
         {
@@ -425,7 +475,7 @@ EgomotionResult EgomotionEstimator::estimate(
 {
     const Described dp = describe(prev);
     const Described dc = describe(cur);
-    EgomotionResult r = estimateDescribed(dp, dc, nullptr);
+    EgomotionResult r = estimateDescribed(dp, dc, nullptr, true);
     // Stateless use describes both frames: charge both to this step.
     r.ms_features += dp.ms_features;
     r.ms_descriptors += dp.ms_descriptors;
@@ -439,7 +489,7 @@ EgomotionResult EgomotionEstimator::estimate(const Description& prev, const Desc
     {
         throw std::invalid_argument("EgomotionEstimator::estimate: no description of a frame");
     }
-    return estimateDescribed(*prev, *cur, nullptr);
+    return estimateDescribed(*prev, *cur, nullptr, false);
 }
 
 std::size_t EgomotionEstimator::CompactDescription::bytes() const
@@ -575,7 +625,7 @@ EgomotionResult EgomotionEstimator::process(const emslam::stereo::StereoFrame& c
     }
     else
     {
-        r = estimateDescribed(*m_prev, *d, m_velocity ? &*m_velocity : nullptr);
+        r = estimateDescribed(*m_prev, *d, m_velocity ? &*m_velocity : nullptr, true);
         if (r.ok)
         {
             m_velocity = r.T_prev_cur;  // a failed step keeps the last velocity

@@ -7,6 +7,7 @@
 #include <Eigen/Core>
 #include <algorithm>
 #include <cmath>
+#include <optional>
 #include <vector>
 
 namespace emslam::egomotion
@@ -18,9 +19,79 @@ using RowMajorMatrix = Eigen::Matrix<float, Eigen::Dynamic, Eigen::Dynamic, Eige
 /** Rows of `prev` per block: the block of S (BLOCK x |cur| floats) stays
  * small even at full KITTI resolution, where the whole S would take GBs. */
 constexpr Eigen::Index BLOCK = 256;
+
+/** The runners-up of Distinctiveness: per prev row, the best score among
+ * current features away from its best; per cur column, likewise among
+ * previous features. Fed every candidate pair (i, j, s) after the bests are
+ * known. */
+class RunnersUp
+{
+public:
+    RunnersUp(
+        const Distinctiveness& d,
+        const std::vector<int>& best_cur,
+        const std::vector<int>& best_prev)
+        : m_d(d),
+          m_best_cur(best_cur),
+          m_best_prev(best_prev),
+          m_cur_s(best_cur.size(), 0.0f),
+          m_prev_s(best_prev.size(), 0.0f),
+          m_r2(d.same_place_px * d.same_place_px)
+    {
+    }
+
+    void add(std::size_t i, std::size_t j, float s)
+    {
+        const int bc = m_best_cur[i];
+        if (bc >= 0 && s > m_cur_s[i] &&
+            apart((*m_d.cur_features)[j], (*m_d.cur_features)[static_cast<std::size_t>(bc)]))
+        {
+            m_cur_s[i] = s;
+        }
+        const int bp = m_best_prev[j];
+        if (bp >= 0 && s > m_prev_s[j] &&
+            apart((*m_d.prev_features)[i], (*m_d.prev_features)[static_cast<std::size_t>(bp)]))
+        {
+            m_prev_s[j] = s;
+        }
+    }
+
+    /** Whether the match (i, j) of score s stands clear on both sides. */
+    bool clear(std::size_t i, std::size_t j, float s) const
+    {
+        return m_d.clear(s, m_cur_s[i]) && m_d.clear(s, m_prev_s[j]);
+    }
+
+private:
+    bool apart(const Feature& a, const Feature& b) const
+    {
+        const float du = static_cast<float>(a.u) - static_cast<float>(b.u);
+        const float dv = static_cast<float>(a.v) - static_cast<float>(b.v);
+        return du * du + dv * dv > m_r2;
+    }
+
+    const Distinctiveness& m_d;
+    const std::vector<int>& m_best_cur;
+    const std::vector<int>& m_best_prev;
+    std::vector<float> m_cur_s, m_prev_s;
+    float m_r2;
+};
+
+void checkDistinctiveness(const Distinctiveness& d, std::size_t np, std::size_t nc)
+{
+    if (d.enabled())
+    {
+        ASSERT_EQUAL_(d.prev_features->size(), np);
+        ASSERT_EQUAL_(d.cur_features->size(), nc);
+    }
+}
 }  // namespace
 
-MatchList matchMutual(const Descriptors& prev, const Descriptors& cur, float similarity_min)
+MatchList matchMutual(
+    const Descriptors& prev,
+    const Descriptors& cur,
+    float similarity_min,
+    const Distinctiveness& distinct)
 {
     MatchList out;
     const auto np = static_cast<Eigen::Index>(prev.size());
@@ -30,6 +101,7 @@ MatchList matchMutual(const Descriptors& prev, const Descriptors& cur, float sim
         return out;
     }
     ASSERT_EQUAL_(prev.dim, cur.dim);
+    checkDistinctiveness(distinct, prev.size(), cur.size());
     const Eigen::Index dim = prev.dim;
 
     const DescriptorProducts products(cur.data.data(), nc, dim);
@@ -68,6 +140,28 @@ MatchList matchMutual(const Descriptors& prev, const Descriptors& cur, float sim
         }
     }
 
+    std::optional<RunnersUp> runners_up;
+    if (distinct.enabled())
+    {
+        // Second pass: S again (storing it whole would not fit), now that
+        // the bests are known.
+        runners_up.emplace(distinct, best_cur, best_prev);
+        for (Eigen::Index i0 = 0; i0 < np; i0 += BLOCK)
+        {
+            const Eigen::Index rows = std::min(BLOCK, np - i0);
+            products.multiply(prev.row(static_cast<std::size_t>(i0)), rows, S);
+            for (Eigen::Index r = 0; r < rows; ++r)
+            {
+                const auto i = static_cast<std::size_t>(i0 + r);
+                const float* s_row = S.data() + r * nc;
+                for (Eigen::Index j = 0; j < nc; ++j)
+                {
+                    runners_up->add(i, static_cast<std::size_t>(j), std::abs(s_row[j]));
+                }
+            }
+        }
+    }
+
     for (Eigen::Index i = 0; i < np; ++i)
     {
         const int j = best_cur[static_cast<std::size_t>(i)];
@@ -76,7 +170,9 @@ MatchList matchMutual(const Descriptors& prev, const Descriptors& cur, float sim
             continue;  // not mutual
         }
         const float s = best_cur_s[static_cast<std::size_t>(i)];
-        if (s >= similarity_min)
+        if (s >= similarity_min &&
+            (!runners_up ||
+             runners_up->clear(static_cast<std::size_t>(i), static_cast<std::size_t>(j), s)))
         {
             out.push_back({static_cast<int>(i), j, std::min(s, 1.0f)});
         }
@@ -90,7 +186,8 @@ MatchList matchMutualGuided(
     const std::vector<cv::Point2f>& predicted,
     const FeatureList& cur_features,
     float radius_px,
-    float similarity_min)
+    float similarity_min,
+    const Distinctiveness& distinct)
 {
     MatchList out;
     const std::size_t np = prev.size(), nc = cur.size();
@@ -101,6 +198,7 @@ MatchList matchMutualGuided(
         return out;
     }
     ASSERT_EQUAL_(prev.dim, cur.dim);
+    checkDistinctiveness(distinct, np, nc);
     const auto dim = static_cast<Eigen::Index>(prev.dim);
 
     // Current features in grid cells of radius_px: a disc of that radius
@@ -144,55 +242,71 @@ MatchList matchMutualGuided(
     std::vector<int> best_prev(nc, -1);
     std::vector<float> best_prev_s(nc, 0.0f);
     const float r2 = radius_px * radius_px;
-    for (std::size_t i = 0; i < np; ++i)
+    // Calls visit(i, j, s) for every pair within the window.
+    const auto forEachCandidate = [&](const auto& visit)
     {
-        const cv::Point2f p = predicted[i];
-        if (!std::isfinite(p.x) || !std::isfinite(p.y))
+        for (std::size_t i = 0; i < np; ++i)
         {
-            continue;
-        }
-        const Eigen::Map<const Eigen::VectorXf> pi(prev.row(i), dim);
-        const int cu = static_cast<int>(std::floor(p.x / cell));
-        const int cv_ = static_cast<int>(std::floor(p.y / cell));
-        for (int y = std::max(cv_ - 1, 0); y <= std::min(cv_ + 1, rows - 1); ++y)
-        {
-            for (int x = std::max(cu - 1, 0); x <= std::min(cu + 1, cols - 1); ++x)
+            const cv::Point2f p = predicted[i];
+            if (!std::isfinite(p.x) || !std::isfinite(p.y))
             {
-                const auto c = static_cast<std::size_t>(y * cols + x);
-                for (std::size_t k = cell_start[c]; k < cell_start[c + 1]; ++k)
+                continue;
+            }
+            const Eigen::Map<const Eigen::VectorXf> pi(prev.row(i), dim);
+            const int cu = static_cast<int>(std::floor(p.x / cell));
+            const int cv_ = static_cast<int>(std::floor(p.y / cell));
+            for (int y = std::max(cv_ - 1, 0); y <= std::min(cv_ + 1, rows - 1); ++y)
+            {
+                for (int x = std::max(cu - 1, 0); x <= std::min(cu + 1, cols - 1); ++x)
                 {
-                    const std::size_t j = in_cell[k];
-                    const float du = static_cast<float>(cur_features[j].u) - p.x;
-                    const float dv = static_cast<float>(cur_features[j].v) - p.y;
-                    if (du * du + dv * dv > r2)
+                    const auto c = static_cast<std::size_t>(y * cols + x);
+                    for (std::size_t k = cell_start[c]; k < cell_start[c + 1]; ++k)
                     {
-                        continue;
-                    }
-                    // |rho|: a contrast inversion is still the same texture.
-                    const float s =
-                        std::abs(pi.dot(Eigen::Map<const Eigen::VectorXf>(cur.row(j), dim)));
-                    // Ties: the lowest index wins, as in matchMutual().
-                    if (s > best_cur_s[i] ||
-                        (s == best_cur_s[i] && s > 0 && static_cast<int>(j) < best_cur[i]))
-                    {
-                        best_cur_s[i] = s;
-                        best_cur[i] = static_cast<int>(j);
-                    }
-                    if (s > best_prev_s[j] ||
-                        (s == best_prev_s[j] && s > 0 && static_cast<int>(i) < best_prev[j]))
-                    {
-                        best_prev_s[j] = s;
-                        best_prev[j] = static_cast<int>(i);
+                        const std::size_t j = in_cell[k];
+                        const float du = static_cast<float>(cur_features[j].u) - p.x;
+                        const float dv = static_cast<float>(cur_features[j].v) - p.y;
+                        if (du * du + dv * dv > r2)
+                        {
+                            continue;
+                        }
+                        // |rho|: a contrast inversion is still the same texture.
+                        visit(
+                            i, j,
+                            std::abs(pi.dot(Eigen::Map<const Eigen::VectorXf>(cur.row(j), dim))));
                     }
                 }
             }
         }
+    };
+    forEachCandidate(
+        [&](std::size_t i, std::size_t j, float s)
+        {
+            // Ties: the lowest index wins, as in matchMutual().
+            if (s > best_cur_s[i] ||
+                (s == best_cur_s[i] && s > 0 && static_cast<int>(j) < best_cur[i]))
+            {
+                best_cur_s[i] = s;
+                best_cur[i] = static_cast<int>(j);
+            }
+            if (s > best_prev_s[j] ||
+                (s == best_prev_s[j] && s > 0 && static_cast<int>(i) < best_prev[j]))
+            {
+                best_prev_s[j] = s;
+                best_prev[j] = static_cast<int>(i);
+            }
+        });
+    std::optional<RunnersUp> runners_up;
+    if (distinct.enabled())
+    {
+        runners_up.emplace(distinct, best_cur, best_prev);
+        forEachCandidate([&](std::size_t i, std::size_t j, float s) { runners_up->add(i, j, s); });
     }
     for (std::size_t i = 0; i < np; ++i)
     {
         const int j = best_cur[i];
         if (j >= 0 && best_prev[static_cast<std::size_t>(j)] == static_cast<int>(i) &&
-            best_cur_s[i] >= similarity_min)
+            best_cur_s[i] >= similarity_min &&
+            (!runners_up || runners_up->clear(i, static_cast<std::size_t>(j), best_cur_s[i])))
         {
             out.push_back({static_cast<int>(i), j, std::min(best_cur_s[i], 1.0f)});
         }

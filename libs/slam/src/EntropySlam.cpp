@@ -532,4 +532,26 @@ std::size_t EntropySlam::compressions() const
     return m_finished ? m_runner->trajectory().compressionCount() : 0;
 }
 
+std::vector<std::string> EntropySlam::unreliableReasons() const
+{
+    std::vector<std::string> reasons;
+    const std::size_t steps = frameCount() > 0 ? frameCount() - 1 : 0;
+    const std::size_t failed = egomotionFailures();
+    if (50 * failed > steps)
+    {
+        reasons.push_back(
+            "egomotion: " + std::to_string(failed) + " of " + std::to_string(steps) +
+            " steps failed (more than 2 %), predicted at constant velocity");
+    }
+    if (m_p.loop_closer.enabled)
+    {
+        const std::string loops = m_loops.unreliable();
+        if (!loops.empty())
+        {
+            reasons.push_back("loop closing: " + loops);
+        }
+    }
+    return reasons;
+}
+
 }  // namespace emslam::slam

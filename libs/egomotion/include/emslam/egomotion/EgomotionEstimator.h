@@ -3,6 +3,7 @@
 
 #include <emslam/egomotion/DppPoseEstimator.h>
 #include <emslam/egomotion/Feature.h>
+#include <emslam/egomotion/FeatureMatcher.h>
 #include <emslam/egomotion/GlmFeatureExtractor.h>
 #include <emslam/egomotion/LogPolarDescriptor.h>
 #include <emslam/stereo/StereoFrame.h>
@@ -45,6 +46,9 @@ struct EgomotionResult
      * that was enough; guided_fallback: it was not, and the full search gave
      * this result. */
     bool guided{false}, guided_fallback{false};
+    /** Too few distinct matches (match_distinctiveness): this result is the
+     * paper's matching's. */
+    bool distinct_fallback{false};
 
     // Time per stage [ms]
     double ms_features{0}, ms_descriptors{0}, ms_matching{0}, ms_lwo{0}, ms_pose{0}, ms_total{0};
@@ -78,12 +82,22 @@ double lwoTruncationVarianceFactor(double q);
  * guided_matching   = false  ; match near the constant-velocity prediction first
  * guided_radius     = 0.1    ; its search radius, fraction of the image width, (0, 1]
  * covariance_lwo_truncation = false ; widen the covariance for the residuals LWO cut off
+ * match_distinctiveness = 1 ; runner-up's Pearson distance / the best's, at least (1: off)
  * \endcode
  * Guided matching (not in the paper; process() only): the last step's motion
  * predicts where each previous feature appears, and only current features
  * within guided_radius of that are compared, which costs O(N k) instead of
  * O(N^2) and keeps far look-alikes out. If that step fails (a stop, a sudden
  * turn), the paper's full search runs on the same frames.
+ * Distinctiveness (not in the paper; every matching, loop registrations
+ * too): with match_distinctiveness > 1 a mutual best is kept only if it
+ * stands clear of the best candidate elsewhere in the image
+ * (emslam::egomotion::Distinctiveness, candidates beyond lp_radius of it):
+ * on a periodic texture the look-alikes a period away are refused instead
+ * of left to the noise. A sequential step (process(), and estimate() of two
+ * frames) that then has too few matches is matched again the paper's way,
+ * so no step is lost to it; a registration of two descriptions (a loop) is
+ * not: it fails instead.
  * \ingroup emslam_egomotion_grp */
 class EgomotionEstimator
 {
@@ -137,6 +151,10 @@ public:
          * its central q, it is multiplied by lwoTruncationVarianceFactor(q).
          * (Default: false: the kept residuals as they are) */
         bool covariance_lwo_truncation{false};
+        /** Distinctiveness::ratio: a match's runner-up elsewhere in the
+         * image (beyond lp_radius of it) must have at least this times its
+         * Pearson distance 1 - S, in [1, 100]. (Default: 1, off: the paper) */
+        double match_distinctiveness{1};
     };
 
     EgomotionEstimator() = default;
@@ -171,7 +189,8 @@ public:
     Description lastDescription() const { return m_prev; }
     /** The motion between two described frames, by the same stages as
      * process() (matching, LWO, Dpp and the optional refinements) but with no
-     * prediction: e.g. a place seen again after a loop. Throws
+     * prediction and no fallback from distinct matching: e.g. a place seen
+     * again after a loop. Throws
      * std::invalid_argument on a null description. */
     EgomotionResult estimate(const Description& prev, const Description& cur) const;
 
@@ -198,9 +217,20 @@ public:
 
 private:
     Described describe(const emslam::stereo::StereoFrame& f) const;
-    /** Guided if `prediction` (T_prev_cur) is given and guided_matching is on. */
+    /** estimateMatching(), distinct if match_distinctiveness is on; if that
+     * fails and `fall_back_to_paper`, again with the paper's matching. */
     EgomotionResult estimateDescribed(
-        const Described& prev, const Described& cur, const mrpt::poses::CPose3D* prediction) const;
+        const Described& prev,
+        const Described& cur,
+        const mrpt::poses::CPose3D* prediction,
+        bool fall_back_to_paper) const;
+    /** Guided if `prediction` (T_prev_cur) is given and guided_matching is
+     * on; with Distinctiveness if `distinct`. */
+    EgomotionResult estimateMatching(
+        const Described& prev,
+        const Described& cur,
+        const mrpt::poses::CPose3D* prediction,
+        bool distinct) const;
     /** How far stage 4 goes: the paper's Dpp minimisation, or only its
      * closed-form (Euclidean) start, enough for a prediction. */
     enum class PoseStage
@@ -219,7 +249,12 @@ private:
         const Described& prev,
         const Described& cur,
         const mrpt::poses::CPose3D& T_prev_cur,
-        double radius_factor) const;
+        double radius_factor,
+        bool distinct) const;
+
+    /** The Distinctiveness of matching `prev` to `cur` (off unless
+     * match_distinctiveness > 1). */
+    Distinctiveness distinctiveness(const Described& prev, const Described& cur) const;
 
     TParameters m_params;
     std::shared_ptr<const Described> m_prev;

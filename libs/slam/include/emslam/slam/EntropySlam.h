@@ -143,6 +143,12 @@ public:
     std::size_t acceptedCount() const { return m_sampler.accepted(); }
     /** Steps whose egomotion failed. */
     std::size_t egomotionFailures() const { return m_odometry.failures(); }
+    /** Why the estimate is not to be trusted so far (empty: no reason
+     * known): the loop closing's contradictions (LoopCloser::unreliable()),
+     * or more than 2 % of the egomotion's steps failed, i.e. guessed at
+     * constant velocity: the drift of that share of the path is not
+     * measured. Producer thread. */
+    std::vector<std::string> unreliableReasons() const;
     /** Successful steps matched near the constant-velocity prediction, and
      * steps whose guided attempt fell back to the full search
      * ([Egomotion] guided_matching; both 0 without it). */

@@ -75,6 +75,16 @@ namespace emslam::slam
  *    bulk, the graph is solved from where it is (a few Levenberg–Marquardt
  *    iterations); a loop edge the solved graph still disagrees with beyond
  *    that bulk is dropped and the graph solved again.
+ * 7. Contradictions: a loop edge dropped, or a group refused, is the
+ *    solved graph contradicting registrations the consensus let through.
+ *    A true edge fails its χ² test by chance once in 370, and one
+ *    look-alike place may fool the consensus twice (in and out); more
+ *    contradictions than that (and than the 99.73 % bulk of the Poisson
+ *    count of chance failures) mean a world of look-alikes the
+ *    registrations cannot tell apart (a periodic texture, identical
+ *    floors): the run's loop closing is unreliable (Stats::unreliable), its
+ *    loop edges are withdrawn, no further loop closes and close() does not
+ *    polish.
  *
  * Levelling (`vertical_prior`) is online too: the up each keyframe saw in
  * its dense cloud is gated once, at the first rectification after it came,
@@ -179,9 +189,15 @@ public:
         double ms{0};                           //!< update() and close(), all of it
         double polish_ms{0};                    //!< close() alone
         double polish_solve_ms{0}, polish_level_ms{0};  //!< of it: the solve, the levelling
-        /** Empty, or why the loop closing is not to be trusted (most loop
-         * edges refused by the solved graph). */
+        std::size_t refused_edges{0};                   //!< loop edges of the refused groups
+        /** Empty, or why the loop closing is not to be trusted: the solved
+         * graph contradicted the registrations (dropped edges, refused
+         * groups) more often than chance and one look-alike place explain
+         * (step 7 of the class comment). From then on no
+         * loop closes, and the loop edges accepted so far are withdrawn
+         * (counted in `withdrawn_edges`, not in `loop_edges`). */
         std::string unreliable;
+        std::size_t withdrawn_edges{0};  //!< loop edges withdrawn as unreliable
     };
 
     /** A keyframe's pose in the current estimate. */
@@ -264,6 +280,8 @@ public:
 
     /** After close(), or from the thread that calls update(). */
     const Stats& stats() const { return m_stats; }
+    /** Stats::unreliable as it stands (any thread). */
+    std::string unreliable() const;
     const std::vector<LoopEdge>& loopEdges() const { return m_edges; }
 
 private:
@@ -305,6 +323,10 @@ private:
      * far: the next solve counts them. Returns the first keyframe whose
      * prior came or went (keyframeCount(): none). */
     std::size_t relevel();
+    /** After the solved graph contradicted loop edges: if more of them
+     * than chance explains (Stats::unreliable), withdraws every loop edge
+     * and solves the graph without them. Returns true if it did. */
+    bool checkContradictions();
     emslam::egomotion::EgomotionEstimator::Description descriptionOf(std::size_t k) const;
     /** Takes the keyframes added since the last call (producer's lock). */
     std::vector<Keyframe> takeIncoming();
@@ -350,6 +372,7 @@ private:
     mutable std::mutex m_out_mutex;
     std::vector<KeyframePose> m_published;
     std::vector<std::pair<std::size_t, std::size_t>> m_published_loops;
+    std::string m_published_unreliable;
 };
 
 }  // namespace emslam::slam
