@@ -81,8 +81,13 @@ void PlaceRecognition::add(
     for (std::uint32_t w : words)
     {
         Posting& p = m_postings[w];
+        if (p.places.empty())
+        {
+            m_bytes += sizeof(w) + sizeof(Posting) + 2 * sizeof(void*);  // a hash node
+        }
         if (p.places.size() < MAX_POSTING)
         {
+            m_bytes += sizeof(std::uint32_t);
             p.places.push_back(static_cast<std::uint32_t>(place));
         }
         else
@@ -150,13 +155,7 @@ std::vector<PlaceRecognition::Match> PlaceRecognition::query(
 
 std::size_t PlaceRecognition::bytes() const
 {
-    std::size_t b = m_directions.size() * sizeof(float);
-    for (const auto& [w, p] : m_postings)
-    {
-        b += sizeof(w) + sizeof(p) + p.places.capacity() * sizeof(std::uint32_t) +
-             2 * sizeof(void*);  // the hash node
-    }
-    return b;
+    return m_bytes + m_directions.size() * sizeof(float);
 }
 
 }  // namespace emslam::slam

@@ -79,6 +79,7 @@ private:
 
     std::unordered_map<std::uint32_t, Posting> m_postings;
     std::size_t m_places{0};
+    std::size_t m_bytes{0};                   // postings and their hash nodes
     mutable std::vector<float> m_directions;  // TABLES * WORD_BITS rows of ±1, for m_dim
     mutable int m_dim{0};
     mutable std::size_t m_last_visited{0};
