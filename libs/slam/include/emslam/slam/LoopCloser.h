@@ -51,30 +51,45 @@ namespace emslam::slam
  *    keyframes before it; an edge whose Mahalanobis distance to the
  *    egomotion's chain (its composed covariance plus the edge's own) is
  *    within the 99.73 % bulk of a χ²(6) joins the graph.
- * 3. Candidates: keyframes whose path to j is at least `min_path_length`,
- *    whose cameras look within `max_angle_deg` of j's, and whose estimated
- *    distance is within `max_distance` plus three standard deviations of the
- *    chain's drift between them (translations, and rotations times their
- *    lever arm, shortened by the loops already closed); a grid over the
- *    keyframe positions finds them.
- * 4. Registration: the `max_candidates` nearest, by
- *    EgomotionEstimator::estimate() against the kept compact descriptions
- *    (`kept_features`); kept if it succeeds and its correction of the chain
- *    is within three standard deviations.
+ * 3. Candidates, two ways. By their look (`place_candidates` > 0): the
+ *    keyframes PlaceRecognition finds most like j (an inverted index of the
+ *    kept descriptors), whatever the drift. By proximity: keyframes whose
+ *    cameras look within `max_angle_deg` plus three standard deviations of
+ *    the chain's rotation drift of j's, and whose estimated distance is
+ *    within `max_distance` plus three standard deviations of the chain's
+ *    drift between them (translations, and rotations times their lever
+ *    arm, shortened by the loops already closed); a grid over the keyframe
+ *    positions finds them. Both only at least `min_path_length` of path
+ *    before j.
+ *    The drift is the egomotion's covariances, except where they are known
+ *    to understate it: a step the egomotion predicted because it failed
+ *    counts as off by up to the largest step it measured (one missed turn
+ *    on the spot is tens of degrees), and the whole chain is scaled by the
+ *    median Mahalanobis² of the local registrations to it over that of a
+ *    χ²(6) when larger (Drift).
+ * 4. Registration: the look-alikes first, then the `max_candidates`
+ *    nearest, by EgomotionEstimator::estimate() against the kept compact
+ *    descriptions (`kept_features`); kept if it succeeds and its correction
+ *    of the chain is within three standard deviations of that drift.
  * 5. Consensus: a repetitive world registers look-alike places too, each
  *    with its own correction. The registrations of the last
  *    `consensus_window` keyframes are grouped by the world correction they
  *    ask for, two agreeing when their corrections differ by less than three
- *    standard deviations of the drift between them; the group of the
- *    smallest normalised correction wins if it has at least two members
- *    (loop edges accepted in the window count as members). A new loop (none
- *    accepted in the window) is decided only when its first registration
- *    leaves the window, so that a look-alike seen first competes with the
- *    place truly revisited.
+ *    standard deviations of the drift between them; of the groups with at
+ *    least two members (loop edges accepted in the window count as
+ *    members), the one of the largest support × exp(−n/2) wins, n the
+ *    normalised correction of its seed: the drift's prior on the correction
+ *    times the registrations that found it on their own. A new loop (none
+ *    accepted in the window) is decided only when the path has gone past
+ *    its oldest registration by that registration's correction, so that a
+ *    look-alike seen first competes with the place truly revisited.
  * 6. Solve: when a new loop edge disagrees with the graph beyond its χ²
  *    bulk, the graph is solved from where it is (a few Levenberg–Marquardt
- *    iterations); a loop edge the solved graph still disagrees with beyond
- *    that bulk is dropped and the graph solved again.
+ *    iterations). A group the solved graph cannot agree with loses the
+ *    member it disagrees with most and is solved again, while the rest are
+ *    still the group's majority; else it is refused and the graph restored.
+ *    A loop edge the solved graph still disagrees with beyond that bulk is
+ *    dropped and the graph solved again.
  *
  * close() polishes: the odometry edges take the rectified relative poses,
  * the graph is solved once more, inconsistent loop edges dropped, and with
