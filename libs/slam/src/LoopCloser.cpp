@@ -624,10 +624,7 @@ void LoopCloser::integrate(
         if (m_p.place_candidates > 0)
         {
             const auto t0 = std::chrono::steady_clock::now();
-            m_places.add(
-                j, m_p.kept_features > 0
-                       ? m_keyframes[j].kept
-                       : EgomotionEstimator::compact(m_keyframes[j].description, PLACE_FEATURES));
+            m_places.add(j, m_place_words);
             m_stats.place_ms +=
                 std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0)
                     .count();
@@ -787,13 +784,27 @@ void LoopCloser::registerCandidates(
     std::vector<std::size_t> order;
     if (m_p.place_candidates > 0)
     {
+        const auto t_words = std::chrono::steady_clock::now();
+        m_place_words = m_places.wordsOf(
+            m_p.kept_features > 0 ? m_keyframes[j].kept
+                                  : emslam::egomotion::EgomotionEstimator::compact(
+                                        m_keyframes[j].description, PLACE_FEATURES));
+        m_stats.place_ms +=
+            std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t_words)
+                .count();
+    }
+    // While a loop is being followed (loop edges accepted in the window),
+    // the drift is short again and the nearest are the place: registrations
+    // by look would only cost.
+    if (m_p.place_candidates > 0 && m_accepted.empty())
+    {
         const double farthest = m_path[j] - m_p.min_path_length;
         const auto before = static_cast<std::size_t>(
             std::upper_bound(m_path.begin(), m_path.begin() + static_cast<long>(j), farthest) -
             m_path.begin());
         const auto t0 = std::chrono::steady_clock::now();
-        for (const auto& m : m_places.query(
-                 m_keyframes[j].kept, before, static_cast<std::size_t>(m_p.place_candidates)))
+        for (const auto& m :
+             m_places.query(m_place_words, before, static_cast<std::size_t>(m_p.place_candidates)))
         {
             order.push_back(m.place);
         }

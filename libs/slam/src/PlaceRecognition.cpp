@@ -14,7 +14,7 @@ namespace
 constexpr std::uint32_t DIRECTIONS_SEED = 0x5eedu;
 }  // namespace
 
-const std::vector<float>& PlaceRecognition::directions(int dim) const
+const std::vector<std::int8_t>& PlaceRecognition::directions(int dim) const
 {
     if (dim != m_dim)
     {
@@ -22,14 +22,14 @@ const std::vector<float>& PlaceRecognition::directions(int dim) const
         m_directions.resize(static_cast<std::size_t>(TABLES * WORD_BITS * dim));
         for (auto& v : m_directions)
         {
-            v = (bits() & 1u) != 0 ? 1.0f : -1.0f;
+            v = (bits() & 1u) != 0 ? std::int8_t{1} : std::int8_t{-1};
         }
         m_dim = dim;
     }
     return m_directions;
 }
 
-std::vector<std::uint32_t> PlaceRecognition::wordsOf(
+PlaceRecognition::Words PlaceRecognition::wordsOf(
     const emslam::egomotion::EgomotionEstimator::CompactDescription& c) const
 {
     std::vector<std::uint32_t> words;
@@ -53,11 +53,13 @@ std::vector<std::uint32_t> PlaceRecognition::wordsOf(
             std::uint32_t word = static_cast<std::uint32_t>(t) << WORD_BITS;
             for (int b = 0; b < WORD_BITS; ++b)
             {
-                const float* dir = d.data() + static_cast<std::size_t>(t * WORD_BITS + b) * dim;
-                float dot = 0;
+                // The codes' common scale does not change the sign.
+                const std::int8_t* dir =
+                    d.data() + static_cast<std::size_t>(t * WORD_BITS + b) * dim;
+                int dot = 0;
                 for (std::size_t k = 0; k < dim; ++k)
                 {
-                    dot += dir[k] * static_cast<float>(code[k]);
+                    dot += dir[k] * code[k];
                 }
                 word |= (dot > 0 ? 1u : 0u) << b;
             }
@@ -70,10 +72,8 @@ std::vector<std::uint32_t> PlaceRecognition::wordsOf(
     return words;
 }
 
-void PlaceRecognition::add(
-    std::size_t place, const emslam::egomotion::EgomotionEstimator::CompactDescription& c)
+void PlaceRecognition::add(std::size_t place, const Words& words)
 {
-    const auto words = wordsOf(c);
     if (words.empty())
     {
         return;
@@ -101,13 +101,11 @@ void PlaceRecognition::add(
 }
 
 std::vector<PlaceRecognition::Match> PlaceRecognition::query(
-    const emslam::egomotion::EgomotionEstimator::CompactDescription& c,
-    std::size_t before,
-    std::size_t count) const
+    const Words& words, std::size_t before, std::size_t count) const
 {
     m_last_visited = 0;
     std::unordered_map<std::size_t, double> votes;
-    for (std::uint32_t w : wordsOf(c))
+    for (std::uint32_t w : words)
     {
         const auto it = m_postings.find(w);
         if (it == m_postings.end())
@@ -155,7 +153,7 @@ std::vector<PlaceRecognition::Match> PlaceRecognition::query(
 
 std::size_t PlaceRecognition::bytes() const
 {
-    return m_bytes + m_directions.size() * sizeof(float);
+    return m_bytes + m_directions.size();
 }
 
 }  // namespace emslam::slam

@@ -350,7 +350,8 @@ private:
     emslam::rectify::PoseGraph m_graph;
     std::unique_ptr<Drift> m_drift;
     std::unique_ptr<Grid> m_grid;
-    PlaceRecognition m_places;  // with place_candidates
+    PlaceRecognition m_places;              // with place_candidates
+    PlaceRecognition::Words m_place_words;  // of the keyframe being integrated
     /** Mahalanobis² of the recent local registrations to the egomotion's
      * chain (ring): how far the egomotion's covariance understates its error. */
     std::vector<double> m_local_misclosures;

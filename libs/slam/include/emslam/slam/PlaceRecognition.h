@@ -47,15 +47,28 @@ public:
         double score{0};  //!< sum of the shared words' weights
     };
 
+    /** A description's words, TABLES per feature (each tagged by its
+     * table), each once: hashed once per keyframe for query() and add(). */
+    using Words = std::vector<std::uint32_t>;
+    Words wordsOf(const emslam::egomotion::EgomotionEstimator::CompactDescription& c) const;
+
     /** Adds a place (numbers increasing: the keyframe's index). A
      * description without features adds nothing. */
-    void add(std::size_t place, const emslam::egomotion::EgomotionEstimator::CompactDescription& c);
+    void add(std::size_t place, const Words& words);
+    void add(std::size_t place, const emslam::egomotion::EgomotionEstimator::CompactDescription& c)
+    {
+        add(place, wordsOf(c));
+    }
     /** The `count` places numbered below `before` that look most like `c`,
      * best first (only places that share a word with it). */
+    std::vector<Match> query(const Words& words, std::size_t before, std::size_t count) const;
     std::vector<Match> query(
         const emslam::egomotion::EgomotionEstimator::CompactDescription& c,
         std::size_t before,
-        std::size_t count) const;
+        std::size_t count) const
+    {
+        return query(wordsOf(c), before, count);
+    }
 
     /** Places added. */
     std::size_t size() const { return m_places; }
@@ -71,16 +84,12 @@ private:
         std::size_t next{0};                //!< where the ring writes next
         std::size_t seen{0};                //!< places ever added (for the weight)
     };
-    /** The words of every feature of `c`, TABLES per feature, each tagged by
-     * its table. */
-    std::vector<std::uint32_t> wordsOf(
-        const emslam::egomotion::EgomotionEstimator::CompactDescription& c) const;
-    const std::vector<float>& directions(int dim) const;
+    const std::vector<std::int8_t>& directions(int dim) const;
 
     std::unordered_map<std::uint32_t, Posting> m_postings;
     std::size_t m_places{0};
-    std::size_t m_bytes{0};                   // postings and their hash nodes
-    mutable std::vector<float> m_directions;  // TABLES * WORD_BITS rows of ±1, for m_dim
+    std::size_t m_bytes{0};                         // postings and their hash nodes
+    mutable std::vector<std::int8_t> m_directions;  // TABLES * WORD_BITS rows of ±1, for m_dim
     mutable int m_dim{0};
     mutable std::size_t m_last_visited{0};
 };
