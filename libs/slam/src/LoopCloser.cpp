@@ -962,6 +962,21 @@ std::vector<std::unique_ptr<LoopCloser::Registration>> LoopCloser::takeConsensus
             best_group = std::move(group);
         }
     }
+    // A new loop waits for its own group's oldest registration too: the
+    // wait above may have been ended by an older look-alike, while the
+    // revisit, just begun, has only a few members yet.
+    if (!best_group.empty() && m_accepted.empty() && !last_call)
+    {
+        std::size_t oldest = best_group.front();
+        for (std::size_t n : best_group)
+        {
+            oldest = m_pool[n]->j < m_pool[oldest]->j ? n : oldest;
+        }
+        if (!ready(*m_pool[oldest]))
+        {
+            return {};
+        }
+    }
     if (!best_group.empty())
     {
         std::vector<std::unique_ptr<Registration>> taken, rest;
