@@ -85,6 +85,13 @@ public:
     static mrpt::math::TPoint2D gridPoint(const mrpt::math::TPoint3D& p) { return {p.z, -p.x}; }
 
 private:
+    /** The grid points of the map points inside the height band. */
+    std::vector<mrpt::math::TPoint2D> bandPoints(const IntensityCloud& cloud) const;
+    /** An unknown grid holding `band` and the keyframes, with a margin. */
+    mrpt::maps::COccupancyGridMap2D emptyGrid(
+        const std::vector<mrpt::math::TPoint2D>& band,
+        const std::vector<emslam::rectify::TimedPose>& keyframes) const;
+
     TParameters m_p;
     Stats m_stats;
 };
