@@ -28,7 +28,10 @@ constexpr int PREFILTER_CAP = 31;
  * add up in 8 bits before being widened into the 16-bit costs. Integer
  * arithmetic: the AVX2 clone (32 lanes instead of SSE2's 16, picked at run
  * time) gives the same costs, in ~half the time. */
-#if defined(__x86_64__) && defined(__GNUC__) && !defined(__clang__)
+// Not under the sanitizers: target_clones resolves through an ifunc that runs
+// before their runtime is up (ThreadSanitizer crashes at start-up).
+#if defined(__x86_64__) && defined(__GNUC__) && !defined(__clang__) && \
+    !defined(__SANITIZE_THREAD__) && !defined(__SANITIZE_ADDRESS__)
 __attribute__((target_clones("avx2", "default")))
 #endif
 void blockCosts(
