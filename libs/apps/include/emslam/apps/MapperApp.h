@@ -17,12 +17,14 @@
 
 namespace emslam::apps
 {
-/** `emslam-mapper`: the main job. Streams a rawlog through Mapper (stereo →
- * egomotion → space sampling → global rectification → compression) and
- * writes, to the output folder:
- * `trajectory_egomotion.tum`, `trajectory_slam.tum` (a pose for every frame;
- * or / and the KITTI `*_kitti.txt` + `*_times.txt`, `--trajectory-format`),
- * `keyframes.txt`, `map.ply`, `map.3Dscene`, `map_top.png`, `entropy_map.bin`,
+/** `emslam-mapper`: the main job. Streams a rawlog through
+ * emslam::slam::EntropySlam (stereo → egomotion → space sampling → global
+ * rectification → compression, loop closing beside it) and writes, to the
+ * output folder: `trajectory_egomotion.tum`, `trajectory_slam.tum`,
+ * `trajectory_online.tum` (a pose for every frame; or / and the KITTI
+ * `*_kitti.txt` + `*_times.txt`, `--trajectory-format`), `keyframes.txt`,
+ * `loop_closures.txt`, `map.ply`, `map.3Dscene`, `map_top.png`,
+ * `map_grid.gridmap`, `map_grid.png`, `entropy_map.bin`,
  * `entropy_map.3Dscene`, `stats.csv`, `summary.json`, `effective.ini` and
  * `report.html` (and `energy_scan.csv` with `--energy-scan`).
  *
