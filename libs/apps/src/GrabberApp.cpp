@@ -70,7 +70,8 @@ bool GrabberApp::parseArguments(int argc, const char** argv)
 {
     TCLAP::CmdLine cmd(
         "Records stereo cameras (CDigiclopsStereoCamera, CSimulatedStereoCamera, "
-        "CStereoImageFolderCamera) and stock MRPT sensors of a rawlog-grabber INI file into one "
+        "CStereoImageFolderCamera, CVideoStereoCamera) and stock MRPT sensors of a rawlog-grabber "
+        "INI file into one "
         "gz-compressed rawlog, every observation in timestamp order. Stops on SIGINT/SIGTERM, "
         "after --max-frames stereo frames or --seconds, or when every sensor has stopped. Example: "
         "'" +

@@ -6,6 +6,7 @@
 #include <emslam/hwdrivers/CDigiclopsStereoCamera.h>
 #include <emslam/hwdrivers/CSimulatedStereoCamera.h>
 #include <emslam/hwdrivers/CStereoImageFolderCamera.h>
+#include <emslam/hwdrivers/CVideoStereoCamera.h>
 #include <emslam/hwdrivers/SensorStatus.h>
 #include <emslam/stereo/ExceptionMessage.h>
 #include <emslam/stereo/StereoMatcher.h>
@@ -145,6 +146,10 @@ void requireWellFormedValues(const mrpt::config::CConfigFileBase& cfg)
             emslam::hwdrivers::CStereoImageFolderCamera::TParameters().saveToConfigFile(
                 known, section);
         }
+        else if (driver == "CVideoStereoCamera")
+        {
+            emslam::hwdrivers::CVideoStereoCamera::TParameters().saveToConfigFile(known, section);
+        }
     }
     requireWellFormedConfigValues(cfg, known);
 }
@@ -185,7 +190,8 @@ std::vector<std::unique_ptr<Slot>> createSensors(
             throw std::invalid_argument(
                 "'" + config_file + "': " + where +
                 "unknown driver (not a registered MRPT sensor class; emslam's are "
-                "CDigiclopsStereoCamera, CSimulatedStereoCamera, CStereoImageFolderCamera)");
+                "CDigiclopsStereoCamera, CSimulatedStereoCamera, CStereoImageFolderCamera, "
+                "CVideoStereoCamera)");
         }
         try
         {

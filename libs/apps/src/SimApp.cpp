@@ -9,9 +9,11 @@
 #include <emslam/io/IniFile.h>
 #include <emslam/io/InputFileChecks.h>
 #include <emslam/io/InputOutputClash.h>
+#include <emslam/io/OpenCvStereoCalibration.h>
 #include <emslam/io/RawlogOutput.h>
 #include <emslam/io/TumTrajectory.h>
 #include <emslam/sim/StereoSimulator.h>
+#include <emslam/sim/StereoVideoWriter.h>
 
 #include <mrpt/3rdparty/tclap/CmdLine.h>
 #include <mrpt/core/exceptions.h>
@@ -22,6 +24,7 @@
 #include <cstdio>
 #include <filesystem>
 #include <iostream>
+#include <memory>
 #include <opencv2/imgcodecs.hpp>
 #include <stdexcept>
 #include <vector>
@@ -65,6 +68,21 @@ bool SimApp::parseArguments(int argc, const char** argv)
         "DIR", cmd);
     TCLAP::ValueArg<int> arg_gz(
         "", "gz-level", "gzip level of the rawlog, 0..9 (default 1).", false, 1, "0..9", cmd);
+    TCLAP::ValueArg<std::string> arg_video(
+        "", "video",
+        "Also write the frames as one side-by-side video (left | right), e.g. hall.avi or "
+        "hall.mkv, for CVideoStereoCamera.",
+        false, "", "VIDEO", cmd);
+    TCLAP::ValueArg<std::string> arg_codec(
+        "", "video-codec",
+        "Four-character codec of --video: FFV1 (lossless, default), PNG, MJPG (lossy), H264 "
+        "(lossy), ...",
+        false, "FFV1", "FOURCC", cmd);
+    TCLAP::ValueArg<std::string> arg_video_calib(
+        "", "video-calibration",
+        "Write the stereo calibration of --video as an OpenCV file (M1 D1 M2 D2 R T, metres; "
+        ".yml, .xml or .json).",
+        false, "", "CALIB.yml", cmd);
     TCLAP::SwitchArg arg_quiet("q", "quiet", "No progress or summary output.", cmd, false);
     if (!parseCommandLine(cmd, argc, argv, {{"--frames", "--max-frames", 0, "N"}}))
     {
@@ -74,6 +92,17 @@ bool SimApp::parseArguments(int argc, const char** argv)
     output_file = arg_out.getValue();
     gt_out_file = arg_gt.getValue();
     png_dir = arg_png.getValue();
+    video_file = arg_video.getValue();
+    video_codec = arg_codec.getValue();
+    video_calibration_file = arg_video_calib.getValue();
+    if (video_codec.size() != 4)
+    {
+        usageError("--video-codec must be four characters (FFV1, MJPG, 'PNG ', ...)");
+    }
+    if (!video_calibration_file.empty() && !io::isOpenCvStorageFile(video_calibration_file))
+    {
+        usageError("--video-calibration must end in .yml, .yaml, .xml or .json");
+    }
     gz_level = arg_gz.getValue();
     quiet = arg_quiet.getValue();
     if (gz_level < 0 || gz_level > 9)
@@ -91,7 +120,10 @@ bool SimApp::parseArguments(int argc, const char** argv)
         usageError("--gt-out and --output name the same file");
     }
     io::requireOutputsAreNotInputs(
-        {{"output rawlog", output_file}, {"ground-truth output (--gt-out)", gt_out_file}},
+        {{"output rawlog", output_file},
+         {"ground-truth output (--gt-out)", gt_out_file},
+         {"video (--video)", video_file},
+         {"video calibration (--video-calibration)", video_calibration_file}},
         {{"the world file", world_file}});
     params.setContent(io::readIniFile(world_file, "world file"));
     if (arg_seed.isSet())
@@ -160,22 +192,63 @@ void SimApp::execute()
                   << sim.world().elements().size() << " elements, " << cam.width << "x"
                   << cam.height << ", seed " << sim.seed() << ") into '" << output_file << "'\n";
     }
-    const RawlogRecording rec = recordRawlog(
-        PROGRAM, output_file, gz_level, gt_out_file, n, !quiet,
-        [&](std::size_t i, mrpt::serialization::CArchive& out, emslam::io::TumTrajectory& gt)
-        {
-            const auto fr = sim.renderFrame(i);
-            out << *fr.obs;
-            gt.add(fr.t, fr.T_first_left);
-            if (!png_dir.empty())
+    // The video goes to NAME.partial.EXT (OpenCV picks the container from the
+    // extension) and is renamed once the rawlog is complete.
+    std::unique_ptr<emslam::sim::StereoVideoWriter> video;
+    std::string video_partial;
+    if (!video_file.empty())
+    {
+        const fs::path v(video_file);
+        video_partial =
+            (v.parent_path() / (v.stem().string() + ".partial" + v.extension().string())).string();
+        const auto& cam = sim.renderer().params();
+        video = std::make_unique<emslam::sim::StereoVideoWriter>(
+            video_partial, sim.params().fps, cv::Size(cam.width, cam.height), video_codec);
+    }
+    RawlogRecording rec;
+    try
+    {
+        rec = recordRawlog(
+            PROGRAM, output_file, gz_level, gt_out_file, n, !quiet,
+            [&](std::size_t i, mrpt::serialization::CArchive& out, emslam::io::TumTrajectory& gt)
             {
-                char name[64];
-                std::snprintf(name, sizeof(name), "/left_%06zu.png", i);
-                io::writeImageFile(png_dir + name, fr.obs->imageLeft.asCvMatRef());
-                std::snprintf(name, sizeof(name), "/right_%06zu.png", i);
-                io::writeImageFile(png_dir + name, fr.obs->imageRight.asCvMatRef());
+                const auto fr = sim.renderFrame(i);
+                out << *fr.obs;
+                gt.add(fr.t, fr.T_first_left);
+                if (!png_dir.empty())
+                {
+                    char name[64];
+                    std::snprintf(name, sizeof(name), "/left_%06zu.png", i);
+                    io::writeImageFile(png_dir + name, fr.obs->imageLeft.asCvMatRef());
+                    std::snprintf(name, sizeof(name), "/right_%06zu.png", i);
+                    io::writeImageFile(png_dir + name, fr.obs->imageRight.asCvMatRef());
+                }
+                if (video)
+                {
+                    video->write(fr.obs->imageLeft.asCvMatRef(), fr.obs->imageRight.asCvMatRef());
+                }
+            });
+        if (video)
+        {
+            video->close();
+            if (!video_calibration_file.empty())
+            {
+                io::saveOpenCvStereoCalibration(
+                    video_calibration_file, sim.renderer().stereoCamera());
             }
-        });
+            fs::rename(video_partial, video_file);
+        }
+    }
+    catch (...)
+    {
+        if (video)
+        {
+            video->close();
+            std::error_code ec;
+            fs::remove(video_partial, ec);
+        }
+        throw;
+    }
     frames_written = rec.frames_written;
     poses_written = rec.poses_written;
     output_bytes = fs::file_size(output_file);
@@ -188,6 +261,10 @@ void SimApp::execute()
         if (!gt_out_file.empty())
         {
             std::cout << ", " << poses_written << " ground-truth poses to '" << gt_out_file << "'";
+        }
+        if (!video_file.empty())
+        {
+            std::cout << ", a side-by-side " << video_codec << " video to '" << video_file << "'";
         }
         std::cout << mrpt::format(
             " in %.2f s (%.1f ms/frame)\n", elapsed_seconds,

@@ -22,12 +22,18 @@ namespace emslam::apps
  * \code
  * emslam-sim WORLD.ini -o OUT.rawlog [--gt-out GT.tum] [--frames N] [--seed S]
  *                                    [--png DIR] [--gz-level L] [--quiet]
+ *                                    [--video V.avi [--video-codec FFV1]
+ *                                     [--video-calibration CALIB.yml]]
  * \endcode
  *
  * - Same INI and seed, same bytes (rawlog and ground truth).
  * - Outputs go to `<name>.partial` and are renamed when everything succeeded;
  *   on any error the partial files are removed and run() throws.
  * - `--png DIR` also writes `left_NNNNNN.png` / `right_NNNNNN.png`.
+ * - `--video` also writes the frames as one side-by-side video
+ *   (emslam::sim::StereoVideoWriter; FFV1 is lossless) and
+ *   `--video-calibration` its calibration as an OpenCV file
+ *   (io::saveOpenCvStereoCalibration()): the input of CVideoStereoCamera.
  * \ingroup emslam_apps_grp \sa doc/apps/emslam-sim.md */
 class SimApp : public App
 {
@@ -52,6 +58,12 @@ public:
     std::string gt_out_file;
     /** Folder for PNG copies of the images; empty: none. */
     std::string png_dir;
+    /** Side-by-side video of the frames; empty: none. */
+    std::string video_file;
+    /** Four-character codec of the video. (Default: FFV1, lossless) */
+    std::string video_codec{"FFV1"};
+    /** OpenCV calibration file of the video; empty: none. */
+    std::string video_calibration_file;
     /** Render at most this many frames; unset: the whole trajectory. */
     std::optional<std::size_t> max_frames;
     /** gzip level of the rawlog, 0..9. (Default: 1) */
