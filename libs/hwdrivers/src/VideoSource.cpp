@@ -45,7 +45,7 @@ int apiOf(const std::string& backend, VideoSourceKind kind)
         case VideoSourceKind::FILE:
             break;
     }
-    return cv::CAP_ANY;
+    return cv::CAP_FFMPEG;
 }
 }  // namespace
 
@@ -144,6 +144,13 @@ VideoSource::VideoSource(
         else
         {
             opened = m_cap.open(m_source, api, props);
+            // An image sequence, or a file FFmpeg does not read: any other backend.
+            if (!opened && m_kind == VideoSourceKind::FILE && request.backend == "auto")
+            {
+                opened = m_cap.open(
+                    m_source,
+                    m_source.find('%') != std::string::npos ? cv::CAP_IMAGES : cv::CAP_ANY, props);
+            }
         }
     }
     catch (const cv::Exception& e)

@@ -35,7 +35,8 @@ inline bool isLiveSource(VideoSourceKind k)
 struct VideoCaptureRequest
 {
     /** OpenCV backend: "auto" (from the kind: V4L2 for devices, GStreamer for
-     * pipelines, any for files), "v4l2", "ffmpeg", "gstreamer" or "any". */
+     * pipelines, FFmpeg then any other for files), "v4l2", "ffmpeg",
+     * "gstreamer" or "any". */
     std::string backend{"auto"};
     int width{0};        //!< [px] whole frame width (side by side: both images)
     int height{0};       //!< [px]
