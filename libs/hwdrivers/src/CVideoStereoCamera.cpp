@@ -184,7 +184,7 @@ void CVideoStereoCamera::TParameters::validate() const
     {
         if (v < 0 || v > 100000)
         {
-            bad(key, "= " + std::to_string(v) + " must be in [0, 100000] px");
+            bad(key, "= " + std::to_string(v) + " must be in 0 .. 100000 px");
         }
     }
     for (const auto& [key, v] :
@@ -192,7 +192,7 @@ void CVideoStereoCamera::TParameters::validate() const
     {
         if (!(v >= 0 && v <= 1000))
         {
-            bad(key, mrpt::format("= %g must be in [0, 1000] Hz", v));
+            bad(key, mrpt::format("= %g must be in 0 .. 1000 Hz", v));
         }
     }
     if (!fourcc.empty() && fourcc.size() != 4)
@@ -248,6 +248,12 @@ void CVideoStereoCamera::loadConfig_sensorSpecific(
     p.loadFromConfigFile(cfg, section);
     m_params = p;
     m_section = section;
+    if (!std::isfinite(m_process_rate) || m_process_rate > 10000)
+    {
+        bad("process_rate",
+            mrpt::format(
+                "= %g must be at most 10000 Hz (absent or <= 0: the default)", m_process_rate));
+    }
     // The real default (a file's rate) is known once it is open: initialize().
     m_rate_from_source = !(m_process_rate > 0);
     if (m_rate_from_source)
