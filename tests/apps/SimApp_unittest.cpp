@@ -4,6 +4,7 @@
 
 #include <emslam/apps/AppMain.h>
 #include <emslam/apps/SimApp.h>
+#include <emslam/io/OpenCvStereoCalibration.h>
 #include <emslam/io/TumTrajectory.h>
 #include <emslam/sim/StereoSimulator.h>
 
@@ -20,6 +21,9 @@
 #include <filesystem>
 #include <fstream>
 #include <iterator>
+#include <opencv2/core.hpp>
+#include <opencv2/imgproc.hpp>
+#include <opencv2/videoio.hpp>
 #include <string>
 #include <vector>
 
@@ -115,6 +119,60 @@ TEST(SimApp, writesRawlogAndGroundTruthThatReadBack)
     }
     EXPECT_EQ(gt.poses[0].pose.norm(), 0.0);
     EXPECT_GT(gt.poses[5].pose.norm(), 0.3);
+}
+
+// --video writes the frames side by side (FFV1: exactly), --video-calibration
+// the rawlog's calibration; a bad codec or calibration name is a usage error.
+TEST(SimApp, videoHoldsTheRawlogsFramesSideBySide)
+{
+    const std::string out = emslam::test::makeTempDir("sim_app_video");
+    SimApp app;
+    initApp(
+        app, {emslam::test::sourceDir() + HALL, "-o", out + "/h.rawlog", "--max-frames", "4",
+              "--video", out + "/h.mkv", "--video-calibration", out + "/h.yml", "--quiet"});
+    app.run();
+    EXPECT_FALSE(fs::exists(out + "/h.partial.mkv"));
+    const auto obs = readRawlog(out + "/h.rawlog");
+    ASSERT_EQ(obs.size(), 4U);
+    cv::VideoCapture cap(out + "/h.mkv", cv::CAP_FFMPEG);
+    ASSERT_TRUE(cap.isOpened());
+    EXPECT_DOUBLE_EQ(cap.get(cv::CAP_PROP_FPS), 5.0);  // the world's [Simulation] fps
+    cv::Mat frame, grey;
+    std::size_t k = 0;
+    for (; cap.read(frame); ++k)
+    {
+        ASSERT_LT(k, obs.size());
+        cv::cvtColor(frame, grey, cv::COLOR_BGR2GRAY);
+        ASSERT_EQ(grey.cols, 640);
+        EXPECT_EQ(
+            cv::norm(grey.colRange(0, 320), obs[k]->imageLeft.asCvMatRef(), cv::NORM_INF), 0.0);
+        EXPECT_EQ(
+            cv::norm(grey.colRange(320, 640), obs[k]->imageRight.asCvMatRef(), cv::NORM_INF), 0.0);
+    }
+    EXPECT_EQ(k, 4U);
+    const auto cam = emslam::io::loadOpenCvStereoCalibration(out + "/h.yml");
+    EXPECT_EQ(cam.leftCamera.ncols, 320U);
+    EXPECT_DOUBLE_EQ(cam.leftCamera.fx(), obs[0]->leftCamera.fx());
+    EXPECT_DOUBLE_EQ(cam.leftCamera.cx(), obs[0]->leftCamera.cx());
+    EXPECT_NEAR(cam.rightCameraPose.x, obs[0]->rightCameraPose.x(), 1e-15);
+
+    SimApp bad;
+    emslam::test::expectThrowContaining(
+        [&]
+        {
+            initApp(
+                bad, {emslam::test::sourceDir() + HALL, "-o", out + "/b.rawlog", "--video",
+                      out + "/b.avi", "--video-codec", "FFV"});
+        },
+        {"--video-codec"});
+    emslam::test::expectThrowContaining(
+        [&]
+        {
+            initApp(
+                bad, {emslam::test::sourceDir() + HALL, "-o", out + "/b.rawlog", "--video",
+                      out + "/b.avi", "--video-calibration", out + "/c.txt"});
+        },
+        {"--video-calibration", ".yml"});
 }
 
 TEST(SimApp, sameSeedSameBytesOtherSeedOtherBytes)
