@@ -93,8 +93,9 @@ bool GrabberApp::parseArguments(int argc, const char** argv)
         "", "seconds", "Stop after S seconds.", false, 0.0, "S", cmd);
     TCLAP::SwitchArg arg_list(
         "", "list-devices",
-        "List the IEEE-1394 / USB cameras (libdc1394) and USB devices (libusb), then exit.", cmd,
-        false);
+        "List the IEEE-1394 / USB cameras (libdc1394), USB devices (libusb) and V4L2 video "
+        "devices, then exit.",
+        cmd, false);
     TCLAP::SwitchArg arg_quiet("q", "quiet", "No status line or summary.", cmd, false);
     TCLAP::SwitchArg arg_viewer(
         "", "viewer", "Show the left images live in a window (no display: a warning).", cmd, false);
