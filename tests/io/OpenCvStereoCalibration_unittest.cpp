@@ -168,6 +168,21 @@ TEST(OpenCvStereoCalibration, badFilesThrowNamingFileAndKey)
         std::string("%YAML:1.0\n") + K_LINES + "R: [0, 0, 0]\nT: [-0.1, 0, 0]\nimage_width: 640\n");
     expectThrowContaining(
         [&] { loadOpenCvStereoCalibration(dir + "/size.yml"); }, {"image_width and image_height"});
+    // A matrix header asking for 10^10 elements (cv::Mat's reader would
+    // allocate them before reading the one value; found by the fuzzer).
+    writeFile(
+        dir + "/huge.yml",
+        "%YAML:1.0\nM1: !!opencv-matrix\n   rows: 100000\n   cols: 100000\n   dt: d\n   "
+        "data: [ 1. ]\n");
+    expectThrowContaining(
+        [&] { loadOpenCvStereoCalibration(dir + "/huge.yml"); },
+        {"huge.yml", "M1/K1", "100000x100000 matrix is not a calibration"});
+    writeFile(
+        dir + "/short.yml",
+        "%YAML:1.0\nM1: !!opencv-matrix\n   rows: 3\n   cols: 3\n   dt: d\n   data: [ 1., 2. ]\n");
+    expectThrowContaining(
+        [&] { loadOpenCvStereoCalibration(dir + "/short.yml"); },
+        {"M1/K1", "2 data values for a 3x3 matrix"});
     // What OpenCV's parser must never see: deep nesting, binary data, a huge file.
     writeFile(dir + "/deep.yml", "%YAML:1.0\nR: " + std::string(5000, '[') + "\n");
     expectThrowContaining(

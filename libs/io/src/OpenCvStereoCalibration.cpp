@@ -85,6 +85,72 @@ void precheck(const std::string& file)
     }
 }
 
+/** Most numbers a calibration key holds (a 3x3 matrix: 9; distortion: 8). */
+constexpr std::size_t MAX_NUMBERS = 64;
+
+/** The numbers of a flat sequence, each a number node. */
+std::vector<double> sequenceNumbers(
+    const cv::FileNode& seq, const std::string& file, const std::string& name)
+{
+    if (seq.size() > MAX_NUMBERS)
+    {
+        fail(file, name + " has " + std::to_string(seq.size()) + " elements: not a calibration");
+    }
+    std::vector<double> v;
+    for (const auto& e : seq)
+    {
+        if (!e.isReal() && !e.isInt())
+        {
+            fail(file, name + ": an element is not a number");
+        }
+        v.push_back(static_cast<double>(e));
+    }
+    return v;
+}
+
+/** The numbers of a key: a number, a flat sequence, or an `opencv-matrix`
+ * map (rows, cols, dt, data) read without cv::Mat, whose reader allocates
+ * rows x cols before it looks at the data (a file of a few bytes could ask
+ * for gigabytes). */
+std::vector<double> flatNumbers(
+    const cv::FileNode& n, const std::string& file, const std::string& name)
+{
+    if (n.isReal() || n.isInt())
+    {
+        return {static_cast<double>(n)};
+    }
+    if (n.isSeq())
+    {
+        return sequenceNumbers(n, file, name);
+    }
+    if (!n.isMap())
+    {
+        fail(file, name + " is neither a number, a list nor a matrix");
+    }
+    const cv::FileNode rows = n["rows"], cols = n["cols"], dt = n["dt"], data = n["data"];
+    if (!rows.isInt() || !cols.isInt() || !data.isSeq())
+    {
+        fail(file, name + ": a matrix needs whole-number rows and cols and a data list");
+    }
+    const int r = static_cast<int>(rows), c = static_cast<int>(cols);
+    if (r < 0 || c < 0 || r > 16 || c > 16)
+    {
+        fail(file, mrpt::format("%s: a %dx%d matrix is not a calibration", name.c_str(), r, c));
+    }
+    if (!dt.isString() || std::string(dt).size() != 1)
+    {
+        fail(file, name + ": dt must be one element type (d, f, i, ...), one channel");
+    }
+    auto v = sequenceNumbers(data, file, name);
+    if (v.size() != static_cast<std::size_t>(r * c))
+    {
+        fail(
+            file,
+            mrpt::format("%s: %zu data values for a %dx%d matrix", name.c_str(), v.size(), r, c));
+    }
+    return v;
+}
+
 /** The files' nodes, searched in order: a key comes from the first file that has it. */
 class CalibrationNodes
 {
@@ -148,24 +214,7 @@ public:
         std::vector<double> v;
         try
         {
-            if (n.isMap())
-            {
-                cv::Mat m;
-                n >> m;
-                if (!m.empty())
-                {
-                    m.reshape(1, 1).convertTo(m, CV_64F);
-                    v.assign(m.begin<double>(), m.end<double>());
-                }
-            }
-            else if (n.isSeq())
-            {
-                n >> v;
-            }
-            else if (n.isReal() || n.isInt())
-            {
-                v.push_back(static_cast<double>(n));
-            }
+            v = flatNumbers(n, file, name);
         }
         catch (const cv::Exception& e)
         {
