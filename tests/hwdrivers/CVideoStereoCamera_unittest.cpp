@@ -17,8 +17,11 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <cstdio>
 #include <filesystem>
 #include <opencv2/core.hpp>
+#include <opencv2/imgcodecs.hpp>
+#include <opencv2/imgproc.hpp>
 #include <opencv2/videoio.hpp>
 #include <string>
 #include <vector>
@@ -419,4 +422,78 @@ TEST(CVideoStereoCamera, classifiesSources)
     EXPECT_EQ(classifyVideoSource("hall.avi"), K::FILE);
     EXPECT_EQ(classifyVideoSource("left_%04d.png"), K::FILE);
     EXPECT_EQ(classifyVideoSource("2024.mkv"), K::FILE);
+}
+
+// Colour sources: grey by default (OpenCV's BGR to grey), the colour images with
+// grayscale = false.
+TEST(CVideoStereoCamera, colourFramesAreGreyUnlessAskedForColour)
+{
+    const std::string dir = emslam::test::makeTempDir("video_cam_colour");
+    cv::Mat left(H, W, CV_8UC3), right(H, W, CV_8UC3);
+    cv::RNG rng(7);
+    rng.fill(left, cv::RNG::UNIFORM, 0, 256);
+    rng.fill(right, cv::RNG::UNIFORM, 0, 256);
+    {
+        emslam::sim::StereoVideoWriter w(dir + "/c.avi", 5.0, cv::Size(W, H), "FFV1", true);
+        w.write(left, right);
+    }
+    for (const bool grey : {true, false})
+    {
+        CVideoStereoCamera cam;
+        cam.loadConfig(
+            CConfigFileMemory(sensorSection(
+                "source = " + dir + "/c.avi\ngrayscale = " + (grey ? "true" : "false") + "\n")),
+            "V");
+        cam.initialize();
+        cam.doProcess();
+        const auto obs = stereoObservations(cam);
+        ASSERT_EQ(obs.size(), 1U);
+        cv::Mat l = left, r = right;
+        if (grey)
+        {
+            cv::cvtColor(left, l, cv::COLOR_BGR2GRAY);
+            cv::cvtColor(right, r, cv::COLOR_BGR2GRAY);
+        }
+        EXPECT_EQ(obs[0]->imageLeft.asCvMatRef().type(), grey ? CV_8UC1 : CV_8UC3);
+        EXPECT_EQ(maxDifference(obs[0]->imageLeft, l), 0.0) << grey;
+        EXPECT_EQ(maxDifference(obs[0]->imageRight, r), 0.0) << grey;
+    }
+}
+
+// An image sequence declares no frame rate: video stamps need video_fps,
+// which also overrides a file's own rate.
+TEST(CVideoStereoCamera, imageSequenceNeedsVideoFpsForItsStamps)
+{
+    const std::string dir = emslam::test::makeTempDir("video_cam_seq");
+    for (int k = 0; k < 3; ++k)
+    {
+        cv::Mat frame;
+        cv::hconcat(testImage(k, false), testImage(k, true), frame);
+        char name[64];
+        std::snprintf(name, sizeof(name), "/sbs_%04d.png", k);
+        ASSERT_TRUE(cv::imwrite(dir + name, frame));
+    }
+    const std::string source = "source = " + dir + "/sbs_%04d.png\n";
+    {
+        CVideoStereoCamera cam;
+        cam.loadConfig(CConfigFileMemory(sensorSection(source)), "V");
+        expectThrowContaining([&] { cam.initialize(); }, {"video_fps", "declares no frame rate"});
+    }
+    CVideoStereoCamera cam;
+    cam.loadConfig(
+        CConfigFileMemory(sensorSection(source + "video_fps = 4\nstart_time = 100\n")), "V");
+    cam.initialize();
+    for (int k = 0; k < 3; ++k)
+    {
+        cam.doProcess();
+    }
+    EXPECT_THROW(cam.doProcess(), EndOfStream);
+    const auto obs = stereoObservations(cam);
+    ASSERT_EQ(obs.size(), 3U);
+    for (int k = 0; k < 3; ++k)
+    {
+        const auto& o = *obs[static_cast<std::size_t>(k)];
+        EXPECT_EQ(maxDifference(o.imageLeft, testImage(k, false)), 0.0) << k;
+        EXPECT_NEAR(mrpt::Clock::toDouble(o.timestamp), 100.0 + 0.25 * k, 1e-6);
+    }
 }

@@ -203,6 +203,10 @@ std::string VideoSource::backendName() const
 
 double VideoSource::reportedFps() const
 {
+    if (m_kind == VideoSourceKind::FILE && m_source.find('%') != std::string::npos)
+    {
+        return 0.0;  // an image sequence has no rate (FFmpeg's image2 reader says 25)
+    }
     const double fps = m_cap.get(cv::CAP_PROP_FPS);
     return std::isfinite(fps) && fps > 0 && fps <= 10000 ? fps : 0.0;
 }

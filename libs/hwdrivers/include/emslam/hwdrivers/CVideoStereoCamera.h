@@ -34,10 +34,11 @@ namespace emslam::hwdrivers
  *
  * <b>Timestamps.</b> A file has no capture clock: with `timestamps = video`
  * (the default for files) frame k is stamped `start_time + k / fps`, fps
- * being `video_fps` or else the rate the file declares (a variable-rate file
- * is stamped as if constant). With `now` (the default for devices and
- * pipelines) a frame gets the wall clock when OpenCV returned it (for two
- * devices: once both were grabbed, before decoding).
+ * being `video_fps` or else the rate the file declares (an image sequence
+ * declares none; a variable-rate file is stamped as if constant). With
+ * `now` (the default for devices and pipelines) a frame gets the wall clock
+ * when OpenCV returned it (for two devices: once both were grabbed, before
+ * decoding).
  *
  * <b>End.</b> A file or pipeline that ends throws EndOfStream from
  * doProcess() (emslam-grabber: a normal end, every frame kept); a device

@@ -60,7 +60,8 @@ public:
     const std::string& source() const { return m_source; }
     /** The backend OpenCV chose ("V4L2", "FFMPEG", "GSTREAMER", ...). */
     std::string backendName() const;
-    /** Frame rate the source reports [Hz]; 0 if unknown. */
+    /** Frame rate the source reports [Hz]; 0 if unknown and for image
+     * sequences (whose 25 Hz from FFmpeg is a default, not their rate). */
     double reportedFps() const;
     /** Frames in a file as its container reports them; 0 if unknown. */
     std::size_t reportedFrameCount() const;
