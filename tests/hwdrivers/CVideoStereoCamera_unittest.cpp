@@ -4,6 +4,7 @@
 
 #include <emslam/hwdrivers/CVideoStereoCamera.h>
 #include <emslam/hwdrivers/SensorStatus.h>
+#include <emslam/io/EurocSequence.h>
 #include <emslam/io/OpenCvStereoCalibration.h>
 #include <emslam/sim/StereoVideoWriter.h>
 #include <emslam/stereo/StereoCalibration.h>
@@ -495,5 +496,65 @@ TEST(CVideoStereoCamera, imageSequenceNeedsVideoFpsForItsStamps)
         const auto& o = *obs[static_cast<std::size_t>(k)];
         EXPECT_EQ(maxDifference(o.imageLeft, testImage(k, false)), 0.0) << k;
         EXPECT_NEAR(mrpt::Clock::toDouble(o.timestamp), 100.0 + 0.25 * k, 1e-6);
+    }
+}
+
+// Real raw stereo (EuRoC: distorted, not rectified, 11 cm baseline): the
+// pairs as a side-by-side video with the calibration as an OpenCV file give
+// the observations the EuRoC reader gives (rectify = false: the same raw
+// images and calibration), and with rectify = true the StereoRectifier's pair.
+TEST(CVideoStereoCamera, eurocPairsThroughAVideoMatchTheDatasetReader)
+{
+    EMSLAM_REQUIRE_TEST_DATA(mav0, "euroc-v101-rest/mav0");
+    emslam::io::EurocSequence seq(mav0);
+    const std::string dir = emslam::test::makeTempDir("video_cam_euroc");
+    constexpr std::size_t N = 3;
+    const auto& raw = seq.calibration();
+    {
+        emslam::sim::StereoVideoWriter w(
+            dir + "/euroc.mkv", 20.0,
+            cv::Size(
+                static_cast<int>(raw.leftCamera.ncols), static_cast<int>(raw.leftCamera.nrows)));
+        for (std::size_t i = 0; i < N; ++i)
+        {
+            const auto f = seq.frame(i);
+            w.write(f.obs->imageLeft.asCvMatRef(), f.obs->imageRight.asCvMatRef());
+        }
+    }
+    emslam::io::saveOpenCvStereoCalibration(dir + "/euroc.yml", raw);
+    const emslam::stereo::StereoRectifier rectifier(raw);
+    for (const bool rectify : {false, true})
+    {
+        CVideoStereoCamera cam;
+        cam.loadConfig(
+            CConfigFileMemory(
+                "[V]\nsource = " + dir + "/euroc.mkv\ncalibration_file = " + dir +
+                "/euroc.yml\nrectify = " + (rectify ? "true" : "false") + "\n"),
+            "V");
+        cam.initialize();
+        for (std::size_t i = 0; i < N; ++i)
+        {
+            cam.doProcess();
+        }
+        const auto obs = stereoObservations(cam);
+        ASSERT_EQ(obs.size(), N);
+        for (std::size_t i = 0; i < N; ++i)
+        {
+            const auto ref = seq.frame(i).obs;
+            cv::Mat l = ref->imageLeft.asCvMatRef(), r = ref->imageRight.asCvMatRef();
+            if (rectify)
+            {
+                rectifier.rectify(ref->imageLeft.asCvMatRef(), ref->imageRight.asCvMatRef(), l, r);
+            }
+            EXPECT_EQ(maxDifference(obs[i]->imageLeft, l), 0.0) << i << " " << rectify;
+            EXPECT_EQ(maxDifference(obs[i]->imageRight, r), 0.0) << i << " " << rectify;
+        }
+        const auto& c = rectify ? rectifier.rectifiedCamera() : raw;
+        EXPECT_NEAR(obs[0]->leftCamera.fx(), c.leftCamera.fx(), 1e-9);
+        EXPECT_NEAR(obs[0]->rightCamera.cx(), c.rightCamera.cx(), 1e-9);
+        EXPECT_NEAR(obs[0]->leftCamera.dist[0], c.leftCamera.dist[0], 1e-15);
+        const mrpt::poses::CPose3D a(mrpt::poses::CPose3DQuat(obs[0]->rightCameraPose));
+        const mrpt::poses::CPose3D b(mrpt::poses::CPose3DQuat(c.rightCameraPose));
+        EXPECT_LT(emslam::test::maxPoseDifference(a, b), 1e-12);
     }
 }
