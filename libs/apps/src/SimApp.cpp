@@ -26,6 +26,7 @@
 #include <iostream>
 #include <memory>
 #include <opencv2/imgcodecs.hpp>
+#include <optional>
 #include <stdexcept>
 #include <vector>
 
@@ -149,6 +150,61 @@ void requireWellFormedValues(const mrpt::config::CConfigFileBase& cfg)
     known.write("World", "seed", 1);
     requireWellFormedConfigValues(cfg, known);
 }
+/** emslam-sim's --video: the frames side by side in NAME.partial.EXT
+ * (OpenCV picks the container from the extension), renamed by commit() once
+ * the rawlog is complete, removed if the run fails before. */
+class SideBySideVideoOutput
+{
+public:
+    SideBySideVideoOutput(
+        const std::string& file, const std::string& codec, const emslam::sim::StereoSimulator& sim)
+        : m_file(file), m_partial(partialName(file))
+    {
+        const auto& cam = sim.renderer().params();
+        m_writer = std::make_unique<emslam::sim::StereoVideoWriter>(
+            m_partial, sim.params().fps, cv::Size(cam.width, cam.height), codec);
+    }
+    ~SideBySideVideoOutput()
+    {
+        if (!m_committed)
+        {
+            m_writer->close();
+            std::error_code ec;
+            fs::remove(m_partial, ec);
+        }
+    }
+    SideBySideVideoOutput(const SideBySideVideoOutput&) = delete;
+    SideBySideVideoOutput& operator=(const SideBySideVideoOutput&) = delete;
+
+    void write(const mrpt::obs::CObservationStereoImages& obs)
+    {
+        m_writer->write(obs.imageLeft.asCvMatRef(), obs.imageRight.asCvMatRef());
+    }
+
+    /** Closes and renames the video; writes `cam` to `calibration_file` if not empty. */
+    void commit(const std::string& calibration_file, const mrpt::img::TStereoCamera& cam)
+    {
+        m_writer->close();
+        if (!calibration_file.empty())
+        {
+            io::saveOpenCvStereoCalibration(calibration_file, cam);
+        }
+        fs::rename(m_partial, m_file);
+        m_committed = true;
+    }
+
+private:
+    static std::string partialName(const std::string& file)
+    {
+        const fs::path v(file);
+        return (v.parent_path() / (v.stem().string() + ".partial" + v.extension().string()))
+            .string();
+    }
+
+    std::string m_file, m_partial;
+    std::unique_ptr<emslam::sim::StereoVideoWriter> m_writer;
+    bool m_committed{false};
+};
 }  // namespace
 
 void SimApp::checkConfig(const mrpt::config::CConfigFileBase& params)
@@ -192,62 +248,34 @@ void SimApp::execute()
                   << sim.world().elements().size() << " elements, " << cam.width << "x"
                   << cam.height << ", seed " << sim.seed() << ") into '" << output_file << "'\n";
     }
-    // The video goes to NAME.partial.EXT (OpenCV picks the container from the
-    // extension) and is renamed once the rawlog is complete.
-    std::unique_ptr<emslam::sim::StereoVideoWriter> video;
-    std::string video_partial;
+    std::optional<SideBySideVideoOutput> video;
     if (!video_file.empty())
     {
-        const fs::path v(video_file);
-        video_partial =
-            (v.parent_path() / (v.stem().string() + ".partial" + v.extension().string())).string();
-        const auto& cam = sim.renderer().params();
-        video = std::make_unique<emslam::sim::StereoVideoWriter>(
-            video_partial, sim.params().fps, cv::Size(cam.width, cam.height), video_codec);
+        video.emplace(video_file, video_codec, sim);
     }
-    RawlogRecording rec;
-    try
-    {
-        rec = recordRawlog(
-            PROGRAM, output_file, gz_level, gt_out_file, n, !quiet,
-            [&](std::size_t i, mrpt::serialization::CArchive& out, emslam::io::TumTrajectory& gt)
-            {
-                const auto fr = sim.renderFrame(i);
-                out << *fr.obs;
-                gt.add(fr.t, fr.T_first_left);
-                if (!png_dir.empty())
-                {
-                    char name[64];
-                    std::snprintf(name, sizeof(name), "/left_%06zu.png", i);
-                    io::writeImageFile(png_dir + name, fr.obs->imageLeft.asCvMatRef());
-                    std::snprintf(name, sizeof(name), "/right_%06zu.png", i);
-                    io::writeImageFile(png_dir + name, fr.obs->imageRight.asCvMatRef());
-                }
-                if (video)
-                {
-                    video->write(fr.obs->imageLeft.asCvMatRef(), fr.obs->imageRight.asCvMatRef());
-                }
-            });
-        if (video)
+    const RawlogRecording rec = recordRawlog(
+        PROGRAM, output_file, gz_level, gt_out_file, n, !quiet,
+        [&](std::size_t i, mrpt::serialization::CArchive& out, emslam::io::TumTrajectory& gt)
         {
-            video->close();
-            if (!video_calibration_file.empty())
+            const auto fr = sim.renderFrame(i);
+            out << *fr.obs;
+            gt.add(fr.t, fr.T_first_left);
+            if (!png_dir.empty())
             {
-                io::saveOpenCvStereoCalibration(
-                    video_calibration_file, sim.renderer().stereoCamera());
+                char name[64];
+                std::snprintf(name, sizeof(name), "/left_%06zu.png", i);
+                io::writeImageFile(png_dir + name, fr.obs->imageLeft.asCvMatRef());
+                std::snprintf(name, sizeof(name), "/right_%06zu.png", i);
+                io::writeImageFile(png_dir + name, fr.obs->imageRight.asCvMatRef());
             }
-            fs::rename(video_partial, video_file);
-        }
-    }
-    catch (...)
+            if (video)
+            {
+                video->write(*fr.obs);
+            }
+        });
+    if (video)
     {
-        if (video)
-        {
-            video->close();
-            std::error_code ec;
-            fs::remove(video_partial, ec);
-        }
-        throw;
+        video->commit(video_calibration_file, sim.renderer().stereoCamera());
     }
     frames_written = rec.frames_written;
     poses_written = rec.poses_written;

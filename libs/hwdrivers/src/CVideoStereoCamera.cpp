@@ -85,41 +85,41 @@ void CVideoStereoCamera::TParameters::loadFromConfigFile(
     pose_yaw_deg = c.read_double(s, "pose_yaw_deg", pose_yaw_deg);
     pose_pitch_deg = c.read_double(s, "pose_pitch_deg", pose_pitch_deg);
     pose_roll_deg = c.read_double(s, "pose_roll_deg", pose_roll_deg);
-    // The scale is checked before it is used to read a calibration.
+    loadCalibration(c, s);
+    validate();
+}
+
+void CVideoStereoCamera::TParameters::loadCalibration(
+    const mrpt::config::CConfigFileBase& c, const std::string& s)
+{
+    // The keys that choose the reader are checked before it runs.
     if (!(translation_scale > 0 && translation_scale <= 1e6))
     {
         bad("translation_scale", mrpt::format("= %g must be in (0, 1e6]", translation_scale));
     }
-
-    const std::string where = "CVideoStereoCamera, section " + s + ": ";
+    const bool opencv = emslam::io::isOpenCvStorageFile(calibration_file);
+    if (!calibration_extrinsics_file.empty() && !opencv)
+    {
+        bad("calibration_extrinsics_file",
+            "is for OpenCV calibration files (.yml, .yaml, .xml, "
+            ".json) only");
+    }
     try
     {
         if (calibration_file.empty())
         {
-            if (!calibration_extrinsics_file.empty())
-            {
-                bad("calibration_extrinsics_file", "needs an OpenCV calibration_file");
-            }
             stereo_camera = emslam::stereo::loadStereoCameraFromConfig(c, calibration_section);
         }
-        else if (emslam::io::isOpenCvStorageFile(calibration_file))
+        else if (opencv)
         {
             stereo_camera = emslam::io::loadOpenCvStereoCalibration(
                 calibration_file, calibration_extrinsics_file, translation_scale);
         }
         else
         {
-            if (!calibration_extrinsics_file.empty())
-            {
-                bad("calibration_extrinsics_file", "is for OpenCV calibration files only");
-            }
             stereo_camera =
                 emslam::io::loadStereoCameraFromIniFile(calibration_file, calibration_section);
         }
-    }
-    catch (const std::invalid_argument& e)
-    {
-        throw std::invalid_argument(where + e.what());
     }
     catch (const std::exception& e)
     {
@@ -130,9 +130,10 @@ void CVideoStereoCamera::TParameters::loadFromConfigFile(
                       (calibration_extrinsics_file.empty() ? std::string()
                                                            : ", calibration_extrinsics_file = '" +
                                                                  calibration_extrinsics_file + "'");
-        throw std::invalid_argument(where + key + ": " + emslam::stereo::shortExceptionMessage(e));
+        throw std::invalid_argument(
+            "CVideoStereoCamera, section " + s + ": " + key + ": " +
+            emslam::stereo::shortExceptionMessage(e));
     }
-    validate();
 }
 
 void CVideoStereoCamera::TParameters::saveToConfigFile(
@@ -179,6 +180,29 @@ void CVideoStereoCamera::TParameters::validate() const
     {
         bad("backend", "must be auto, v4l2, ffmpeg, gstreamer or any, not '" + backend + "'");
     }
+    if (!fourcc.empty() && fourcc.size() != 4)
+    {
+        bad("fourcc", "= '" + fourcc + "' must be empty or four characters (MJPG, YUYV, ...)");
+    }
+    if (timestamps != "auto" && timestamps != "video" && timestamps != "now")
+    {
+        bad("timestamps", "must be auto, video or now, not '" + timestamps + "'");
+    }
+    validateNumbers();
+    const std::string calib = calibration_file.empty() ? "calibration_section" : "calibration_file";
+    const auto& L = stereo_camera.leftCamera;
+    const auto& R = stereo_camera.rightCamera;
+    if (L.ncols != R.ncols || L.nrows != R.nrows)
+    {
+        bad(calib, "left and right cameras must have the same resolution");
+    }
+    // Without a size (an OpenCV file) the rest is checked with a stand-in size.
+    emslam::stereo::validateStereoCamera(
+        withSize(stereo_camera, cv::Size(2, 2)), "CVideoStereoCamera: " + calib);
+}
+
+void CVideoStereoCamera::TParameters::validateNumbers() const
+{
     for (const auto& [key, v] :
          {std::pair{"capture_width", capture_width}, std::pair{"capture_height", capture_height}})
     {
@@ -194,14 +218,6 @@ void CVideoStereoCamera::TParameters::validate() const
         {
             bad(key, mrpt::format("= %g must be in 0 .. 1000 Hz", v));
         }
-    }
-    if (!fourcc.empty() && fourcc.size() != 4)
-    {
-        bad("fourcc", "= '" + fourcc + "' must be empty or four characters (MJPG, YUYV, ...)");
-    }
-    if (timestamps != "auto" && timestamps != "video" && timestamps != "now")
-    {
-        bad("timestamps", "must be auto, video or now, not '" + timestamps + "'");
     }
     // A UNIX time within +-1e11 s keeps microsecond resolution.
     if (!(std::abs(start_time) <= 1e11))
@@ -227,16 +243,6 @@ void CVideoStereoCamera::TParameters::validate() const
             bad(key, mrpt::format("= %g must be in [-%g, %g]", v, limit, limit));
         }
     }
-    const std::string calib = calibration_file.empty() ? "calibration_section" : "calibration_file";
-    const auto& L = stereo_camera.leftCamera;
-    const auto& R = stereo_camera.rightCamera;
-    if (L.ncols != R.ncols || L.nrows != R.nrows)
-    {
-        bad(calib, "left and right cameras must have the same resolution");
-    }
-    // Without a size (an OpenCV file) the rest is checked with a stand-in size.
-    emslam::stereo::validateStereoCamera(
-        withSize(stereo_camera, cv::Size(2, 2)), "CVideoStereoCamera: " + calib);
 }
 
 CVideoStereoCamera::~CVideoStereoCamera() = default;
@@ -265,63 +271,21 @@ void CVideoStereoCamera::loadConfig_sensorSpecific(
 void CVideoStereoCamera::initialize()
 {
     m_state = ssInitializing;
-    const TParameters& p = m_params;
-    const std::string where = "CVideoStereoCamera, section " + m_section + ": ";
     try
     {
-        VideoCaptureRequest req;
-        req.backend = p.backend;
-        req.width = p.capture_width;
-        req.height = p.capture_height;
-        req.fps = p.capture_fps;
-        req.fourcc = p.fourcc;
-        m_source = std::make_unique<VideoSource>("source", p.source, req);
-        if (!p.source_right.empty())
-        {
-            m_source_right = std::make_unique<VideoSource>("source_right", p.source_right, req);
-        }
-        const VideoSourceKind kind = m_source->kind();
-        m_video_stamps =
-            p.timestamps == "video" || (p.timestamps == "auto" && kind == VideoSourceKind::FILE);
-        m_stamp_fps = p.video_fps > 0 ? p.video_fps : m_source->reportedFps();
-        if (m_video_stamps && !(m_stamp_fps > 0))
-        {
-            throw std::invalid_argument(
-                "'video_fps' = 0 and '" + p.source +
-                "' declares no frame rate: set video_fps for its timestamps");
-        }
+        openSources();
         m_read = 0;
         m_delivered = 0;
         if (!readFrame())
         {
             throw std::runtime_error(
-                "source '" + p.source + "' delivered no frame (" + toString(kind) + ")");
+                "source '" + m_params.source + "' delivered no frame (" +
+                toString(m_source->kind()) + ")");
         }
         m_first_t = mrpt::Clock::now();
         m_have_first = true;
-        const cv::Size size = m_left.size();
-        const mrpt::img::TStereoCamera raw = withSize(p.stereo_camera, size);
-        const cv::Size calib(
-            static_cast<int>(raw.leftCamera.ncols), static_cast<int>(raw.leftCamera.nrows));
-        if (calib != size || m_right.size() != size)
-        {
-            throw std::runtime_error(mrpt::format(
-                "the images are %dx%d (left) and %dx%d (right)%s, the calibration ('%s') is "
-                "%dx%d: a frame of another size than the calibration's",
-                size.width, size.height, m_right.cols, m_right.rows,
-                p.source_right.empty() ? ", the halves of a side-by-side frame" : "",
-                p.calibration_file.empty() ? p.calibration_section.c_str()
-                                           : p.calibration_file.c_str(),
-                calib.width, calib.height));
-        }
-        emslam::stereo::validateStereoCamera(raw, "CVideoStereoCamera calibration");
-        m_output_camera = raw;
-        if (p.rectify)
-        {
-            m_rectifier.setCalibration(raw, p.rectify_alpha);
-            m_output_camera = m_rectifier.rectifiedCamera();
-        }
-        if (m_rate_from_source && kind == VideoSourceKind::FILE && m_stamp_fps > 0)
+        prepareCalibration(m_left.size());
+        if (m_rate_from_source && m_source->kind() == VideoSourceKind::FILE && m_stamp_fps > 0)
         {
             m_process_rate = m_stamp_fps;  // a file plays at its own rate
         }
@@ -331,9 +295,61 @@ void CVideoStereoCamera::initialize()
         m_state = ssError;
         m_source.reset();
         m_source_right.reset();
-        throw std::runtime_error(where + emslam::stereo::shortExceptionMessage(e));
+        throw std::runtime_error(
+            "CVideoStereoCamera, section " + m_section + ": " +
+            emslam::stereo::shortExceptionMessage(e));
     }
     m_state = ssWorking;
+}
+
+void CVideoStereoCamera::openSources()
+{
+    const TParameters& p = m_params;
+    VideoCaptureRequest req;
+    req.backend = p.backend;
+    req.width = p.capture_width;
+    req.height = p.capture_height;
+    req.fps = p.capture_fps;
+    req.fourcc = p.fourcc;
+    m_source = std::make_unique<VideoSource>("source", p.source, req);
+    if (!p.source_right.empty())
+    {
+        m_source_right = std::make_unique<VideoSource>("source_right", p.source_right, req);
+    }
+    m_video_stamps = p.timestamps == "video" ||
+                     (p.timestamps == "auto" && m_source->kind() == VideoSourceKind::FILE);
+    m_stamp_fps = p.video_fps > 0 ? p.video_fps : m_source->reportedFps();
+    if (m_video_stamps && !(m_stamp_fps > 0))
+    {
+        throw std::invalid_argument(
+            "'video_fps' = 0 and '" + p.source +
+            "' declares no frame rate: set video_fps for its timestamps");
+    }
+}
+
+void CVideoStereoCamera::prepareCalibration(cv::Size size)
+{
+    const TParameters& p = m_params;
+    const mrpt::img::TStereoCamera raw = withSize(p.stereo_camera, size);
+    const cv::Size calib(
+        static_cast<int>(raw.leftCamera.ncols), static_cast<int>(raw.leftCamera.nrows));
+    if (calib != size || m_right.size() != size)
+    {
+        throw std::runtime_error(mrpt::format(
+            "the images are %dx%d (left) and %dx%d (right)%s, the calibration ('%s') is "
+            "%dx%d: a frame of another size than the calibration's",
+            size.width, size.height, m_right.cols, m_right.rows,
+            p.source_right.empty() ? ", the halves of a side-by-side frame" : "",
+            p.calibration_file.empty() ? p.calibration_section.c_str() : p.calibration_file.c_str(),
+            calib.width, calib.height));
+    }
+    emslam::stereo::validateStereoCamera(raw, "CVideoStereoCamera calibration");
+    m_output_camera = raw;
+    if (p.rectify)
+    {
+        m_rectifier.setCalibration(raw, p.rectify_alpha);
+        m_output_camera = m_rectifier.rectifiedCamera();
+    }
 }
 
 bool CVideoStereoCamera::readFrame()

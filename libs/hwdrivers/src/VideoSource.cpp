@@ -84,23 +84,23 @@ VideoSourceKind classifyVideoSource(const std::string& source)
     return VideoSourceKind::FILE;
 }
 
-VideoSource::VideoSource(
-    const std::string& what, const std::string& source, const VideoCaptureRequest& request)
-    : m_kind(classifyVideoSource(source)), m_source(mrpt::system::trim(source))
+namespace
 {
-    const std::string where = what + " '" + m_source + "' (" + toString(m_kind) + ")";
-    const int api = apiOf(request.backend, m_kind);
+/** Throws if `source` cannot be there: a missing device node or file, or a
+ * node without permission (OpenCV would only say "cannot open"). */
+void requireReachable(VideoSourceKind kind, const std::string& source, const std::string& where)
+{
     std::error_code ec;
-    if (m_kind == VideoSourceKind::DEVICE_PATH)
+    if (kind == VideoSourceKind::DEVICE_PATH)
     {
-        if (!std::filesystem::exists(m_source, ec))
+        if (!std::filesystem::exists(source, ec))
         {
             throw std::runtime_error(
                 where +
                 ": no such device (camera not connected, or another /dev/videoN; "
-                "'v4l2-ctl --list-devices' lists them)");
+                "'v4l2-ctl --list-devices' or 'emslam-grabber --list-devices' lists them)");
         }
-        if (::access(m_source.c_str(), R_OK | W_OK) != 0)
+        if (::access(source.c_str(), R_OK | W_OK) != 0)
         {
             throw std::runtime_error(
                 where +
@@ -108,32 +108,72 @@ VideoSource::VideoSource(
                 "'video' group)");
         }
     }
-    if (m_kind == VideoSourceKind::FILE && m_source.find('%') == std::string::npos &&
-        !std::filesystem::is_regular_file(m_source, ec))
+    if (kind == VideoSourceKind::FILE && source.find('%') == std::string::npos &&
+        !std::filesystem::is_regular_file(source, ec))
     {
         throw std::runtime_error(
             where + ": file not found (relative paths are taken from the working folder '" +
             std::filesystem::current_path().string() + "')");
     }
+}
+
+/** The open() properties of a camera device: pixel format, then frame size. */
+std::vector<int> captureProperties(VideoSourceKind kind, const VideoCaptureRequest& request)
+{
     std::vector<int> props;
-    if (isLiveSource(m_kind))
+    if (!isLiveSource(kind))
     {
-        if (request.fourcc.size() == 4)
-        {
-            const auto& f = request.fourcc;
-            props.insert(
-                props.end(),
-                {cv::CAP_PROP_FOURCC, cv::VideoWriter::fourcc(f[0], f[1], f[2], f[3])});
-        }
-        if (request.width > 0)
-        {
-            props.insert(props.end(), {cv::CAP_PROP_FRAME_WIDTH, request.width});
-        }
-        if (request.height > 0)
-        {
-            props.insert(props.end(), {cv::CAP_PROP_FRAME_HEIGHT, request.height});
-        }
+        return props;
     }
+    if (request.fourcc.size() == 4)
+    {
+        const auto& f = request.fourcc;
+        props.insert(
+            props.end(), {cv::CAP_PROP_FOURCC, cv::VideoWriter::fourcc(f[0], f[1], f[2], f[3])});
+    }
+    if (request.width > 0)
+    {
+        props.insert(props.end(), {cv::CAP_PROP_FRAME_WIDTH, request.width});
+    }
+    if (request.height > 0)
+    {
+        props.insert(props.end(), {cv::CAP_PROP_FRAME_HEIGHT, request.height});
+    }
+    return props;
+}
+
+/** Why a source that is there did not open, by kind. */
+std::string whyNotOpened(VideoSourceKind kind, const std::string& source)
+{
+    std::error_code ec;
+    switch (kind)
+    {
+        case VideoSourceKind::DEVICE_INDEX:
+            return "no camera with this index (none connected, or busy; '/dev/video" + source +
+                   "' " +
+                   (std::filesystem::exists("/dev/video" + source, ec) ? "exists"
+                                                                       : "does not exist") +
+                   ")";
+        case VideoSourceKind::DEVICE_PATH:
+            return "the device exists but cannot be opened (busy, or not a capture device)";
+        case VideoSourceKind::PIPELINE:
+            return "GStreamer cannot start the pipeline (a missing plugin or a syntax error; "
+                   "it must end in appsink; try it with gst-launch-1.0 and fakesink)";
+        case VideoSourceKind::FILE:
+            break;
+    }
+    return "no OpenCV backend decodes it (not a video, or an unsupported codec)";
+}
+}  // namespace
+
+VideoSource::VideoSource(
+    const std::string& what, const std::string& source, const VideoCaptureRequest& request)
+    : m_kind(classifyVideoSource(source)), m_source(mrpt::system::trim(source))
+{
+    const std::string where = what + " '" + m_source + "' (" + toString(m_kind) + ")";
+    requireReachable(m_kind, m_source, where);
+    const int api = apiOf(request.backend, m_kind);
+    const std::vector<int> props = captureProperties(m_kind, request);
     bool opened = false;
     try
     {
@@ -159,29 +199,7 @@ VideoSource::VideoSource(
     }
     if (!opened || !m_cap.isOpened())
     {
-        std::string why;
-        switch (m_kind)
-        {
-            case VideoSourceKind::DEVICE_INDEX:
-                why = "no camera with this index (none connected, or busy; '/dev/video" + m_source +
-                      "' " +
-                      (std::filesystem::exists("/dev/video" + m_source, ec) ? "exists"
-                                                                            : "does not exist") +
-                      ")";
-                break;
-            case VideoSourceKind::DEVICE_PATH:
-                why = "the device exists but cannot be opened (busy, or not a capture device)";
-                break;
-            case VideoSourceKind::PIPELINE:
-                why =
-                    "GStreamer cannot start the pipeline (a missing plugin or a syntax error; "
-                    "it must end in appsink; try it with gst-launch-1.0 and fakesink)";
-                break;
-            case VideoSourceKind::FILE:
-                why = "no OpenCV backend decodes it (not a video, or an unsupported codec)";
-                break;
-        }
-        throw std::runtime_error(where + ": cannot open: " + why);
+        throw std::runtime_error(where + ": cannot open: " + whyNotOpened(m_kind, m_source));
     }
     if (isLiveSource(m_kind) && request.fps > 0)
     {

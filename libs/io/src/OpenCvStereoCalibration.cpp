@@ -28,27 +28,9 @@ namespace
     throw std::runtime_error("OpenCV calibration '" + file + "': " + problem);
 }
 
-/** Size, NUL bytes and nesting depth: what OpenCV's parser must never see. */
-void precheck(const std::string& file)
+/** Brackets and YAML indentation at most MAX_OPENCV_CALIBRATION_NESTING deep. */
+void requireShallowNesting(const std::string& text, const std::string& file)
 {
-    std::error_code ec;
-    if (!std::filesystem::is_regular_file(file, ec))
-    {
-        fail(file, "file not found");
-    }
-    const auto bytes = std::filesystem::file_size(file, ec);
-    if (ec || bytes > MAX_OPENCV_CALIBRATION_BYTES)
-    {
-        fail(
-            file, "larger than " + std::to_string(MAX_OPENCV_CALIBRATION_BYTES) +
-                      " bytes: not a calibration file");
-    }
-    std::ifstream in(file, std::ios::binary);
-    const std::string text((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
-    if (text.find('\0') != std::string::npos)
-    {
-        fail(file, "contains NUL bytes: not a text file");
-    }
     int depth = 0;
     std::size_t line = 1;
     bool line_start = true;
@@ -83,6 +65,30 @@ void precheck(const std::string& file)
             --depth;
         }
     }
+}
+
+/** Size, NUL bytes and nesting depth: what OpenCV's parser must never see. */
+void precheck(const std::string& file)
+{
+    std::error_code ec;
+    if (!std::filesystem::is_regular_file(file, ec))
+    {
+        fail(file, "file not found");
+    }
+    const auto bytes = std::filesystem::file_size(file, ec);
+    if (ec || bytes > MAX_OPENCV_CALIBRATION_BYTES)
+    {
+        fail(
+            file, "larger than " + std::to_string(MAX_OPENCV_CALIBRATION_BYTES) +
+                      " bytes: not a calibration file");
+    }
+    std::ifstream in(file, std::ios::binary);
+    const std::string text((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+    if (text.find('\0') != std::string::npos)
+    {
+        fail(file, "contains NUL bytes: not a text file");
+    }
+    requireShallowNesting(text, file);
 }
 
 /** Most numbers a calibration key holds (a 3x3 matrix: 9; distortion: 8). */
@@ -266,6 +272,40 @@ mrpt::img::TCamera cameraFrom(const std::vector<double>& K, const std::vector<do
     return c;
 }
 
+/** Throws unless `k` (9 numbers, row-major) is [fx 0 cx; 0 fy cy; 0 0 1]. */
+void requirePinholeMatrix(
+    const std::vector<double>& k, const std::string& name, const std::string& file)
+{
+    if (k[1] != 0 || k[3] != 0 || k[6] != 0 || k[7] != 0 || k[8] != 1)
+    {
+        fail(
+            file,
+            "camera matrix " + name + " is not [fx 0 cx; 0 fy cy; 0 0 1] (skew is not supported)");
+    }
+}
+
+/** R from 9 numbers (row-major) or 3 (a Rodrigues vector); throws unless a rotation. */
+cv::Mat rotationFrom(const std::vector<double>& r, const std::string& file)
+{
+    cv::Mat R(3, 3, CV_64F);
+    if (r.size() == 3)
+    {
+        cv::Rodrigues(cv::Mat(r).reshape(1, 3), R);
+    }
+    else
+    {
+        R = cv::Mat(r, true).reshape(1, 3);
+    }
+    // Orthonormal with determinant +1 (to 1e-3: printed files round).
+    const cv::Mat RtR = R.t() * R;
+    if (cv::norm(RtR - cv::Mat::eye(3, 3, CV_64F), cv::NORM_INF) > 1e-3 ||
+        std::abs(cv::determinant(R) - 1.0) > 1e-3)
+    {
+        fail(file, "R is not a rotation matrix (R^T R = I, det R = 1, to 1e-3)");
+    }
+    return R;
+}
+
 /** [w, h] from image_width / image_height or image_size / imageSize; 0x0 if absent. */
 std::pair<unsigned, unsigned> imageSizeOf(const CalibrationNodes& nodes, const std::string& file)
 {
@@ -293,6 +333,46 @@ std::pair<unsigned, unsigned> imageSizeOf(const CalibrationNodes& nodes, const s
     }
     return {static_cast<unsigned>(wh[0]), static_cast<unsigned>(wh[1])};
 }
+cv::Mat cameraMatrixOf(const mrpt::img::TCamera& c)
+{
+    return (cv::Mat_<double>(3, 3) << c.fx(), 0, c.cx(), 0, c.fy(), c.cy(), 0, 0, 1);
+}
+
+/** k1 k2 p1 p2 k3 (and k4 k5 k6 if any is not 0): OpenCV's order, MRPT's too. */
+cv::Mat distortionOf(const mrpt::img::TCamera& c)
+{
+    if (c.distortion == mrpt::img::DistortionModel::none)
+    {
+        return cv::Mat::zeros(1, 5, CV_64F);
+    }
+    const bool rational = c.dist[5] != 0 || c.dist[6] != 0 || c.dist[7] != 0;
+    cv::Mat d(1, rational ? 8 : 5, CV_64F);
+    for (int i = 0; i < d.cols; ++i)
+    {
+        d.at<double>(0, i) = c.dist[static_cast<std::size_t>(i)];
+    }
+    return d;
+}
+
+/** OpenCV's R, T (X_right = R X_left + T) of `cam`'s T_left_right:
+ * R = R_lr^T, T = -R_lr^T t_lr. */
+void openCvExtrinsics(const mrpt::img::TStereoCamera& cam, cv::Mat& R, cv::Mat& T)
+{
+    const mrpt::poses::CPose3D T_left_right(mrpt::poses::CPose3DQuat(cam.rightCameraPose));
+    const auto R_lr = T_left_right.getRotationMatrix();
+    R.create(3, 3, CV_64F);
+    T.create(3, 1, CV_64F);
+    for (int i = 0; i < 3; ++i)
+    {
+        double t = 0;
+        for (int j = 0; j < 3; ++j)
+        {
+            R.at<double>(i, j) = R_lr(j, i);
+            t -= R_lr(j, i) * T_left_right.m_coords[static_cast<std::size_t>(j)];
+        }
+        T.at<double>(i, 0) = t;
+    }
+}
 }  // namespace
 
 bool isOpenCvStorageFile(const std::string& file)
@@ -317,52 +397,22 @@ mrpt::img::TStereoCamera loadOpenCvStereoCalibration(
     }
     const auto K1 = nodes.numbers({"M1", "K1"}, {9});
     const auto K2 = nodes.numbers({"M2", "K2"}, {9});
-    const auto D1 = nodes.numbers({"D1"}, {0, 4, 5, 8}, true);
-    const auto D2 = nodes.numbers({"D2"}, {0, 4, 5, 8}, true);
-    const auto Rv = nodes.numbers({"R"}, {3, 9});
-    const auto T = nodes.numbers({"T"}, {3});
-    for (const auto* K : {&K1, &K2})
-    {
-        const auto& k = *K;
-        if (k[1] != 0 || k[3] != 0 || k[6] != 0 || k[7] != 0 || k[8] != 1)
-        {
-            fail(
-                file, mrpt::format(
-                          "camera matrix %s is not [fx 0 cx; 0 fy cy; 0 0 1] (skew is not "
-                          "supported)",
-                          K == &K1 ? "M1/K1" : "M2/K2"));
-        }
-    }
-
-    cv::Mat R(3, 3, CV_64F);
-    if (Rv.size() == 3)
-    {
-        cv::Rodrigues(cv::Mat(Rv).reshape(1, 3), R);
-    }
-    else
-    {
-        R = cv::Mat(Rv, true).reshape(1, 3);
-    }
-    // A rotation: orthonormal with determinant +1 (to 1e-3, printed files round).
-    const cv::Mat RtR = R.t() * R;
-    if (cv::norm(RtR - cv::Mat::eye(3, 3, CV_64F), cv::NORM_INF) > 1e-3 ||
-        std::abs(cv::determinant(R) - 1.0) > 1e-3)
-    {
-        fail(file, "R is not a rotation matrix (R^T R = I, det R = 1, to 1e-3)");
-    }
-
+    requirePinholeMatrix(K1, "M1/K1", file);
+    requirePinholeMatrix(K2, "M2/K2", file);
     mrpt::img::TStereoCamera cam;
-    cam.leftCamera = cameraFrom(K1, D1);
-    cam.rightCamera = cameraFrom(K2, D2);
+    cam.leftCamera = cameraFrom(K1, nodes.numbers({"D1"}, {0, 4, 5, 8}, true));
+    cam.rightCamera = cameraFrom(K2, nodes.numbers({"D2"}, {0, 4, 5, 8}, true));
     const auto [w, h] = imageSizeOf(nodes, file);
     for (auto* c : {&cam.leftCamera, &cam.rightCamera})
     {
         c->ncols = w;
         c->nrows = h;
     }
+    const cv::Mat R = rotationFrom(nodes.numbers({"R"}, {3, 9}), file);
+    const auto T = nodes.numbers({"T"}, {3});
     // T_left_right: rotation R^T, position -R^T T (OpenCV maps left points into the right frame).
     mrpt::math::CMatrixDouble33 R_lr;
-    mrpt::math::TPoint3D t_lr;
+    mrpt::math::CVectorFixedDouble<3> t_lr;
     for (int i = 0; i < 3; ++i)
     {
         double p = 0;
@@ -371,12 +421,9 @@ mrpt::img::TStereoCamera loadOpenCvStereoCalibration(
             R_lr(i, j) = R.at<double>(j, i);
             p -= R.at<double>(j, i) * T[static_cast<std::size_t>(j)];
         }
-        t_lr[static_cast<std::size_t>(i)] = p * translation_scale;
+        t_lr[i] = p * translation_scale;
     }
-    cam.rightCameraPose =
-        mrpt::poses::CPose3DQuat(
-            mrpt::poses::CPose3D(R_lr, mrpt::math::CVectorFixedDouble<3>({t_lr.x, t_lr.y, t_lr.z})))
-            .asTPose();
+    cam.rightCameraPose = mrpt::poses::CPose3DQuat(mrpt::poses::CPose3D(R_lr, t_lr)).asTPose();
     return cam;
 }
 
@@ -395,40 +442,12 @@ void saveOpenCvStereoCalibration(const std::string& file, const mrpt::img::TSter
     {
         fail(file, "cannot be written");
     }
-    auto K = [](const mrpt::img::TCamera& c) -> cv::Mat
-    { return (cv::Mat_<double>(3, 3) << c.fx(), 0, c.cx(), 0, c.fy(), c.cy(), 0, 0, 1); };
-    auto D = [](const mrpt::img::TCamera& c) -> cv::Mat
-    {
-        if (c.distortion == mrpt::img::DistortionModel::none)
-        {
-            return cv::Mat::zeros(1, 5, CV_64F);
-        }
-        const bool rational = c.dist[5] != 0 || c.dist[6] != 0 || c.dist[7] != 0;
-        cv::Mat d(1, rational ? 8 : 5, CV_64F);
-        for (int i = 0; i < d.cols; ++i)
-        {
-            d.at<double>(0, i) = c.dist[static_cast<std::size_t>(i)];
-        }
-        return d;
-    };
-    const mrpt::poses::CPose3D T_left_right(mrpt::poses::CPose3DQuat(cam.rightCameraPose));
-    // X_right = R X_left + T with R = R_lr^T, T = -R_lr^T t_lr.
-    const auto R_lr = T_left_right.getRotationMatrix();
-    cv::Mat R(3, 3, CV_64F), T(3, 1, CV_64F);
-    for (int i = 0; i < 3; ++i)
-    {
-        double t = 0;
-        for (int j = 0; j < 3; ++j)
-        {
-            R.at<double>(i, j) = R_lr(j, i);
-            t -= R_lr(j, i) * T_left_right.m_coords[static_cast<std::size_t>(j)];
-        }
-        T.at<double>(i, 0) = t;
-    }
+    cv::Mat R, T;
+    openCvExtrinsics(cam, R, T);
     fs << "image_width" << static_cast<int>(cam.leftCamera.ncols);
     fs << "image_height" << static_cast<int>(cam.leftCamera.nrows);
-    fs << "M1" << K(cam.leftCamera) << "D1" << D(cam.leftCamera);
-    fs << "M2" << K(cam.rightCamera) << "D2" << D(cam.rightCamera);
+    fs << "M1" << cameraMatrixOf(cam.leftCamera) << "D1" << distortionOf(cam.leftCamera);
+    fs << "M2" << cameraMatrixOf(cam.rightCamera) << "D2" << distortionOf(cam.rightCamera);
     fs << "R" << R << "T" << T;
     fs.release();
     std::error_code ec;

@@ -137,6 +137,12 @@ public:
         /** Raw calibration; a 0x0 resolution (an OpenCV file without a size)
          * takes the images' size at initialize(). */
         mrpt::img::TStereoCamera stereo_camera;
+
+    private:
+        /** The ranges of the number keys (part of validate()). */
+        void validateNumbers() const;
+        /** Reads stereo_camera from the file or sections the keys name. */
+        void loadCalibration(const mrpt::config::CConfigFileBase& c, const std::string& s);
     };
 
     CVideoStereoCamera() = default;
@@ -163,6 +169,11 @@ protected:
         const mrpt::config::CConfigFileBase& cfg, const std::string& section) override;
 
 private:
+    /** Opens source (and source_right) and settles the timestamps' clock. */
+    void openSources();
+    /** Checks the calibration against the images' `size` (filling in a
+     * missing size) and prepares the rectification. */
+    void prepareCalibration(cv::Size size);
     /** Reads the next raw frame(s) into m_left / m_right; false at the end. */
     bool readFrame();
     /** The observation of the frame in m_left / m_right, stamped `t`. */
