@@ -925,3 +925,67 @@ TEST(GrabberApp, videoSensorWithoutItsDeviceFailsBeforeWritingAnything)
     EXPECT_FALSE(fs::exists(dir + "/d.rawlog"));
     EXPECT_FALSE(fs::exists(dir + "/d.rawlog.partial"));
 }
+
+// A camera that disappears: a device node whose frames stop. A video file
+// under /dev/shm read through FFmpeg stands in for it (the `/dev/` path
+// makes it a device to the sensor): every frame it gave is kept, the sensor
+// is reported as failed, and with no other sensor the run is an error that
+// names the rawlog holding them (as for any sensor that fails).
+TEST(GrabberApp, videoDeviceThatStopsKeepsEveryFrameAndFails)
+{
+    std::error_code ec;
+    const std::string shm = "/dev/shm/emslam_test_video_device_" + std::to_string(::getpid());
+    if (!fs::create_directories(shm, ec) || ec)
+    {
+        GTEST_SKIP() << "/dev/shm is not writable here";
+    }
+    struct RemoveAtExit
+    {
+        std::string path;
+        ~RemoveAtExit()
+        {
+            std::error_code e;
+            fs::remove_all(path, e);
+        }
+    } remove_shm{shm};
+    const std::string dir = emslam::test::makeTempDir("grab_video_gone");
+    {
+        emslam::apps::SimApp sim;
+        const std::vector<std::string> args = {"emslam-sim",        simWorld(),          "-o",
+                                               dir + "/sim.rawlog", "--max-frames",      "6",
+                                               "--video",           shm + "/camera.avi", "-q"};
+        auto argv = emslam::test::argvOf(args);
+        sim.initialize(static_cast<int>(argv.size()), argv.data());
+        sim.run();
+    }
+    std::ifstream shipped(emslam::test::sourceDir() + "/config/grabber/video-file.ini");
+    std::string text((std::istreambuf_iterator<char>(shipped)), std::istreambuf_iterator<char>());
+    for (const auto& [from, to] :
+         {std::pair<std::string, std::string>{
+              "source = hall.avi\n", "source = " + shm + "/camera.avi\n"},
+          {"backend = auto\n", "backend = ffmpeg\n"}})
+    {
+        const auto at = text.find(from);
+        ASSERT_NE(at, std::string::npos) << from;
+        text.replace(at, from.size(), to);
+    }
+    writeFile(dir + "/gone.ini", text);
+    GrabberApp app;
+    initApp(app, {dir + "/gone.ini", "-o", dir + "/g.rawlog", "-q"});
+    emslam::test::expectThrowContaining(
+        [&] { app.run(); }, {"every sensor failed", "stopped delivering frames after 6 frames",
+                             "keeps the 6 observations"});
+    ASSERT_EQ(app.sensors.size(), 1U);
+    EXPECT_TRUE(app.sensors[0].failed);
+    const auto st = stereoOnly(readRawlog(dir + "/g.rawlog"));
+    const auto ref = stereoOnly(readRawlog(dir + "/sim.rawlog"));
+    ASSERT_EQ(st.size(), 6U);
+    ASSERT_EQ(ref.size(), 6U);
+    for (std::size_t i = 0; i < st.size(); ++i)
+    {
+        EXPECT_EQ(
+            cv::norm(st[i]->imageRight.asCvMatRef(), ref[i]->imageRight.asCvMatRef(), cv::NORM_INF),
+            0.0)
+            << i;
+    }
+}
