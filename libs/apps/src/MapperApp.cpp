@@ -122,6 +122,25 @@ std::vector<std::string> configOptionFirst(const std::vector<std::string>& args,
     return out;
 }
 
+/** The mapper's input read ahead: a dataset folder's frames, or a rawlog's
+ * records (the rawlog outlives its reader). */
+struct InputReader
+{
+    InputReader(
+        const std::shared_ptr<io::DatasetSequence>& sequence, const std::string& rawlog_file)
+    {
+        if (sequence)
+        {
+            source = std::make_unique<io::DatasetReadAhead>(*sequence);
+            return;
+        }
+        rawlog = std::make_unique<io::RawlogInput>(rawlog_file);
+        source = std::make_unique<io::RawlogReadAhead>(*rawlog);
+    }
+    std::unique_ptr<io::RawlogInput> rawlog;
+    std::unique_ptr<io::ObservationSource> source;
+};
+
 void writeEffectiveIni(const slam::EntropySlam::TParameters& p, const std::string& file)
 {
     mrpt::config::CConfigFileMemory cfg;
@@ -248,30 +267,9 @@ bool MapperApp::parseArguments(int argc, const char** argv)
     TCLAP::SwitchArg viewer(
         "", "viewer", "Show the run live in a window (map, trajectories, camera, image)", cmd);
 
-    bool config_option_given = false;
-    std::vector<std::string> args = configOptionFirst(
-        std::vector<std::string>(argv + std::min(argc, 1), argv + std::max(argc, 0)),
-        config_option_given);
-    args.insert(args.begin(), PROGRAM);
-    std::vector<const char*> c_args;
-    for (const auto& a : args)
+    if (!parseConfigFirst(cmd, config, rawlog, argc, argv))
     {
-        c_args.push_back(a.c_str());
-    }
-    try
-    {
-        if (!parseCommandLine(cmd, static_cast<int>(c_args.size()), c_args.data()))
-        {
-            return false;
-        }
-    }
-    catch (const std::invalid_argument&)
-    {
-        if (config_option_given && config.isSet() && rawlog.isSet())
-        {
-            usageError("give the config once: as -c NAME or as the first argument");
-        }
-        throw;
+        return false;
     }
     m_config = findConfigFile(config.getValue(), "mapper");
     m_rawlog = rawlog.getValue();
@@ -306,6 +304,43 @@ bool MapperApp::parseArguments(int argc, const char** argv)
 
     // Everything a run needs is checked here, before any long work.
     checkConfig(params);
+    checkInputsAndOutputs();
+    return true;
+}
+
+bool MapperApp::parseConfigFirst(
+    TCLAP::CmdLine& cmd,
+    const TCLAP::Arg& config,
+    const TCLAP::Arg& dataset,
+    int argc,
+    const char** argv)
+{
+    bool config_option_given = false;
+    std::vector<std::string> args = configOptionFirst(
+        std::vector<std::string>(argv + std::min(argc, 1), argv + std::max(argc, 0)),
+        config_option_given);
+    args.insert(args.begin(), PROGRAM);
+    std::vector<const char*> c_args;
+    for (const auto& a : args)
+    {
+        c_args.push_back(a.c_str());
+    }
+    try
+    {
+        return parseCommandLine(cmd, static_cast<int>(c_args.size()), c_args.data());
+    }
+    catch (const std::invalid_argument&)
+    {
+        if (config_option_given && config.isSet() && dataset.isSet())
+        {
+            usageError("give the config once: as -c NAME or as the first argument");
+        }
+        throw;
+    }
+}
+
+void MapperApp::checkInputsAndOutputs()
+{
     openInput();
     io::requireOutputFolder(m_out, "output folder");
     io::requireReplaceableFiles(m_out, outputNames());
@@ -332,7 +367,6 @@ bool MapperApp::parseArguments(int argc, const char** argv)
         // The dataset's own ground truth, as emslam-import --gt-out writes it.
         m_ground_truth.trajectory = m_sequence->groundTruthTrajectory();
     }
-    return true;
 }
 
 void MapperApp::openInput()
@@ -400,18 +434,8 @@ void MapperApp::execute()
     // Frames with a bad timestamp or another camera never reach the mapper.
     io::FrameStreamGuard guard;
     // The next record (or frame) is read while this one is mapped.
-    std::unique_ptr<io::RawlogInput> rawlog;
-    std::unique_ptr<io::ObservationSource> source;
-    if (m_sequence)
-    {
-        source = std::make_unique<io::DatasetReadAhead>(*m_sequence);
-    }
-    else
-    {
-        rawlog = std::make_unique<io::RawlogInput>(m_rawlog);
-        source = std::make_unique<io::RawlogReadAhead>(*rawlog);
-    }
-    io::ObservationSource& reader = *source;
+    const InputReader input(m_sequence, m_rawlog);
+    io::ObservationSource& reader = *input.source;
     while (!done && reader.next(batch))
     {
         for (const auto& o : batch)

@@ -105,6 +105,16 @@ private:
     void warnSkipped(const std::string& warning, ProgressLine& progress);
     /** Copies what `guard` skipped into the run info. */
     void recordSkips(const io::FrameStreamGuard& guard);
+    /** parseCommandLine() after `-c NAME` / `--config NAME` is moved to
+     * where the positional `config` stands (configOptionFirst()). */
+    bool parseConfigFirst(
+        TCLAP::CmdLine& cmd,
+        const TCLAP::Arg& config,
+        const TCLAP::Arg& dataset,
+        int argc,
+        const char** argv);
+    /** The input, outputs and ground truth, checked before any long work. */
+    void checkInputsAndOutputs();
     /** Checks the input: a rawlog file, or a dataset folder (opened, into
      * m_sequence). */
     void openInput();
