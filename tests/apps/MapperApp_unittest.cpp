@@ -976,6 +976,7 @@ TEST(MapperApp, configIsAFileOrAShippedNameGivenOnce)
     initFails({"-c", "kitti", config("kitti"), rawlog}, {"give the config once"});
     initFails({"-c", "kitti", "-c", "euroc", rawlog}, {"-c / --config given 2 times"});
     initFails({rawlog, "-c"}, {"-c needs a value"});
+    initFails({"--config=", rawlog}, {"--config= needs a value"});
     initFails({"-c", "kitti"}, {"missing required argument <DATASET.rawlog>"});
 }
 

@@ -93,17 +93,16 @@ std::vector<std::string> configOptionFirst(const std::vector<std::string>& args,
             out.insert(out.end(), args.begin() + static_cast<std::ptrdiff_t>(i), args.end());
             break;
         }
-        if (a.rfind("--config=", 0) == 0)
+        const bool inline_value = a.rfind("--config=", 0) == 0;
+        if (inline_value || a == "-c" || a == "--config")
         {
-            names.push_back(a.substr(9));
-        }
-        else if (a == "-c" || a == "--config")
-        {
-            if (i + 1 >= args.size())
+            const std::string name =
+                inline_value ? a.substr(9) : (i + 1 < args.size() ? args[++i] : std::string());
+            if (name.empty())
             {
                 usageError(PROGRAM, a + " needs a value (a config name such as kitti, or a file)");
             }
-            names.push_back(args[++i]);
+            names.push_back(name);
         }
         else
         {
@@ -205,8 +204,8 @@ bool MapperApp::parseArguments(int argc, const char** argv)
     TCLAP::CmdLine cmd(
         "emslam-mapper: Entropy Minimization SLAM over a rawlog or a KITTI odometry, EuRoC MAV "
         "or TUM RGB-D folder (ground truth found in the folder is used as with --gt). Stereo "
-        "(or RGB-D) "
-        "observations go through the stereo front-end, egomotion (GLM features, log-polar "
+        "(or RGB-D) observations go through the stereo front-end, egomotion (GLM features, "
+        "log-polar "
         "matching, LWO, Dpp), space sampling and global rectification by entropy minimization; "
         "the trajectories, map, statistics and an HTML report are written to --out. Exit "
         "status: 0 ok; 1 error (an error that stops the mapping still writes the outputs of "
