@@ -4,7 +4,7 @@
 #include <emslam/io/InputOutputClash.h>
 #include <emslam/io/OutputFile.h>
 #include <emslam/io/TrajectoryInput.h>
-#include <emslam/stereo/ExceptionMessage.h>
+#include <emslam/util/ExceptionMessage.h>
 
 #include <mrpt/core/format.h>
 

@@ -11,8 +11,8 @@
 #include <emslam/sim/ExactDepthFrame.h>
 #include <emslam/sim/StereoSimulator.h>
 #include <emslam/slam/EntropySlam.h>
-#include <emslam/stereo/ExceptionMessage.h>
 #include <emslam/stereo/RangeScanConversion.h>
+#include <emslam/util/ExceptionMessage.h>
 
 #include <mrpt/config/CConfigFileMemory.h>
 
@@ -63,8 +63,7 @@ emslam::sim::StereoSimulator loadWorld(const std::string& file, int seed)
     }
     catch (const std::exception& e)
     {
-        throw std::runtime_error(
-            "world '" + file + "': " + emslam::stereo::shortExceptionMessage(e));
+        throw std::runtime_error("world '" + file + "': " + emslam::util::shortExceptionMessage(e));
     }
 }
 
@@ -86,7 +85,7 @@ slam::EntropySlam::TParameters loadMapper(
     catch (const std::exception& e)
     {
         throw std::runtime_error(
-            "mapper config '" + file + "': " + emslam::stereo::shortExceptionMessage(e));
+            "mapper config '" + file + "': " + emslam::util::shortExceptionMessage(e));
     }
 }
 

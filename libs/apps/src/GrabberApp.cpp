@@ -13,8 +13,8 @@
 #include <emslam/hwdrivers/SensorStatus.h>
 #include <emslam/io/InputOutputClash.h>
 #include <emslam/io/RawlogOutput.h>
-#include <emslam/stereo/ExceptionMessage.h>
 #include <emslam/stereo/StereoMatcher.h>
+#include <emslam/util/ExceptionMessage.h>
 
 #include <mrpt/3rdparty/tclap/CmdLine.h>
 #include <mrpt/core/format.h>

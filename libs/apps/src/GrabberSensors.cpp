@@ -8,8 +8,8 @@
 #include <emslam/hwdrivers/CStereoImageFolderCamera.h>
 #include <emslam/hwdrivers/CVideoStereoCamera.h>
 #include <emslam/hwdrivers/SensorStatus.h>
-#include <emslam/stereo/ExceptionMessage.h>
 #include <emslam/stereo/StereoMatcher.h>
+#include <emslam/util/ExceptionMessage.h>
 
 #include <mrpt/config/CConfigFileMemory.h>
 #include <mrpt/core/format.h>
@@ -27,7 +27,7 @@ using Clock = std::chrono::steady_clock;
 
 std::string errorText(const std::exception& e)
 {
-    const std::string s = emslam::stereo::shortExceptionMessage(e);
+    const std::string s = emslam::util::shortExceptionMessage(e);
     if (s.find("==== MRPT exception") == std::string::npos)
     {
         return s;

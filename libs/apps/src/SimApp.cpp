@@ -1,5 +1,6 @@
 // SPDX-License-Identifier: BSD-3-Clause
 #include <emslam/apps/CommandLine.h>
+#include <emslam/apps/ConfigLookup.h>
 #include <emslam/apps/ConfigValidation.h>
 #include <emslam/apps/ProgressLine.h>
 #include <emslam/apps/RawlogRecording.h>
@@ -50,10 +51,13 @@ bool SimApp::parseArguments(int argc, const char** argv)
         "camera's frame) into a TUM file; Ctrl-C keeps the frames rendered so far (exit 130). "
         "Example: '" +
             std::string(PROGRAM) +
-            " config/sim/hall_double_loop.ini -o hall.rawlog --gt-out hall.tum'.",
+            " hall_double_loop -o hall.rawlog --gt-out hall.tum' (a shipped world by name).",
         ' ', std::string("emslam-sim (") + mrpt::system::MRPT_getVersion() + ")");
     TCLAP::UnlabeledValueArg<std::string> arg_world(
-        "world", "World INI file.", true, "", "WORLD.ini", cmd);
+        "world",
+        "World INI file, or the name of a shipped one (hall_double_loop, ...: "
+        "share/emslam/config/sim).",
+        true, "", "WORLD.ini", cmd);
     TCLAP::ValueArg<std::string> arg_out(
         "o", "output", "Output rawlog (gz-compressed, observations only).", true, "", "OUT.rawlog",
         cmd);
@@ -89,7 +93,7 @@ bool SimApp::parseArguments(int argc, const char** argv)
     {
         return false;
     }
-    world_file = arg_world.getValue();
+    world_file = findConfigFile(arg_world.getValue(), "sim");
     output_file = arg_out.getValue();
     gt_out_file = arg_gt.getValue();
     png_dir = arg_png.getValue();

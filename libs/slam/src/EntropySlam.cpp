@@ -1,7 +1,7 @@
 // SPDX-License-Identifier: BSD-3-Clause
 #include <emslam/rectify/ActionCovariance.h>
 #include <emslam/slam/EntropySlam.h>
-#include <emslam/stereo/ExceptionMessage.h>
+#include <emslam/util/ExceptionMessage.h>
 
 #include <mrpt/config/CConfigFileBase.h>
 #include <mrpt/core/bits_math.h>
@@ -48,7 +48,7 @@ void loadSection(const std::string& section, const std::function<void()>& load)
     }
     catch (const std::exception& e)
     {
-        const std::string msg = emslam::stereo::shortExceptionMessage(e);
+        const std::string msg = emslam::util::shortExceptionMessage(e);
         if (msg.find("[" + section + "]") != std::string::npos)
         {
             throw std::invalid_argument(msg);
@@ -194,7 +194,7 @@ bool EntropySlam::process(const mrpt::obs::CObservation& obs)
     catch (const std::exception& e)
     {
         // The front-end changes no mapper state: the caller may skip the frame.
-        throw UnusableObservation(emslam::stereo::shortExceptionMessage(e));
+        throw UnusableObservation(emslam::util::shortExceptionMessage(e));
     }
     const emslam::stereo::StereoFrame& f = step.frame;
     const auto& ego = step.egomotion;
