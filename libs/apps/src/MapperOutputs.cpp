@@ -287,6 +287,9 @@ void writeSummaryJson(
       << ", \"final_cost\": " << io::jsonNumber(lc.final_cost)
       << ", \"dropped_edges\": " << lc.dropped_edges
       << ", \"refused_groups\": " << lc.refused_groups
+      << ", \"contradicting_groups\": " << lc.contradicting_groups
+      << ", \"contradicting_edges\": " << lc.contradicting_edges
+      << ", \"contradicting_keyframes\": " << lc.contradicting_keyframes
       << ", \"refused_edges\": " << lc.refused_edges
       << ", \"withdrawn_edges\": " << lc.withdrawn_edges
       << ", \"local_solves\": " << lc.local_solves

@@ -86,21 +86,26 @@ namespace emslam::slam
  *    look-alike seen first competes with the place truly revisited.
  * 6. Solve: when a new loop edge disagrees with the graph beyond its χ²
  *    bulk, the graph is solved from where it is (a few Levenberg–Marquardt
- *    iterations). A group the solved graph cannot agree with loses the
- *    member it disagrees with most and is solved again, while the rest are
- *    still the group's majority; else it is refused and the graph restored.
- *    A loop edge the solved graph still disagrees with beyond that bulk is
- *    dropped and the graph solved again.
- * 7. Contradictions: a loop edge dropped, or a group refused, is the
- *    solved graph contradicting registrations the consensus let through.
- *    A true edge fails its χ² test by chance once in 370, and one
- *    look-alike place may fool the consensus twice (in and out); more
- *    contradictions than that (and than the 99.73 % bulk of the Poisson
- *    count of chance failures) mean a world of look-alikes the
- *    registrations cannot tell apart (a periodic texture, identical
- *    floors): the run's loop closing is unreliable (Stats::unreliable), its
- *    loop edges are withdrawn, no further loop closes and close() does not
- *    polish.
+ *    iterations). The χ² gates count the egomotion's covariances as the
+ *    data show them (times the drift scale: on real images registrations
+ *    of one true loop disagree beyond their stated noise). A group the
+ *    solved graph cannot agree with loses the member it disagrees with most
+ *    and is solved again, while the rest are still the group's majority;
+ *    else it is refused and the graph restored. A loop edge the solved
+ *    graph still disagrees with beyond that bulk is dropped and the graph
+ *    solved again.
+ * 7. Contradictions: a loop edge dropped, or a group refused while asking
+ *    for another correction than the loop edges accepted in the window (a
+ *    group agreeing with them is the same loop, beyond its noise), is the
+ *    solved graph contradicting registrations the consensus let through; a
+ *    group counts once per consensus window of keyframes it spans. A true
+ *    edge fails its χ² test by chance once in 370, and one look-alike place
+ *    may fool the consensus twice (in and out); more contradictions than
+ *    that (and than the 99.73 % bulk of the Poisson count of chance
+ *    failures) mean a world of look-alikes the registrations cannot tell
+ *    apart (a periodic texture, identical floors): the run's loop closing
+ *    is unreliable (Stats::unreliable), its loop edges are withdrawn, no
+ *    further loop closes and close() does not polish.
  *
  * Levelling (`vertical_prior`) is online too: the up each keyframe saw in
  * its dense cloud is gated once, at the first rectification after it came,
@@ -210,12 +215,15 @@ public:
          * current poses [ms], over the keyframes that closed a loop. */
         double latency_ms_mean{0}, latency_ms_max{0};
         std::size_t latency_count{0};
-        std::size_t dropped_edges{0};           //!< loop edges the solved graph disagreed with
-        std::size_t refused_groups{0};          //!< consensus groups the solved graph refused
-        std::size_t kept_bytes{0};              //!< kept descriptions, all keyframes
-        double initial_cost{0}, final_cost{0};  //!< of the pose graph, first and last solve
-        double ms{0};                           //!< update() and close(), all of it
-        double polish_ms{0};                    //!< close() alone
+        std::size_t dropped_edges{0};   //!< loop edges the solved graph disagreed with
+        std::size_t refused_groups{0};  //!< consensus groups the solved graph refused
+        /** Of those, the groups asking for another correction than the loop
+         * followed, their registrations and the keyframes they registered. */
+        std::size_t contradicting_groups{0}, contradicting_edges{0}, contradicting_keyframes{0};
+        std::size_t kept_bytes{0};                      //!< kept descriptions, all keyframes
+        double initial_cost{0}, final_cost{0};          //!< of the pose graph, first and last solve
+        double ms{0};                                   //!< update() and close(), all of it
+        double polish_ms{0};                            //!< close() alone
         double polish_solve_ms{0}, polish_level_ms{0};  //!< of it: the solve, the levelling
         std::size_t refused_edges{0};                   //!< loop edges of the refused groups
         /** Empty, or why the loop closing is not to be trusted: the solved
@@ -352,6 +360,15 @@ private:
      * the window) is taken out again. Returns true if the graph was solved
      * and kept. */
     bool tryAccept(std::vector<std::unique_ptr<Registration>> group);
+    /** The χ² gate a loop edge's cost (times 2) must pass in the solved
+     * graph, scaled by the drift scale. */
+    double loopEdgeGate() const;
+    /** Whether two registrations' corrections (at the current poses) agree
+     * within the drift between them and their covariances (3σ). */
+    bool correctionsAgree(const Registration& a, const Registration& b) const;
+    /** Whether each member of a refused group agrees with most loop edges
+     * accepted in the window: the loop followed, not a contradiction. */
+    bool continuesAcceptedLoop(const std::vector<std::unique_ptr<Registration>>& group) const;
     /** Solve (the keyframes from `first_free` on), drop loop edges the
      * solution refuses, solve again. */
     void solve(int max_iterations, std::size_t first_free = 1);
@@ -392,6 +409,9 @@ private:
     /** Mahalanobis² of the recent local registrations to the egomotion's
      * chain (ring): how far the egomotion's covariance understates its error. */
     std::vector<double> m_local_misclosures;
+    /** Contradicting groups, each counted once per consensus window of
+     * keyframes it spans. */
+    std::size_t m_contradicting_windows{0};
     std::size_t m_local_misclosure_next{0};
     std::vector<double> m_path;  // along the chain, per keyframe
     /** The largest keyframe motion measured so far [m, rad]. */
