@@ -217,6 +217,7 @@ bool EntropySlam::process(const mrpt::obs::CObservation& obs)
         r.egomotion_ok = ego.ok;
         if (step.predicted)
         {
+            m_predicted_since_keyframe = true;
             // Constant velocity, with a covariance wide enough for the
             // rectifier to move the step wherever the map says.
             action_cov = emslam::rectify::predictionCovariance(
@@ -259,7 +260,8 @@ bool EntropySlam::process(const mrpt::obs::CObservation& obs)
         // What registering this keyframe again needs, kept only for loop closing.
         m_loops.addKeyframe(
             r.index, loopClosing() ? m_odometry.estimator().lastDescription() : nullptr,
-            cov_since_keyframe, motion_since_keyframe);
+            cov_since_keyframe, motion_since_keyframe, m_predicted_since_keyframe);
+        m_predicted_since_keyframe = false;
         if (loopClosing())
         {
             m_loop_worker->notify();

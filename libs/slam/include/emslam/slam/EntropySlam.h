@@ -301,6 +301,8 @@ private:
     mrpt::poses::CPose3D m_T_keyframe_cur;
     /** The egomotion's covariance of m_T_keyframe_cur (zero at a keyframe). */
     emslam::rectify::ActionCovariance m_cov_keyframe_cur;
+    /** A step since the last keyframe was predicted (the egomotion failed). */
+    bool m_predicted_since_keyframe{false};
     std::size_t m_last_keyframe{0};
     std::vector<std::size_t> m_keyframes;
     std::vector<FrameRecord> m_records;
