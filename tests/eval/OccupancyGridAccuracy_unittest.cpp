@@ -15,13 +15,13 @@ namespace
 COccupancyGridMap2D freeGrid(float x0, float cell = 0.1F)
 {
     COccupancyGridMap2D g;
-    g.setSize(x0, x0 + 4.0F, 0.0F, 4.0F, cell, 0.0F);
+    g.setSize(x0, x0 + 4.0F, 0.0F, 4.0F, cell, 1.0F);  // cells hold P(free)
     return g;
 }
 
 void occupy(COccupancyGridMap2D& g, double x, double y)
 {
-    g.setCell(g.x2idx(x), g.y2idx(y), 1.0F);
+    g.setCell(g.x2idx(x), g.y2idx(y), 0.0F);
 }
 }  // namespace
 

@@ -44,7 +44,7 @@ TEST(FloorPlan, occupiesTheWallsAndObstaclesInTheBandWhereTheCameraSawThem)
     {
         for (unsigned cx = 0; cx < grid.getSizeX(); ++cx)
         {
-            if (grid.getCell(cx, cy) <= 0.5F)
+            if (grid.getCell(cx, cy) >= 0.5F)
             {
                 continue;
             }
@@ -61,7 +61,7 @@ TEST(FloorPlan, occupiesTheWallsAndObstaclesInTheBandWhereTheCameraSawThem)
     // cell next to its line is occupied, on one side or the other.
     for (double gx = 3.85; gx < 8.9; gx += 0.1)
     {
-        const bool hit = grid.getPos(gx, 2.95) > 0.5F || grid.getPos(gx, 3.05) > 0.5F;
+        const bool hit = grid.getPos(gx, 2.95) < 0.5F || grid.getPos(gx, 3.05) < 0.5F;
         EXPECT_TRUE(hit) << gx;
     }
     EXPECT_GT(occupied, 150U);

@@ -14,7 +14,7 @@ namespace
 bool occupied(const mrpt::maps::COccupancyGridMap2D& g, int cx, int cy)
 {
     return cx >= 0 && cy >= 0 && static_cast<unsigned>(cx) < g.getSizeX() &&
-           static_cast<unsigned>(cy) < g.getSizeY() && g.getCell(cx, cy) > 0.5F;
+           static_cast<unsigned>(cy) < g.getSizeY() && g.getCell(cx, cy) < 0.5F;  // MRPT cells hold P(free)
 }
 
 /** Occupied cells of `from`, and how many of them have an occupied cell of

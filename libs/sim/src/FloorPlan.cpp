@@ -41,14 +41,14 @@ mrpt::maps::COccupancyGridMap2D floorPlanGrid(
     grid.setSize(
         static_cast<float>(x0 - margin), static_cast<float>(x1 + margin),
         static_cast<float>(y0 - margin), static_cast<float>(y1 + margin),
-        static_cast<float>(band.cell_size), 0.0F);
+        static_cast<float>(band.cell_size), 1.0F);  // MRPT cells hold P(free)
     for (const auto& [gx, gy] : cells)
     {
         const int cx = grid.x2idx(gx), cy = grid.y2idx(gy);
         if (cx >= 0 && cy >= 0 && static_cast<unsigned>(cx) < grid.getSizeX() &&
             static_cast<unsigned>(cy) < grid.getSizeY())
         {
-            grid.setCell(cx, cy, 1.0F);
+            grid.setCell(cx, cy, 0.0F);
         }
     }
     return grid;

@@ -10,7 +10,8 @@ namespace emslam::eval
 {
 /** Occupied cells of an estimated occupancy grid against a true floor plan
  * of the same cell size (`emslam-sim --grid-gt-out`): precision, recall and
- * F1 of the occupied cells (occupancy probability above 0.5).
+ * F1 of the occupied cells (MRPT's cell value, the probability of being
+ * free, below 0.5).
  *
  * A cell matches if the other grid has an occupied cell within `tolerance`
  * cells (Chebyshev distance, default 1: the 3 x 3 neighbourhood). Exact

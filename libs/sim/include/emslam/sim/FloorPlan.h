@@ -23,10 +23,11 @@ struct FloorPlanBand
 /** The true floor plan as an occupancy grid in the convention of the
  * mapper's map_grid.gridmap (slam::OccupancyGridBuilder: grid X = the first
  * camera's forward z, grid Y = its left −x, cells aligned on multiples of
- * the cell size): a cell is occupied (1) where a surface sample of `seen`
+ * the cell size): a cell is occupied (value 0: MRPT cells hold the
+ * probability of being free) where a surface sample of `seen`
  * (visibleSurfaces(), first camera's frame) lies inside the height band and
  * was seen at most `max_range` away: the walls and obstacles the trajectory
- * met at the height a robot would; every other cell is free (0). Throws
+ * met at the height a robot would; every other cell is free (1). Throws
  * std::invalid_argument on a cell size <= 0, an empty band or no sample in
  * the band. \ingroup emslam_sim_grp */
 mrpt::maps::COccupancyGridMap2D floorPlanGrid(
