@@ -3,6 +3,8 @@
 #include <emslam/io/AtomicFile.h>
 #include <emslam/io/OutputFile.h>
 
+#include <mrpt/core/format.h>
+
 #include <cstdint>
 #include <cstring>
 #include <fstream>
@@ -52,8 +54,8 @@ void saveReferencePly(const emslam::eval::ReferenceSurface& surface, const std::
         {
             emslam::io::OutputFile f(partial, file);
             f.text() << "ply\nformat binary_little_endian 1.0\ncomment emslam true surfaces\n"
-                     << "comment sample_spacing " << s.spacing << "\nelement vertex "
-                     << s.points.size()
+                     << "comment sample_spacing " << mrpt::format("%.9g", s.spacing)
+                     << "\nelement vertex " << s.points.size()
                      << "\nproperty float x\nproperty float y\nproperty float z\n"
                         "property float nx\nproperty float ny\nproperty float nz\n"
                         "property float seen_range\nend_header\n";
