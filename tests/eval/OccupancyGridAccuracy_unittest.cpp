@@ -78,6 +78,13 @@ TEST(OccupancyGridAccuracy, identicalGridsScoreOneAndEmptyOnesNothing)
     EXPECT_TRUE(std::isnan(none.precision));
     EXPECT_DOUBLE_EQ(none.recall, 0.0);
     EXPECT_TRUE(std::isnan(none.f1));
+    // Occupied cells on both sides, none near another: 0, not 0 / 0.
+    COccupancyGridMap2D far = freeGrid(0.0F);
+    occupy(far, 0.55, 0.55);
+    const auto apart = OccupancyGridAccuracy::compute(far, truth);
+    EXPECT_DOUBLE_EQ(apart.precision, 0.0);
+    EXPECT_DOUBLE_EQ(apart.recall, 0.0);
+    EXPECT_DOUBLE_EQ(apart.f1, 0.0);
 }
 
 TEST(OccupancyGridAccuracy, refusesOtherCellSizesAndNegativeTolerances)

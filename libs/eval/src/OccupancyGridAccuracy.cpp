@@ -14,7 +14,8 @@ namespace
 bool occupied(const mrpt::maps::COccupancyGridMap2D& g, int cx, int cy)
 {
     return cx >= 0 && cy >= 0 && static_cast<unsigned>(cx) < g.getSizeX() &&
-           static_cast<unsigned>(cy) < g.getSizeY() && g.getCell(cx, cy) < 0.5F;  // MRPT cells hold P(free)
+           static_cast<unsigned>(cy) < g.getSizeY() &&
+           g.getCell(cx, cy) < 0.5F;  // MRPT cells hold P(free)
 }
 
 /** Occupied cells of `from`, and how many of them have an occupied cell of
@@ -79,7 +80,9 @@ OccupancyGridAccuracy OccupancyGridAccuracy::compute(
     std::tie(a.true_occupied, a.true_matched) = matchedCells(truth, estimate, tolerance);
     a.precision = ratio(a.estimated_matched, a.estimated_occupied);
     a.recall = ratio(a.true_matched, a.true_occupied);
-    a.f1 = 2 * a.precision * a.recall / (a.precision + a.recall);
+    // Both defined and both 0: no match at all, F1 0 (not 0 / 0).
+    a.f1 =
+        a.precision + a.recall == 0 ? 0.0 : 2 * a.precision * a.recall / (a.precision + a.recall);
     return a;
 }
 
