@@ -19,7 +19,7 @@ $SUDO apt-get update -q
 # pipeline (videotestsrc, videoconvert, appsink; skipped without it).
 $SUDO apt-get install -y -q --no-install-recommends \
     build-essential cmake pkg-config ca-certificates \
-    libmrpt-dev mrpt-apps mrpt-common \
+    libmrpt-dev mrpt-apps mrpt-common liboctomap-dev \
     libopencv-dev opencv-doc libeigen3-dev \
     libusb-1.0-0-dev libdc1394-dev zlib1g-dev \
     libgtest-dev libgmock-dev libbenchmark-dev \

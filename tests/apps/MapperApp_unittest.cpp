@@ -11,11 +11,14 @@
 #include <emslam/apps/MapScene.h>
 #include <emslam/apps/MapperApp.h>
 #include <emslam/apps/SimApp.h>
+#include <emslam/eval/PointKdTree.h>
 #include <emslam/eval/TrajectoryMetrics.h>
 #include <emslam/io/RawlogInput.h>
 #include <emslam/io/TrajectoryReader.h>
 #include <emslam/io/TumTrajectory.h>
 #include <emslam/maps/CEntropyVoxelMap.h>
+#include <emslam/sim/StereoSimulator.h>
+#include <emslam/sim/SurfaceSampler.h>
 
 #include <mrpt/io/CFileGZInputStream.h>
 #include <mrpt/io/CFileGZOutputStream.h>
@@ -29,6 +32,7 @@
 
 #include <gtest/gtest.h>
 
+#include <octomap/OcTree.h>
 #include <sys/stat.h>
 #include <sys/wait.h>
 #include <unistd.h>
@@ -160,6 +164,57 @@ TEST(MapperApp, helpDoesNotRun)
     initApp(app, {"--help"});
     EXPECT_TRUE(app.helpRequested());
     EXPECT_NO_THROW(app.run());
+}
+
+// map.bt, read back by OctoMap itself, against the simulated world: its
+// occupied voxels lie on the true surfaces within the stereo noise, its free
+// space between the cameras and the walls, inside the hall.
+TEST(MapperApp, mapsAnOctoMapThatMatchesTheWorld)
+{
+    const std::string rawlog = simulatedHall(60);
+    const std::string out = mapRawlog(rawlog, "mapper_octomap");
+    octomap::OcTree tree(0.5);
+    ASSERT_TRUE(tree.readBinary(out + "/map.bt"));
+    EXPECT_NEAR(tree.getResolution(), 0.1, 1e-9);
+
+    emslam::sim::StereoSimulator sim;
+    sim.loadFile(emslam::test::sourceDir() + "/config/sim/hall_double_loop.ini");
+    emslam::sim::SurfaceSampler::TParameters sp;
+    sp.spacing = 0.05;
+    std::vector<mrpt::math::TPoint3Df> surface;
+    for (const auto& s : emslam::sim::SurfaceSampler(sp).visibleSurfaces(sim, 60))
+    {
+        surface.emplace_back(s.position[0], s.position[1], s.position[2]);
+    }
+    const emslam::eval::PointKdTree truth(surface);
+    std::size_t occupied = 0, on_surface = 0, free = 0, inside = 0;
+    for (auto it = tree.begin_leafs(); it != tree.end_leafs(); ++it)
+    {
+        const mrpt::math::TPoint3Df c(it.getX(), it.getY(), it.getZ());
+        if (tree.isNodeOccupied(*it))
+        {
+            float d2 = 0;
+            truth.nearest(c, d2);
+            ++occupied;
+            on_surface += d2 <= 0.3F * 0.3F ? 1 : 0;
+        }
+        else
+        {
+            // The hall's floor is 1 m below the first camera (y down), its
+            // ceiling 2.5 m above.
+            ++free;
+            inside += c.y > -2.5F && c.y < 1.0F ? 1 : 0;
+        }
+    }
+    EXPECT_GT(occupied, 1000U);
+    EXPECT_GT(free, 1000U);
+    const double on_surface_share = static_cast<double>(on_surface) / static_cast<double>(occupied);
+    const double inside_share = static_cast<double>(inside) / static_cast<double>(free);
+    EXPECT_GT(on_surface_share, 0.0) << "occupied voxels within 0.3 m of a true surface";
+    EXPECT_GT(inside_share, 0.0) << "free voxels inside the hall";
+    std::printf(
+        "map.bt: %zu occupied (%.3f on a surface), %zu free (%.3f inside)\n", occupied,
+        on_surface_share, free, inside_share);
 }
 
 TEST(MapperApp, mapsASimulatedRawlogAndWritesEveryOutput)

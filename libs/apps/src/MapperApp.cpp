@@ -67,6 +67,7 @@ const std::vector<std::string>& outputNames()
         "map_top.png",
         "map_grid.gridmap",
         "map_grid.png",
+        "map.bt",
         "entropy_map.bin",
         "entropy_map.3Dscene",
         "stats.csv",
@@ -665,6 +666,7 @@ void MapperApp::writeOutputs(const emslam::io::TumTrajectory& ground_truth)
     writeScene(m, ground_truth, joinPath(m_out, "map.3Dscene"));
     writeTopViewPng(m, ground_truth, joinPath(m_out, "map_top.png"));
     writeOccupancyGrid(m, joinPath(m_out, "map_grid.gridmap"), joinPath(m_out, "map_grid.png"));
+    writeOctoMap(m, joinPath(m_out, "map.bt"));
     writeEntropyMap(m, joinPath(m_out, "entropy_map.bin"));
     writeEntropyMapView(m, joinPath(m_out, "entropy_map.3Dscene"));
     writeMapperReport(joinPath(m_out, "report.html"), makeReportData(m, m_info, ground_truth));

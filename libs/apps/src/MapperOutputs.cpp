@@ -13,6 +13,7 @@
 #include <emslam/io/OutputFile.h>
 #include <emslam/maps/EntropyEnergy.h>
 #include <emslam/slam/OccupancyGridBuilder.h>
+#include <emslam/slam/OctoMapBuilder.h>
 
 #include <mrpt/core/bits_math.h>
 #include <mrpt/serialization/CArchive.h>
@@ -437,6 +438,18 @@ void writeOccupancyGrid(
             io::writeImageFile(partial, picture.asCvMatRef(), png_file);
             return true;
         });
+}
+
+void writeOctoMap(const slam::EntropySlam& m, const std::string& file)
+{
+    if (m.parameters().octomap.resolution <= 0)
+    {
+        return;
+    }
+    slam::OctoMapBuilder builder(m.parameters().octomap);
+    const auto tree = builder.build(m.keyframeScans(), m.keyframePoses());
+    io::writeFileAtomically(
+        file, [&](const std::string& partial) { return tree->writeBinary(partial); });
 }
 
 void writeEntropyMap(const slam::EntropySlam& m, const std::string& file)

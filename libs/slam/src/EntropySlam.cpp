@@ -27,6 +27,7 @@ constexpr const char* SAMPLING_SECTION = "SpaceSampling";
 constexpr const char* RECTIFIER_SECTION = "Rectifier";
 constexpr const char* LOOP_CLOSER_SECTION = "LoopCloser";
 constexpr const char* OCCUPANCY_GRID_SECTION = "OccupancyGrid";
+constexpr const char* OCTOMAP_SECTION = "OctoMap";
 /** A failed egomotion step is predicted by the previous one, and may be off
  * by that whole motion or at least by these. */
 constexpr double FAILED_STEP_MIN_SIGMA_XYZ = 0.1;      // [m]
@@ -133,6 +134,7 @@ void EntropySlam::TParameters::loadFromConfigFile(const mrpt::config::CConfigFil
     loadSection(
         OCCUPANCY_GRID_SECTION,
         [&] { occupancy_grid.loadFromConfigFile(c, OCCUPANCY_GRID_SECTION); });
+    loadSection(OCTOMAP_SECTION, [&] { octomap.loadFromConfigFile(c, OCTOMAP_SECTION); });
 }
 
 void EntropySlam::TParameters::saveToConfigFile(mrpt::config::CConfigFileBase& c) const
@@ -146,6 +148,7 @@ void EntropySlam::TParameters::saveToConfigFile(mrpt::config::CConfigFileBase& c
     mapper.saveToConfigFile(c, MAPPER_SECTION);
     loop_closer.saveToConfigFile(c, LOOP_CLOSER_SECTION);
     occupancy_grid.saveToConfigFile(c, OCCUPANCY_GRID_SECTION);
+    octomap.saveToConfigFile(c, OCTOMAP_SECTION);
 }
 
 EntropySlam::EntropySlam(const TParameters& p)
@@ -471,6 +474,7 @@ void EntropySlam::finish()
     }
     m_clouds.requireSameElementsAs(m_runner->trajectory());
     m_map_cloud = m_clouds.worldCloud(poses);
+    m_keyframe_scans = m_clouds.takeScans();
     m_clouds = ElementClouds(0, m_p.mapper.map_cell_size);
     m_slam.clear();
     for (std::size_t i = 0; i < m_records.size(); i++)
