@@ -173,12 +173,9 @@ bool SimApp::parseArguments(int argc, const char** argv)
         max_frames = static_cast<std::size_t>(arg_frames.getValue());
     }
     const std::vector<std::pair<std::string, std::string>> outputs = {
-        {"--output", output_file},
-        {"--gt-out", gt_out_file},
-        {"--video", video_file},
-        {"--video-calibration", video_calibration_file},
-        {"--map-gt-out", map_gt_out_file},
-        {"--grid-gt-out", grid_gt_out_file}};
+        {"--output", output_file},         {"--gt-out", gt_out_file},
+        {"--video", video_file},           {"--video-calibration", video_calibration_file},
+        {"--map-gt-out", map_gt_out_file}, {"--grid-gt-out", grid_gt_out_file}};
     for (std::size_t a = 0; a < outputs.size(); ++a)
     {
         for (std::size_t b = a + 1; b < outputs.size(); ++b)
