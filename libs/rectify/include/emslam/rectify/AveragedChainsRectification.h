@@ -15,8 +15,8 @@ namespace emslam::rectify
  * averaged pose by pose (meanPose()). Beside the paper: each chain is the
  * paper's Metropolis-Hastings search, but on a voxel-grid entropy that is
  * rough below a cell, where a single chain ends depends on its seed (the
- * hall's loop gap moves by up to 0.5 m from seed to seed, doc/rectify.md,
- * "Averaged chains"); the mean of K chains keeps what they agree on and
+ * hall's loop gap moves by up to 0.5 m from seed to seed,
+ * doc/notes/2026-12-03-averaged-chains-and-noise-weights.md); the mean of K chains keeps what they agree on and
  * divides the seed's share of the error by about √K.
  *
  * The chains run one after the other in the caller's thread (with
