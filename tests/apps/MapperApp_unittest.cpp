@@ -1367,7 +1367,8 @@ TEST(MapperApp, lookAlikePeriodicFloorsCloseNoFalseLoopAndSayItIsUnreliable)
     // Its loop edges withdrawn and unpolished, the SLAM estimate is the
     // egomotion's chain with the local edges (no rectification before the
     // end here): within 5 % of the egomotion. The whole walks with the
-    // shipped rectifier end below it (doc/notes/2026-12-04-online-loop-closing.md, issue 40's table).
+    // shipped rectifier end below it (doc/notes/2026-12-04-online-loop-closing.md, issue 40's
+    // table).
     EXPECT_LE(slam.ate_rmse_m, 1.05 * ego.ate_rmse_m);
 }
 
@@ -1433,7 +1434,8 @@ TEST(MapperApp, kitti06RectificationDoesNoHarm)
 // egomotion ends 0.8 m away; kitti.ini (rectifier seed 1, serial,
 // deterministic) must bring the end within 0.15 m and to 1/5 of that, and
 // halve the ATE. Measured: end 0.798 -> 0.052 m, ATE 0.243 -> 0.087 m;
-// rectifier seeds 1-12 end at 0.033-0.067 m (doc/notes/2026-12-03-egomotion-turns-and-reprojection.md).
+// rectifier seeds 1-12 end at 0.033-0.067 m
+// (doc/notes/2026-12-03-egomotion-turns-and-reprojection.md).
 TEST(MapperApp, kitti06PseudoLoopRectificationCloses)
 {
     EMSLAM_REQUIRE_TEST_DATA(seq, "kitti-odometry/sequences/06");
