@@ -34,6 +34,8 @@ namespace emslam::rectify
 class AveragedChainsRectification : public RectificationRunner
 {
 public:
+    /** `options.chains` chains over empty trajectories whose maps have `map_options` and
+     * `insertion_options`. */
     AveragedChainsRectification(
         const TRectifierOptions& options,
         const emslam::CEntropyVoxelMap::TCreationOptions& map_options,
