@@ -23,7 +23,7 @@ namespace emslam::egomotion
 /** What one egomotion step found. \ingroup emslam_egomotion_grp */
 struct EgomotionResult
 {
-    /** Shared handle. */
+    /** Shared pointer to a result. */
     using Ptr = std::shared_ptr<EgomotionResult>;
 
     /** Pose of the current camera in the previous camera frame (the action). */
