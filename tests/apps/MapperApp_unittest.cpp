@@ -1222,7 +1222,7 @@ std::pair<emslam::eval::TrajectoryMetrics, emslam::eval::TrajectoryMetrics> mapS
 // the ATE must halve. Measured with loop closing and its local edges
 // ([LoopCloser], on in every shipped config) and sparse stereo at the
 // features: gap 0.407 -> 0.002 m, ATE 0.095 -> 0.023 m; seeds 1-10 in
-// doc/rectify.md ("Loop closing").
+// doc/notes/2026-12-04-loop-closing-local-edges-levelling.md.
 TEST(MapperApp, hallDoubleLoopRectificationShrinksGapAndAte)
 {
     const std::string dir = emslam::test::makeTempDir("mapper_hall");
@@ -1237,8 +1237,8 @@ TEST(MapperApp, hallDoubleLoopRectificationShrinksGapAndAte)
 // Exp. 10 (6dof-structured, serial mode so that the run repeats exactly, sim
 // seed 1). The loop gap must fall to 1/5 of the egomotion's and to 0.5 % of
 // the path, and the ATE must halve. Measured with loop closing: gap 2.312 ->
-// 0.002 m, ATE 0.554 -> 0.112 m; other seeds in doc/rectify.md ("Loop
-// closing").
+// 0.002 m, ATE 0.554 -> 0.112 m; other seeds in
+// doc/notes/2026-12-04-loop-closing-local-edges-levelling.md.
 TEST(MapperApp, chancellorLoop6dofRectificationShrinksGapAndAte)
 {
     const std::string dir = emslam::test::makeTempDir("mapper_chancellor");
@@ -1367,7 +1367,8 @@ TEST(MapperApp, lookAlikePeriodicFloorsCloseNoFalseLoopAndSayItIsUnreliable)
     // Its loop edges withdrawn and unpolished, the SLAM estimate is the
     // egomotion's chain with the local edges (no rectification before the
     // end here): within 5 % of the egomotion. The whole walks with the
-    // shipped rectifier end below it (doc/rectify.md, issue 40's table).
+    // shipped rectifier end below it (doc/notes/2026-12-04-online-loop-closing.md, issue 40's
+    // table).
     EXPECT_LE(slam.ate_rmse_m, 1.05 * ego.ate_rmse_m);
 }
 
@@ -1433,8 +1434,8 @@ TEST(MapperApp, kitti06RectificationDoesNoHarm)
 // egomotion ends 0.8 m away; kitti.ini (rectifier seed 1, serial,
 // deterministic) must bring the end within 0.15 m and to 1/5 of that, and
 // halve the ATE. Measured: end 0.798 -> 0.052 m, ATE 0.243 -> 0.087 m;
-// rectifier seeds 1-12 end at 0.033-0.067 m (doc/rectify.md, "Reprojection
-// refinement on real images").
+// rectifier seeds 1-12 end at 0.033-0.067 m
+// (doc/notes/2026-12-03-egomotion-turns-and-reprojection.md).
 TEST(MapperApp, kitti06PseudoLoopRectificationCloses)
 {
     EMSLAM_REQUIRE_TEST_DATA(seq, "kitti-odometry/sequences/06");

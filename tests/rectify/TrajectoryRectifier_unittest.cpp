@@ -221,7 +221,8 @@ TEST(TrajectoryRectifier, shiftedGridsKeepARealGainAndUndoAGridOne)
     }
     // One action off by 0.15 m and 3 degrees: the searched changes lower the
     // energy on the shifted grids too, so they are kept. (Kept, not right:
-    // this energy's minimum is not at the truth either, doc/rectify.md.)
+    // this energy's minimum is not at the truth either,
+    // doc/notes/2026-12-02-where-the-energy-is-wrong.md.)
     {
         Trajectory t = truth;
         const std::size_t k = t.size() / 2;

@@ -36,9 +36,11 @@ public:
     /** Parses the command line; throws std::invalid_argument on bad
      * arguments (and whatever the program's own checks throw). */
     void initialize(int argc, const char** argv);
+    /** As initialize() above, for main()'s non-const `argv`. */
     void initialize(int argc, char** argv) { initialize(argc, const_cast<const char**>(argv)); }
     /** Runs the program; does nothing after `--help` / `--version`. */
     void run();
+    /** True after `--help` or `--version`: run() then does nothing. */
     bool helpRequested() const { return m_help_requested; }
 
     /** Effective configuration (the INI file plus `--set`), for programs that
@@ -49,6 +51,7 @@ protected:
     /** `program`: the name users type ("emslam-mapper"), for messages. */
     explicit App(const char* program) : m_program(program) {}
 
+    /** The name users type, e.g. "emslam-mapper". */
     const char* program() const { return m_program; }
 
     /** The program's command line: builds its TCLAP::CmdLine (with the

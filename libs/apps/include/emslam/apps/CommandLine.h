@@ -21,6 +21,7 @@ struct DeprecatedSpelling
     /** The flag that replaces it, e.g. "--gt"; empty: its value became the
      * positional argument number `position` (0: the first). */
     std::string new_flag;
+    /** With an empty `new_flag`: which positional argument the value became. */
     std::size_t position{0};
     /** How --help names the replacement, e.g. "DATASET.rawlog". */
     std::string new_name;

@@ -23,7 +23,9 @@ struct ConfigProblem
     /** For a known key with a malformed value: the value as the user wrote it
      * and what the key needs ("a number", "true or false ...");
      * `expected` is empty for unknown names. */
+    ///@{
     std::string value, expected;
+    ///@}
 
     /** E.g. "unknown key 'esp_xyz' in [Rectifier] (did you mean 'eps_xyz'?)",
      * "unknown section [Rectifer] (did you mean [Rectifier]?)" or

@@ -18,10 +18,14 @@ struct MapperEnergyScan
     /** The same entropy (the scan's grid phases) with the elements placed by
      * the egomotion and by SLAM [nats]: beside the scan's energy at the truth,
      * is the minimum at the truth, and did the search reach it? */
+    ///@{
     double entropy_egomotion{0}, entropy_slam{0};
+    ///@}
     /** The odometry prior's cost at the truth, the egomotion and SLAM
      * (0 when it is off): does the prior keep the rectifier from the truth? */
+    ///@{
     double prior_truth{0}, prior_egomotion{0}, prior_slam{0};
+    ///@}
 };
 
 /** The energy scan of a finished mapper: its final trajectory's observations

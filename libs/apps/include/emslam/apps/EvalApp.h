@@ -39,21 +39,27 @@ public:
 
     /** Options of the evaluation; tests may edit them between initialize() and run(). */
     eval::TrajectoryMetrics::Options options;
-    eval::MapAccuracy::Options map_options;
+    eval::MapAccuracy::Options
+        map_options;  //!< options of `--map` (completeness distance, near range)
     /** Cells of tolerance of the grid comparison. (Default: 1) */
     int grid_tolerance{1};
 
     // ---- Result of run() ----
+    /** The trajectory metrics (ATE, KITTI segment errors, end error, loop gap). */
     eval::TrajectoryMetrics metrics;
     /** The formats read. */
+    ///@{
     emslam::io::TrajectoryFormat gt_format{emslam::io::TrajectoryFormat::Tum};
     emslam::io::TrajectoryFormat est_format{emslam::io::TrajectoryFormat::Tum};
+    ///@}
     /** True if both were KITTI without times, paired line by line. */
     bool paired_by_index{false};
     /** The map against the true surfaces (--map), the grid against the
      * true floor plan (--grid); unset when not asked for. */
+    ///@{
     std::optional<eval::MapAccuracy> map_accuracy;
     std::optional<eval::OccupancyGridAccuracy> grid_accuracy;
+    ///@}
 
 protected:
     bool parseArguments(int argc, const char** argv) override;

@@ -21,35 +21,54 @@ namespace emslam::apps
  * and last poses. \ingroup emslam_apps_grp \sa runExperiment() */
 struct ExperimentResult
 {
+    /** The experiment's name, title and the paper's figure it reproduces. */
+    ///@{
     std::string experiment, title, figure;
-    std::string mapper;   //!< the mapper INI's file name
-    std::string energy;   //!< e.g. "planar_low_structured"
-    std::string label;    //!< the paper's name of the energy, e.g. "Exp. 11"
-    std::string variant;  //!< ExperimentVariant::name (empty: the only one)
-    int seed{1};
-    bool loop{true};
+    ///@}
+    std::string mapper;       //!< the mapper INI's file name
+    std::string energy;       //!< e.g. "planar_low_structured"
+    std::string label;        //!< the paper's name of the energy, e.g. "Exp. 11"
+    std::string variant;      //!< ExperimentVariant::name (empty: the only one)
+    int seed{1};              //!< the world's and the egomotion's seed
+    bool loop{true};          //!< the ground truth returns to its start (the gap is a loop gap)
     bool interrupted{false};  //!< stopped by Ctrl-C: a partial run
 
+    /** Frames read, stereo observations, failed egomotion steps. */
+    ///@{
     std::size_t frames{0}, observations{0}, egomotion_failures{0};
+    ///@}
     double path_m{0};           //!< ground-truth path length [m]
     double egomotion_gap_m{0};  //!< end-point error of the egomotion [m]
     double slam_gap_m{0};       //!< end-point error of SLAM (last accepted frame) [m]
     double egomotion_ate_m{0};  //!< ATE RMSE after SE(3) alignment [m]
-    double slam_ate_m{0};
+    double slam_ate_m{0};       //!< ATE RMSE of SLAM after SE(3) alignment [m]
     /** The maps against the true surfaces the frames saw (eval::MapAccuracy,
      * sim::SurfaceSampler out to the mapper's [Stereo] max_range): SLAM's
      * map cloud, and the same keyframe clouds placed by the egomotion.
      * Accuracy median and 90th percentile [m], completeness within 5 cm
      * [0, 1]; NaN when not measured. */
+    ///@{
     double slam_map_median_m{NAN}, slam_map_p90_m{NAN}, slam_map_completeness{NAN};
     double egomotion_map_median_m{NAN}, egomotion_map_p90_m{NAN}, egomotion_map_completeness{NAN};
+    ///@}
+    /** Mean time per frame of the stereo front-end and the egomotion [ms]. */
+    ///@{
     double ms_stereo{0}, ms_egomotion{0};  //!< mean per frame [ms]
+    ///@}
+    /** Rectification calls, their attempts and successes. */
+    ///@{
     std::size_t rectifications{0}, attempts{0}, successes{0};
+    ///@}
+    /** Median and largest time per rectification call [ms]. */
+    ///@{
     double rect_median_ms{0}, rect_max_ms{0};  //!< per call [ms]
+    ///@}
     /** The paper's entropy (no prior) of the final map's elements placed by
      * the ground truth, by the egomotion and by SLAM (the output
      * trajectory): is the minimum at the truth, and did the search reach it? */
+    ///@{
     double entropy_truth{0}, entropy_egomotion{0}, entropy_slam{0};
+    ///@}
     /** The same entropy at the rectifier's own element poses, before loop
      * closing moved them (equal to entropy_slam without loop closing). */
     double entropy_rectified{0};
@@ -63,12 +82,18 @@ struct ExperimentResult
     double seconds{0};  //!< wall time of the run (rendering included, the energy scan not) [s]
 
     /** The paper's figures for this experiment and energy (NaN: not given). */
+    ///@{
     double paper_path_m, paper_observations, paper_egomotion_gap_m, paper_slam_gap_m;
+    ///@}
 
     /** For the pictures: every frame's ground truth and egomotion, SLAM's accepted frames. */
+    ///@{
     emslam::io::TumTrajectory ground_truth, egomotion, slam;
+    ///@}
 
+    /** Egomotion's gap as a percentage of the path. */
     double egomotionGapPercent() const { return 100.0 * egomotion_gap_m / path_m; }
+    /** SLAM's gap as a percentage of the path. */
     double slamGapPercent() const { return 100.0 * slam_gap_m / path_m; }
 };
 

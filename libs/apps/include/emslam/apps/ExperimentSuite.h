@@ -25,9 +25,11 @@ struct ExperimentSpec
     std::vector<std::string> sets;
     /** The paper's path length [m], observations and egomotion loop gap [m];
      * NaN where the paper gives none. */
+    ///@{
     double paper_path_m;
     double paper_observations;
     double paper_egomotion_gap_m;
+    ///@}
     /** The paper's SLAM loop gap [m] per mapper (NaN: not given). */
     std::vector<double> paper_slam_gap_m;
 };
@@ -69,9 +71,9 @@ struct ExperimentVariant
  * \ingroup emslam_apps_grp */
 struct ExperimentSuite
 {
-    std::vector<ExperimentSpec> experiments;
-    std::vector<int> seeds{1, 2, 3};
-    std::size_t quick_frames{60};
+    std::vector<ExperimentSpec> experiments;  //!< in the order of the file
+    std::vector<int> seeds{1, 2, 3};          //!< world seeds of every run (`--seeds` overrides)
+    std::size_t quick_frames{60};             //!< frames per run with `--quick`
     /** At least one (without `variants`: one unnamed, with no overrides). */
     std::vector<ExperimentVariant> variants{ExperimentVariant{}};
 

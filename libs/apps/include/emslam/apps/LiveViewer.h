@@ -38,8 +38,10 @@ public:
     struct Options
     {
         std::string title{"emslam"};  //!< window title
-        unsigned width{1000};         //!< window size [px]
+        ///@{
+        unsigned width{1000};  //!< window size [px]
         unsigned height{700};
+        ///@}
         double max_rate_hz{10.0};  //!< redraws per second at most (> 0)
         /** Map points kept for drawing; beyond, the oldest are thinned out. */
         std::size_t max_points{1000000};

@@ -13,8 +13,11 @@ namespace emslam::apps
  * \ingroup emslam_apps_grp */
 struct TrajectoryStyle
 {
-    const char* label;
+    const char* label;  //!< legend text
+    /** Colour, RGB in [0, 1]. */
+    ///@{
     float r, g, b;
+    ///@}
 };
 
 /** The colours every map drawing shares (map.3Dscene, map_top.png, the live

@@ -20,7 +20,9 @@ struct MapTopView
     double pixels_per_metre{1.0};
     /** Viewer-frame coordinates [m] (X = first camera's forward, Y = its left)
      * of the image's left and top edges. */
+    ///@{
     double left_x{0.0}, top_y{0.0};
+    ///@}
 
     /** Pixel (column, row) of a map-frame point, seen from above (its height
      * is ignored); may fall outside the image. */

@@ -25,6 +25,7 @@ public:
     /** Call after each Mapper::process() that returned true. */
     void update(const slam::EntropySlam& m);
 
+    /** The window it draws into. */
     const LiveViewer& viewer() const { return m_viewer; }
 
 private:

@@ -17,20 +17,24 @@ namespace emslam::apps
 /** What a mapper run adds to its Mapper's results in summary.json. */
 struct MapperRunInfo
 {
-    std::string rawlog;
-    std::string config;
+    std::string rawlog;                   //!< the input's path (rawlog or dataset folder)
+    std::string config;                   //!< the config file's path
     std::size_t ignored_observations{0};  //!< observations neither stereo nor RGB-D
     /** Stereo / RGB-D observations skipped (io::FrameStreamGuard), in all
      * and per cause: a bad timestamp, another camera, unusable by the front-end. */
+    ///@{
     std::size_t skipped_observations{0};
     std::size_t skipped_bad_stamps{0}, skipped_camera_changes{0}, skipped_unusable{0};
+    ///@}
     /** The first few skipped ones of each cause: "record N: cause". */
     std::vector<std::string> skipped_reasons;
     /** FrameStreamGuard::skippedText(), or "". */
     std::string skipped_text;
     /** The first camera change, if any, and the run's closing warning about it. */
+    ///@{
     std::optional<io::FrameStreamGuard::CameraChange> camera_change;
     std::string camera_change_warning;
+    ///@}
     /** The error that stopped the run early ("record N: cause"), or "". */
     std::string stopped_by_error;
     bool interrupted{false};        //!< stopped by SIGINT / SIGTERM
@@ -43,7 +47,9 @@ struct MapperRunInfo
     double seconds_after_last_frame{0.0};
     /** Against the ground truth (--gt), when given; `online_vs_gt` for
      * EntropySlam::onlinePoses() (trajectory_online.tum). */
+    ///@{
     std::optional<eval::TrajectoryMetrics> egomotion_vs_gt, slam_vs_gt, online_vs_gt;
+    ///@}
     /** The energy scan around the ground truth (--energy-scan), when made. */
     std::optional<MapperEnergyScan> energy_scan;
 };
@@ -64,21 +70,30 @@ std::string startToEndName(const emslam::io::TumTrajectory& ground_truth);
 /** Mean time per frame of each stage [ms] (and the slowest frame's total). */
 struct StageMeans
 {
+    /** Per stage, the total, and the slowest frame's total [ms]. */
+    ///@{
     double stereo{0}, egomotion{0}, rectification{0}, total{0}, max_total{0};
+    ///@}
 };
 StageMeans stageMeans(const std::vector<slam::FrameRecord>& frames);
 
 /** Sums over every rectification, and the median / max time per call [ms]. */
 struct RectificationTotals
 {
+    /** Attempts, successes, failures, and failures kept by the `ratio` rule. */
+    ///@{
     std::size_t attempts{0}, successes{0}, failures{0}, accepted_worse{0};
+    ///@}
     /** Calls whose changes `validate_phases` undid. */
     std::size_t rejected_by_validation{0};
     /** Of `failures`, grid successes that `confirm_phases` refused. */
     std::size_t unconfirmed{0};
     /** Calls that `hold_before_revisit` kept from changing anything. */
     std::size_t held_before_revisit{0};
+    /** Time in all [s], median and largest per call [ms]. */
+    ///@{
     double seconds{0}, median_ms{0}, max_ms{0};
+    ///@}
 };
 RectificationTotals rectificationTotals(const std::vector<emslam::rectify::RectificationStats>& r);
 

@@ -19,20 +19,25 @@ struct MapperReportData
 {
     std::string title;  //!< e.g. the rawlog's file name
     /** Camera trajectories in the world (first camera) frame. */
+    ///@{
     emslam::io::TumTrajectory egomotion, slam;
+    ///@}
     /** Optional: each frame's pose when it was processed
      * (EntropySlam::onlinePoses(); empty: not drawn). */
     emslam::io::TumTrajectory online;
     /** Optional ground truth, already expressed in the same world frame
      * (empty: not drawn). */
     emslam::io::TumTrajectory ground_truth;
-    std::vector<slam::FrameRecord> frames;
-    std::vector<emslam::rectify::RectificationStats> rectifications;
+    std::vector<slam::FrameRecord> frames;  //!< per-frame records: times, matches, energy
+    std::vector<emslam::rectify::RectificationStats>
+        rectifications;  //!< one per rectification call
     /** Rows of the summary table: (name, value as text). */
     std::vector<std::pair<std::string, std::string>> summary;
     /** Egomotion and SLAM against the ground truth (error over distance and
      * over time); empty: those plots say there is no ground truth. */
+    ///@{
     std::optional<eval::TrajectoryMetrics> egomotion_vs_gt, slam_vs_gt;
+    ///@}
     /** The map picture, relative to the report's folder; embedded when that
      * file exists there when the report is written. */
     std::string map_image{"map_top.png"};

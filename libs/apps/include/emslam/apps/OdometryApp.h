@@ -47,21 +47,25 @@ public:
     static void checkConfig(const mrpt::config::CConfigFileBase& params);
 
     // ---- Results of run() ----
-    std::size_t frames_processed{0};
+    std::size_t frames_processed{0};  //!< frames read and run through the egomotion
     /** Steps (frame pairs) whose egomotion failed (excludes the first frame). */
     std::size_t failures{0};
     /** Frames skipped, per cause, and the first ones named ("record N: cause"). */
     emslam::io::FrameStreamGuard::Counts skipped;
-    std::vector<std::string> skipped_reasons;
+    std::vector<std::string> skipped_reasons;  //!< the first skipped frames, "record N: cause"
     /** FrameStreamGuard::cameraChangeWarning(), or "". */
     std::string camera_change;
     /** T_first_left of every processed frame, as written to the output. */
     emslam::io::TumTrajectory trajectory;
     /** Mean time per frame [ms]: stereo front-end, egomotion stages, total. */
+    ///@{
     double mean_ms_stereo{0}, mean_ms_features{0}, mean_ms_descriptors{0}, mean_ms_matching{0},
         mean_ms_lwo{0}, mean_ms_pose{0}, mean_ms_egomotion{0};
+    ///@}
     /** Mean matches per step before / after LWO. */
+    ///@{
     double mean_initial_matches{0}, mean_final_matches{0};
+    ///@}
     /** Why the trajectory is degenerate (more than half of the steps
      * failed, see degenerateRunWarning()), or "" if it is usable. */
     std::string degenerate;

@@ -14,8 +14,8 @@ namespace emslam::apps
 /** What recordRawlog() wrote. \ingroup emslam_apps_grp */
 struct RawlogRecording
 {
-    std::size_t frames_written{0};
-    std::size_t poses_written{0};  //!< ground-truth poses (0 without a GT file)
+    std::size_t frames_written{0};  //!< stereo observations written
+    std::size_t poses_written{0};   //!< ground-truth poses (0 without a GT file)
 };
 
 /** Writes frame `k` of a recording to `out`, and its ground-truth pose (if

@@ -44,10 +44,11 @@ public:
     static void checkConfig(const mrpt::config::CConfigFileBase& params);
 
     // ---- Results of run() ----
-    std::size_t frames_processed{0};
-    std::size_t total_points{0};
+    std::size_t frames_processed{0};  //!< frames run through the front-end
+    std::size_t total_points{0};      //!< 3D points over every frame
+    /** Mean fraction of pixels with a disparity. */
     double mean_density{0};
-    double mean_ms_per_frame{0};
+    double mean_ms_per_frame{0};  //!< mean front-end time per frame [ms]
     /** Fraction of pixels with a disparity that are > 1 px off the ground
      * truth (first frame), or -1 when no ground truth was given. */
     double bad_pixel_rate{-1};
@@ -55,7 +56,7 @@ public:
     double gt_coverage{-1};
     /** Rawlog frames skipped, per cause, and the first ones named ("record N: cause"). */
     emslam::io::FrameStreamGuard::Counts skipped;
-    std::vector<std::string> skipped_reasons;
+    std::vector<std::string> skipped_reasons;  //!< the first skipped frames, "record N: cause"
     /** FrameStreamGuard::cameraChangeWarning(), or "". */
     std::string camera_change;
 

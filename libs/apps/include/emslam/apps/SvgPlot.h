@@ -19,7 +19,11 @@ namespace emslam::apps::svg
 {
 /** Width of every plot [px]; pages scale it with CSS. */
 constexpr double SVG_WIDTH = 800;
+/** Margins around the plot area [px]: axis labels left and below, title and legend above. */
+///@{
 constexpr double MARGIN_LEFT = 76, MARGIN_RIGHT = 20, MARGIN_TOP = 56, MARGIN_BOTTOM = 52;
+///@}
+/** Width of the plot area [px]. */
 constexpr double PLOT_WIDTH = SVG_WIDTH - MARGIN_LEFT - MARGIN_RIGHT;
 
 /** Above this many points a curve is decimated: keeps the file small. */
@@ -27,15 +31,20 @@ constexpr std::size_t MAX_POINTS = 5000;
 
 /** Colours of the trajectories, the same in every report. */
 inline const char* const EGO_COLOUR = "#d62728";
-inline const char* const SLAM_COLOUR = "#2ca02c";
-inline const char* const GT_COLOUR = "#000000";
+inline const char* const SLAM_COLOUR = "#2ca02c";  //!< SLAM
+inline const char* const GT_COLOUR = "#000000";    //!< ground truth
 /** The online (causal) trajectory: what the system had while it ran. */
 inline const char* const ONLINE_COLOUR = "#1f77b4";
 
+/** A point in data (or, after projection, plot) coordinates. */
 struct Point
 {
+    /** Abscissa and ordinate. */
+    ///@{
     double x, y;
+    ///@}
 };
+/** A polyline's points. */
 using Points = std::vector<Point>;
 
 /** `s` with the five HTML special characters escaped. */
@@ -50,12 +59,16 @@ std::string tickLabel(double v, double step);
 /** A data interval; empty until a finite value is added. */
 struct Range
 {
-    double lo{std::numeric_limits<double>::infinity()};
-    double hi{-std::numeric_limits<double>::infinity()};
+    double lo{std::numeric_limits<double>::infinity()};   //!< lowest value added
+    double hi{-std::numeric_limits<double>::infinity()};  //!< highest value added
 
+    /** Widens the interval to `v` (NaN and infinities are ignored). */
     void add(double v);
+    /** No finite value added yet. */
     bool empty() const { return !(lo <= hi); }
+    /** hi − lo. */
     double span() const { return hi - lo; }
+    /** The middle of the interval. */
     double mid() const { return 0.5 * (lo + hi); }
 
     /** Widened by `frac` of its span on each side and to at least
@@ -71,6 +84,7 @@ std::vector<double> niceTicks(const Range& r, double& step);
  * count axis never shows a fractional tick. */
 std::vector<double> integerTicks(const Range& r, double& step);
 
+/** How a legend entry is drawn. */
 enum class Swatch
 {
     Line,
@@ -79,10 +93,14 @@ enum class Swatch
     None  //!< text only
 };
 
+/** One legend entry: text, colour, SVG dash pattern and swatch. */
 struct LegendItem
 {
+    /** Legend text, colour and SVG dash pattern ("": solid). */
+    ///@{
     std::string label, colour, dash;
-    Swatch swatch{Swatch::Line};
+    ///@}
+    Swatch swatch{Swatch::Line};  //!< how the entry is drawn
 };
 
 /** Builds one `<svg>` plot: a fixed-width frame, axes in data units and
@@ -90,6 +108,7 @@ struct LegendItem
 class SvgPlot
 {
 public:
+    /** An empty plot; `id` is the SVG element's id, `plot_height` the plot area's height [px]. */
     SvgPlot(std::string id, std::string title, double plot_height);
 
     /** Sets the data ranges and draws grid, ticks and axis labels; `abs_y`
@@ -103,9 +122,11 @@ public:
         bool abs_y = false,
         bool integer_x = false);
 
+    /** A curve in data coordinates; `dash`: an SVG stroke-dasharray ("": solid). */
     void polyline(const Points& p, const std::string& colour, const std::string& dash = "");
     /** The region between the curve and y = `base`. */
     void area(const Points& p, double base, const std::string& colour);
+    /** A circle (or, `square`, a square) of radius `r` [px] at `p`. */
     void marker(const Point& p, const std::string& colour, bool square, double r = 4);
     /** Boxes [x0, x1] x [y0, y1] as one path: far smaller than one rect each. */
     void boxes(const std::vector<std::pair<Point, Point>>& b, const std::string& colour);
@@ -114,6 +135,7 @@ public:
     /** A centred note, for plots without data. */
     void message(const std::string& text);
 
+    /** The `<svg>` element: frame, title and everything drawn so far. */
     std::string str() const;
 
 private:
@@ -140,8 +162,11 @@ double equalAspect(Range& x, Range& y, double h_min, double h_max);
 /** A trajectory to draw, with its legend name and style. */
 struct TrajectoryTrack
 {
-    const emslam::io::TumTrajectory* traj;
+    const emslam::io::TumTrajectory* traj;  //!< not owned
+    /** Legend name, colour and SVG dash pattern. */
+    ///@{
     std::string name, colour, dash;
+    ///@}
 };
 
 /** Maps a pose to the plot plane. */

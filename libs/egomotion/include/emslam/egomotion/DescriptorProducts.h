@@ -21,6 +21,7 @@ namespace emslam::egomotion
 class DescriptorProducts
 {
 public:
+    /** Row-major float matrix: one descriptor per row. */
     using RowMajorMatrix = Eigen::Matrix<float, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor>;
 
     /** Which product multiply() runs: the fastest this CPU has, or Eigen's

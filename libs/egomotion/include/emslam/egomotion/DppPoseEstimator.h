@@ -21,6 +21,7 @@ namespace emslam::egomotion
 class DppPoseEstimator
 {
 public:
+    /** Options of the minimisation. */
     struct TParameters
     {
         /** Start from the closed-form Euclidean (Horn/Umeyama) fit instead of
@@ -36,13 +37,14 @@ public:
         bool joint_refinement{false};
     };
 
+    /** The pose that minimises the Dpp energy, with its covariance. */
     struct Result
     {
         mrpt::poses::CPose3D T_prev_cur;  //!< pose of the current camera in the previous one
         double energy{0};                 //!< final sum of Dpp [m^2]
-        double initial_energy{0};
-        int alternations{0};
-        int evaluations{0};  //!< energy/gradient evaluations
+        double initial_energy{0};         //!< sum of Dpp at the initial pose [m^2]
+        int alternations{0};              //!< translation/rotation rounds run
+        int evaluations{0};               //!< energy/gradient evaluations
         /** Covariance of T_prev_cur from the curvature of E at its minimum,
          * each Dpp read as a squared residual r² (a product of two
          * distances): σ² (JᵀJ)⁻¹, J the rows ∇r, σ² = E / (n − 6) (Gauss-Newton;
@@ -56,7 +58,9 @@ public:
     };
 
     DppPoseEstimator() = default;
+    /** An estimator with the options `p`. */
     explicit DppPoseEstimator(const TParameters& p) : m_params(p) {}
+    /** The options it runs with. */
     const TParameters& parameters() const { return m_params; }
 
     /** Dpp of Eq. 7 for one pair: `a` in the previous frame, `b_hat` = R b + t,

@@ -23,6 +23,7 @@ namespace emslam::egomotion
 /** What one egomotion step found. \ingroup emslam_egomotion_grp */
 struct EgomotionResult
 {
+    /** Shared pointer to a result. */
     using Ptr = std::shared_ptr<EgomotionResult>;
 
     /** Pose of the current camera in the previous camera frame (the action). */
@@ -32,26 +33,33 @@ struct EgomotionResult
     bool ok{false};
     std::string failure_reason;  //!< empty when ok
 
+    /** Features found in the previous and the current frame. */
+    ///@{
     std::size_t features_prev{0}, features_cur{0};
+    ///@}
     std::size_t initial_matches{0};  //!< after mutual consistency
     std::size_t final_matches{0};    //!< after LWO
-    int lwo_iterations{0};
-    double energy{0};  //!< final sum of Dpp
+    int lwo_iterations{0};           //!< LWO rounds run
+    double energy{0};                //!< final sum of Dpp
     /** Covariance of T_prev_cur (DppPoseEstimator::Result::covariance);
      * valid only if has_covariance. */
     mrpt::math::CMatrixDouble66 covariance;
-    bool has_covariance{false};
+    bool has_covariance{false};  //!< false: `covariance` is not valid
 
     /** Matched near the constant-velocity prediction (guided_matching), and
      * that was enough; guided_fallback: it was not, and the full search gave
      * this result. */
+    ///@{
     bool guided{false}, guided_fallback{false};
+    ///@}
     /** Too few distinct matches (match_distinctiveness): this result is the
      * paper's matching's. */
     bool distinct_fallback{false};
 
-    // Time per stage [ms]
+    /** Time per stage [ms]: features, descriptors, matching, LWO, pose, all. */
+    ///@{
     double ms_features{0}, ms_descriptors{0}, ms_matching{0}, ms_lwo{0}, ms_pose{0}, ms_total{0};
+    ///@}
 };
 
 /** Var(x) / Var(x | |x| < c) for a Gaussian x, with c such that
@@ -102,10 +110,13 @@ double lwoTruncationVarianceFactor(double q);
 class EgomotionEstimator
 {
 public:
+    /** `[Egomotion]` parameters (the INI section of this estimator). */
     struct TParameters : public mrpt::config::CLoadableOptions
     {
+        /** Reads the keys of section `s` of `c`; absent keys keep their value. */
         void loadFromConfigFile(
             const mrpt::config::CConfigFileBase& c, const std::string& s) override;
+        /** Writes every key to section `s` of `c`. */
         void saveToConfigFile(
             mrpt::config::CConfigFileBase& c, const std::string& s) const override;
 
@@ -158,7 +169,9 @@ public:
     };
 
     EgomotionEstimator() = default;
+    /** An estimator with the parameters `p`. */
     explicit EgomotionEstimator(const TParameters& p);
+    /** The parameters it runs with. */
     const TParameters& parameters() const { return m_params; }
 
     /** Estimates the action between the two frames (stateless). */
@@ -183,6 +196,7 @@ public:
      * computed them: what registering the frame again needs, without its
      * images or its cloud. */
     struct Described;
+    /** Shared, immutable handle to a Described frame. */
     using Description = std::shared_ptr<const Described>;
     /** The description of the frame the last process() call took (null
      * before the first): keep it to register that frame again later. */
@@ -200,12 +214,13 @@ public:
      * 8-bit descriptors (one scale per row). bytes() is what it holds. */
     struct CompactDescription
     {
-        FeatureList features;
-        int dim{0};                      //!< values per descriptor
+        FeatureList features;  //!< the kept features, strongest gradient of each image cell first
+        int dim{0};            //!< values per descriptor
         std::vector<std::int8_t> codes;  //!< features.size() x dim
         std::vector<float> scales;       //!< per feature: value = code * scale
         mrpt::img::TCamera camera;       //!< of the intensity image
         double baseline{0};              //!< stereo baseline [m]
+        /** Bytes it holds: the struct itself, its features, codes and scales. */
         std::size_t bytes() const;
     };
     /** The compact form of `d` with at most `max_features` features (0: all

@@ -14,12 +14,16 @@ namespace emslam::egomotion
  * \ingroup emslam_egomotion_grp */
 struct Feature
 {
-    std::uint16_t u{0}, v{0};     //!< pixel (column, row)
+    /** Pixel (column, row). */
+    ///@{
+    std::uint16_t u{0}, v{0};
+    ///@}
     mrpt::math::TPoint3Df point;  //!< 3D point, left camera frame [m]
     float gradient_angle{0};      //!< atan2(Iy, Ix) [rad], in (-pi, pi]
     float gradient_magnitude{0};  //!< |grad I| (Sobel units)
 };
 
+/** Features of one image, in the order of its 3D points. */
 using FeatureList = std::vector<Feature>;
 
 /** A putative correspondence: feature `prev` of the previous frame matches
@@ -27,9 +31,9 @@ using FeatureList = std::vector<Feature>;
  * \ingroup emslam_egomotion_grp */
 struct Match
 {
-    int prev{-1};
-    int cur{-1};
-    float similarity{0};
+    int prev{-1};         //!< index of the feature in the previous frame's list
+    int cur{-1};          //!< index of the feature in the current frame's list
+    float similarity{0};  //!< S = |rho|, in [0, 1]
 };
 
 using MatchList = std::vector<Match>;

@@ -23,11 +23,12 @@ namespace emslam::egomotion
  * \ingroup emslam_egomotion_grp */
 struct Distinctiveness
 {
-    float ratio{1};
-    float same_place_px{0};
+    float ratio{1};          //!< runner-up's distance over the best's needed (<= 1: off)
+    float same_place_px{0};  //!< runners-up this close to the best [px] are the same place
     const FeatureList* prev_features{nullptr};  //!< pixels of the rows of `prev`
     const FeatureList* cur_features{nullptr};   //!< pixels of the rows of `cur`
 
+    /** The test is on: ratio > 1 and both feature lists given. */
     bool enabled() const { return ratio > 1 && prev_features && cur_features; }
     /** Whether `best` stands clear of `runner_up` (both scores S). */
     bool clear(float best, float runner_up) const

@@ -23,6 +23,7 @@ namespace emslam::egomotion
 class GlmFeatureExtractor
 {
 public:
+    /** Options of the feature search. */
     struct TParameters
     {
         /** Side |W| of the non-maximum window [px]; the paper uses 8. */
@@ -32,7 +33,9 @@ public:
     };
 
     GlmFeatureExtractor() = default;
+    /** An extractor with the options `p`. */
     explicit GlmFeatureExtractor(const TParameters& p) : m_params(p) {}
+    /** The options it runs with. */
     const TParameters& parameters() const { return m_params; }
 
     /** Features of `frame` (its `intensity`, `valid`, points/pixels).

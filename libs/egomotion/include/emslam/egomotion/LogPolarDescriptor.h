@@ -17,7 +17,9 @@ struct Descriptors
 {
     int dim{0};               //!< values per descriptor (rings x angles)
     std::vector<float> data;  //!< row-major, size() x dim
+    /** Number of descriptors (rows). */
     std::size_t size() const { return dim > 0 ? data.size() / dim : 0; }
+    /** The `i`-th descriptor, `dim` values. */
     const float* row(std::size_t i) const { return data.data() + i * dim; }
 };
 
@@ -35,6 +37,7 @@ struct Descriptors
 class LogPolarDescriptorExtractor
 {
 public:
+    /** Shape of the log-polar window. */
     struct TParameters
     {
         int num_rings{8};        //!< samples along log(radius)
@@ -44,7 +47,9 @@ public:
     };
 
     LogPolarDescriptorExtractor() = default;
+    /** An extractor with the options `p`. */
     explicit LogPolarDescriptorExtractor(const TParameters& p) : m_params(p) {}
+    /** The options it runs with. */
     const TParameters& parameters() const { return m_params; }
 
     /** `image` is the 8-bit reference image the features come from; one row

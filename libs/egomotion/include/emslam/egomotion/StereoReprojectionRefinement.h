@@ -24,6 +24,7 @@ namespace emslam::egomotion
 class StereoReprojectionRefinement
 {
 public:
+    /** The refined pose, its residuals and covariance. */
     struct Result
     {
         mrpt::poses::CPose3D
@@ -36,7 +37,7 @@ public:
          * perturbed on the right (as DppPoseEstimator::Result::covariance),
          * from the whitened residuals. Valid only if has_covariance. */
         mrpt::math::CMatrixDouble66 covariance;
-        bool has_covariance{false};
+        bool has_covariance{false};  //!< false: `covariance` is not valid
     };
 
     /** `a` in the previous left-camera frame, `b` in the current one (x right,

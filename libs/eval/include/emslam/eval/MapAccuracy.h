@@ -16,7 +16,7 @@ namespace emslam::eval
  * \ingroup emslam_eval_grp \sa MapAccuracy */
 struct ReferenceSurface
 {
-    std::vector<mrpt::math::TPoint3Df> points;
+    std::vector<mrpt::math::TPoint3Df> points;  //!< sample positions, world frame [m]
     /** Unit normals, one per point, or empty (distances are then to the
      * nearest sample). */
     std::vector<mrpt::math::TPoint3Df> normals;
@@ -49,6 +49,7 @@ struct ReferenceSurface
 class MapAccuracy
 {
 public:
+    /** How compute() measures. */
     struct Options
     {
         /** A reference sample is covered if a map point is this close [m].
@@ -65,6 +66,7 @@ public:
         const std::vector<mrpt::math::TPoint3Df>& map,
         const ReferenceSurface& reference,
         const Options& options);
+    /** As above, with the default Options. */
     static MapAccuracy compute(
         const std::vector<mrpt::math::TPoint3Df>& map, const ReferenceSurface& reference)
     {
@@ -77,7 +79,7 @@ public:
     /** The figures as a JSON object. */
     std::string toJson() const;
 
-    Options options;
+    Options options;                  //!< the options it was computed with
     std::size_t map_points{0};        //!< points of the map measured
     std::size_t reference_points{0};  //!< samples of the true surfaces
     double median_m{0};               //!< median distance map → true surface [m]

@@ -36,7 +36,7 @@ public:
     /** The figures as a JSON object. */
     std::string toJson() const;
 
-    int tolerance_cells{1};
+    int tolerance_cells{1};             //!< cells of tolerance it was computed with
     double cell_size{0};                //!< [m]
     std::size_t estimated_occupied{0};  //!< occupied cells of the estimate
     std::size_t true_occupied{0};       //!< occupied cells of the truth

@@ -15,6 +15,7 @@ namespace emslam::eval
 class PointKdTree : public mrpt::math::KDTreeCapable<PointKdTree>
 {
 public:
+    /** Takes the points; the tree is built on the first query. */
     explicit PointKdTree(std::vector<mrpt::math::TPoint3Df> points) : m_points(std::move(points)) {}
 
     /** Index of the point nearest to `q` and its squared distance [m^2].
@@ -24,22 +25,27 @@ public:
         return kdTreeClosestPoint3D(q.x, q.y, q.z, dist_sq);
     }
 
+    /** The points, in the order given. */
     const std::vector<mrpt::math::TPoint3Df>& points() const { return m_points; }
 
     /** \name KDTreeCapable's interface
      * @{ */
+    /** Number of points. */
     std::size_t kdtree_get_point_count() const { return m_points.size(); }
+    /** Coordinate `dim` (0: x, 1: y, 2: z) of point `i`. */
     float kdtree_get_pt(std::size_t i, int dim) const
     {
         const auto& p = m_points[i];
         return dim == 0 ? p.x : (dim == 1 ? p.y : p.z);
     }
+    /** Squared distance between `a` and point `i`. */
     float kdtree_distance(const float* a, std::size_t i, std::size_t) const
     {
         const auto& p = m_points[i];
         const float dx = a[0] - p.x, dy = a[1] - p.y, dz = a[2] - p.z;
         return dx * dx + dy * dy + dz * dz;
     }
+    /** false: nanoflann computes the bounding box itself. */
     template <class BBOX>
     bool kdtree_get_bbox(BBOX&) const
     {

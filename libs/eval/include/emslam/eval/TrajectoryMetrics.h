@@ -38,10 +38,16 @@ std::string alignmentName(Alignment a);
  * \ingroup emslam_eval_grp \sa associateByTimestamp() */
 struct AssociatedPoses
 {
+    /** Timestamps of each pair [s]. */
+    ///@{
     std::vector<double> t_gt, t_est;
+    ///@}
     /** T_world_body of the ground truth and T_ref_body of the estimate. */
+    ///@{
     std::vector<mrpt::poses::CPose3D> gt, est;
+    ///@}
 
+    /** Number of pairs. */
     std::size_t size() const { return gt.size(); }
 };
 
@@ -64,8 +70,8 @@ AssociatedPoses associateByTimestamp(
  * \ingroup emslam_eval_grp \sa alignPositions() */
 struct SimilarityTransform
 {
-    mrpt::poses::CPose3D T_gt_est;
-    double scale{1.0};
+    mrpt::poses::CPose3D T_gt_est;  //!< R and t of p_gt ≈ scale · R · p_est + t
+    double scale{1.0};              //!< 1 for a rigid (SE(3)) alignment
 
     /** The estimated pose `T_ref_body` expressed in the ground-truth frame:
      * rotation R·R_body, position scale·R·p + t. */
@@ -141,7 +147,8 @@ struct TrajectoryMetrics
     /** How compute() pairs and aligns the trajectories. */
     struct Options
     {
-        Alignment alignment{Alignment::SE3};
+        Alignment alignment{
+            Alignment::SE3};  //!< how the estimate is aligned to the ground truth (Default: se3)
         /** Largest |t_gt - t_est| of an associated pair [s]. (Default: 0.02) */
         double max_dt{0.02};
         /** Relative-error segments start every `segment_step` paired poses.
@@ -149,8 +156,11 @@ struct TrajectoryMetrics
         std::size_t segment_step{10};
     };
 
-    Alignment alignment{Alignment::SE3};
+    Alignment alignment{Alignment::SE3};  //!< the alignment used
+    /** Poses read from each trajectory. */
+    ///@{
     std::size_t gt_poses{0}, est_poses{0};
+    ///@}
     /** Pairs found by associateByTimestamp() [`matched_poses`]. */
     std::size_t matched_poses{0};
     /** The alignment applied to the estimate (identity for None). */
@@ -175,7 +185,9 @@ struct TrajectoryMetrics
     std::vector<SegmentError> segment_errors;
     /** Per paired pose: ground-truth time since the first pair [s] and position
      * error after alignment [m] (the report's error-over-time plot; not in JSON). */
+    ///@{
     std::vector<double> error_time_s, position_error_m;
+    ///@}
 
     /** Associates, aligns and measures. Throws std::runtime_error if either
      * trajectory is empty or no pose pairs within `opts.max_dt`. */

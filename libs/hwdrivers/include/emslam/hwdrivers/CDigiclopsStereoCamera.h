@@ -173,9 +173,13 @@ public:
         /** OpenCV free scaling of the rectification, [0, 1]. (Default: 0) */
         double rectify_alpha{0.0};
         /** Left camera pose on the robot: position [m]. (Default: 0) */
+        ///@{
         double pose_x{0}, pose_y{0}, pose_z{0};
+        ///@}
         /** Left camera pose on the robot: angles [deg]. (Default: 0) */
+        ///@{
         double pose_yaw_deg{0}, pose_pitch_deg{0}, pose_roll_deg{0};
+        ///@}
         /** Emit a CObservation3DRangeScan per frame. (Default: false) */
         bool compute_range_scan{false};
         /** Section of the StereoMatcher parameters. (Default: Stereo) */
@@ -210,6 +214,7 @@ public:
     std::vector<mrpt::serialization::CSerializable::Ptr> convertFrame(
         const std::uint8_t* data, std::size_t size, mrpt::Clock::time_point t);
 
+    /** The parameters loadConfig() read (or setParameters() set). */
     const TParameters& parameters() const { return m_params; }
     /** Sets the parameters directly (as loadConfig() would); for tests and tools. */
     void setParameters(const TParameters& p);
@@ -217,6 +222,7 @@ public:
     std::size_t droppedFrames() const override { return m_dropped; }
 
 protected:
+    /** Reads TParameters from `section` of `cfg`; CGenericSensor::loadConfig() calls it. */
     void loadConfig_sensorSpecific(
         const mrpt::config::CConfigFileBase& cfg, const std::string& section) override;
 

@@ -37,6 +37,7 @@ struct TReplayOptions : public mrpt::config::CLoadableOptions
      * ≥ 0), loop and timestamps, and validates; throws
      * std::invalid_argument naming the key of a bad value. */
     void loadFromConfigFile(const mrpt::config::CConfigFileBase& c, const std::string& s) final;
+    /** Writes the source's keys and first_frame, max_frames, loop, timestamps. */
     void saveToConfigFile(mrpt::config::CConfigFileBase& c, const std::string& s) const final;
     /** Throws std::invalid_argument naming the key of an invalid value
      * (overrides check their keys, then call this one). */
@@ -45,7 +46,9 @@ struct TReplayOptions : public mrpt::config::CLoadableOptions
     bool stampNow() const { return timestamps == "now"; }
 
 protected:
+    /** Reads the keys of the concrete source (its files, world, ...). */
     virtual void loadSourceKeys(const mrpt::config::CConfigFileBase& c, const std::string& s) = 0;
+    /** Writes the keys of the concrete source. */
     virtual void saveSourceKeys(mrpt::config::CConfigFileBase& c, const std::string& s) const = 0;
     /** The sensor's class name, for messages. */
     const std::string& sensorName() const { return m_sensor; }

@@ -57,17 +57,22 @@ public:
         std::string world_file;
 
     protected:
+        /** Reads `world_file`. */
         void loadSourceKeys(const mrpt::config::CConfigFileBase& c, const std::string& s) override;
+        /** Writes `world_file`. */
         void saveSourceKeys(mrpt::config::CConfigFileBase& c, const std::string& s) const override;
     };
 
     CSimulatedStereoCamera() = default;
 
+    /** The parameters loadConfig() read. */
     const TParameters& parameters() const { return m_params; }
     /** The simulator (valid after loadConfig()). */
     const emslam::sim::StereoSimulator& simulator() const { return *m_sim; }
 
 protected:
+    /** Reads TParameters from `section` of `cfg` and checks that the world file exists;
+     * CGenericSensor::loadConfig() calls it. */
     void loadConfig_sensorSpecific(
         const mrpt::config::CConfigFileBase& cfg, const std::string& section) override;
     /** Renders trajectory frame `i`. */

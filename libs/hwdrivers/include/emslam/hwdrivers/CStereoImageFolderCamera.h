@@ -58,17 +58,22 @@ public:
         double time_offset{1317340800.0};
 
     protected:
+        /** Reads the folder's keys. */
         void loadSourceKeys(const mrpt::config::CConfigFileBase& c, const std::string& s) override;
+        /** Writes the folder's keys. */
         void saveSourceKeys(mrpt::config::CConfigFileBase& c, const std::string& s) const override;
     };
 
     CStereoImageFolderCamera() = default;
 
+    /** The parameters loadConfig() read. */
     const TParameters& parameters() const { return m_params; }
     /** Frames in the folder. */
     std::size_t folderSize() const { return m_sequence ? m_sequence->size() : 0; }
 
 protected:
+    /** Reads TParameters from `section` of `cfg` and checks the folder;
+     * CGenericSensor::loadConfig() calls it. */
     void loadConfig_sensorSpecific(
         const mrpt::config::CConfigFileBase& cfg, const std::string& section) override;
     /** Loads the pair of folder frame `i`. */

@@ -103,7 +103,9 @@ public:
         /** auto, v4l2, ffmpeg, gstreamer or any. (Default: auto) */
         std::string backend{"auto"};
         /** [px] Frame size requested from devices; 0: the device's. (Default: 0) */
+        ///@{
         int capture_width{0}, capture_height{0};
+        ///@}
         /** [Hz] Frame rate requested from devices; 0: the device's. (Default: 0) */
         double capture_fps{0.0};
         /** Pixel format requested from devices (4 characters); empty: the device's. */
@@ -130,9 +132,13 @@ public:
         /** OpenCV free scaling of the rectification, [0, 1]. (Default: 0) */
         double rectify_alpha{0.0};
         /** Left camera pose on the robot: position [m]. (Default: 0) */
+        ///@{
         double pose_x{0}, pose_y{0}, pose_z{0};
+        ///@}
         /** Left camera pose on the robot: angles [deg]. (Default: 0) */
+        ///@{
         double pose_yaw_deg{0}, pose_pitch_deg{0}, pose_roll_deg{0};
+        ///@}
 
         /** Raw calibration; a 0x0 resolution (an OpenCV file without a size)
          * takes the images' size at initialize(). */
@@ -154,6 +160,7 @@ public:
      * pipeline, std::runtime_error when a device stops. */
     void doProcess() override;
 
+    /** The parameters loadConfig() read. */
     const TParameters& parameters() const { return m_params; }
     /** Frames emitted so far. */
     std::size_t framesDelivered() const { return m_delivered; }
@@ -165,6 +172,8 @@ public:
     double stampFps() const { return m_stamp_fps; }
 
 protected:
+    /** Reads TParameters from `section` of `cfg` and checks them; CGenericSensor::loadConfig()
+     * calls it. */
     void loadConfig_sensorSpecific(
         const mrpt::config::CConfigFileBase& cfg, const std::string& section) override;
 

@@ -18,13 +18,19 @@ struct DeviceInfo
     /** IIDC: unit number of a multi-unit camera. */
     int unit{0};
     /** USB: vendor and product ids. */
+    ///@{
     std::uint16_t vendor_id{0}, product_id{0};
+    ///@}
     /** USB: bus number and device address (as in /dev/bus/usb/BBB/DDD). */
+    ///@{
     int usb_bus{0}, usb_address{0};
+    ///@}
     /** V4L2: the device node, e.g. /dev/video0 (CVideoStereoCamera's `source`). */
     std::string node;
     /** Vendor, model / product and serial strings (empty when unreadable). */
+    ///@{
     std::string vendor, model, serial;
+    ///@}
     /** Why something could not be read (e.g. permission), or a hint. */
     std::string note;
 };

@@ -43,9 +43,12 @@ std::string toString(PackedLayout layout);
 /** Geometry of a packed frame. \ingroup emslam_hwdrivers_grp */
 struct PackedFrameFormat
 {
-    PackedLayout layout{PackedLayout::PIXEL_INTERLEAVED_24};
+    PackedLayout layout{
+        PackedLayout::PIXEL_INTERLEAVED_24};  //!< how the images are packed in a frame
     /** Size of each sensor image [px]. */
+    ///@{
     unsigned int width{0}, height{0};
+    ///@}
     /** Number of sensor images in a PLANAR_8 frame (2 or 3); the interleaved
      * layouts always have 3 (rgb24) or 2 (interleaved16). */
     unsigned int planar_channels{3};

@@ -15,6 +15,7 @@ namespace emslam::hwdrivers
 class EndOfStream : public std::runtime_error
 {
 public:
+    /** `what`: which source ended, for the message. */
     explicit EndOfStream(const std::string& what) : std::runtime_error(what) {}
 };
 

@@ -56,7 +56,9 @@ public:
     VideoSource(
         const std::string& what, const std::string& source, const VideoCaptureRequest& request);
 
+    /** What kind of source it is (VideoSourceKind). */
     VideoSourceKind kind() const { return m_kind; }
+    /** The source as given (device, path or pipeline). */
     const std::string& source() const { return m_source; }
     /** The backend OpenCV chose ("V4L2", "FFMPEG", "GSTREAMER", ...). */
     std::string backendName() const;
@@ -68,6 +70,8 @@ public:
 
     /** grab() then retrieve(): split for two devices (grab both, then decode). */
     bool grab() { return m_cap.grab(); }
+    /** Reads TParameters from `section` of `cfg` and checks that the world file exists;
+     * CGenericSensor::loadConfig() calls it. */
     bool retrieve(cv::Mat& frame) { return m_cap.retrieve(frame); }
 
 private:

@@ -26,6 +26,7 @@ public:
     AtomicTextFile(const AtomicTextFile&) = delete;
     AtomicTextFile& operator=(const AtomicTextFile&) = delete;
 
+    /** Where the text goes (the temporary file until commit()). */
     std::ostream& stream() { return m_out->text(); }
     /** Writes the rest, closes and renames; throws std::runtime_error naming
      * the file and the OS reason on any error ("cannot write 'FILE': No

@@ -24,13 +24,14 @@ namespace emslam::io
  * \ingroup emslam_io_grp \sa DatasetSequence, DatasetReadAhead */
 struct DatasetFolder
 {
+    /** Which dataset layout the folder holds. */
     enum class Format
     {
         Kitti,
         Euroc,
         TumRgbd
     };
-    Format format{Format::Kitti};
+    Format format{Format::Kitti};  //!< the layout found
     /** The folder the reader opens (KITTI `sequences/NN`, EuRoC `mav0`, ...). */
     std::string sequence_dir;
     /** KITTI / EuRoC ground-truth file found with it, or "" (TUM's reader

@@ -23,6 +23,7 @@ namespace emslam::io
 class DatasetReadAhead : public ObservationSource
 {
 public:
+    /** Starts reading `sequence`'s first frame on a background thread. */
     explicit DatasetReadAhead(const DatasetSequence& sequence);
     ~DatasetReadAhead() override;
     DatasetReadAhead(const DatasetReadAhead&) = delete;

@@ -18,9 +18,10 @@ namespace emslam::io
  * \ingroup emslam_io_grp */
 struct SequenceFrame
 {
-    mrpt::obs::CObservation::Ptr obs;
-    std::optional<mrpt::poses::CPose3D> ground_truth;
-    double t{0.0};  //!< [s], UNIX time
+    mrpt::obs::CObservation::Ptr obs;  //!< stereo pair or RGB-D scan
+    std::optional<mrpt::poses::CPose3D>
+        ground_truth;  //!< T_world_camera, if the dataset has one for this frame
+    double t{0.0};     //!< [s], UNIX time
 };
 
 /** A recorded dataset folder read frame by frame, whatever its layout

@@ -54,7 +54,7 @@ public:
     /** One frame: the stereo observation and, if known, its ground truth. */
     struct Frame
     {
-        mrpt::obs::CObservationStereoImages::Ptr obs;
+        mrpt::obs::CObservationStereoImages::Ptr obs;  //!< the stereo pair, calibrated, stamped
         /** T_world_left from the ground-truth file, if associated. */
         std::optional<mrpt::poses::CPose3D> ground_truth;
         /** Timestamp [s] (UNIX time). */
@@ -82,6 +82,7 @@ public:
      * the limit. */
     void open(const std::string& mav0_dir, const std::string& gt_csv = {});
 
+    /** True after a successful open(). */
     bool isOpen() const { return !m_dir.empty(); }
     /** Number of stereo pairs. */
     std::size_t size() const override { return m_stamps.size(); }
@@ -90,8 +91,11 @@ public:
     const std::string& directory() const { return m_dir; }
     /** Raw stereo calibration read from the sensor.yaml files. */
     const mrpt::img::TStereoCamera& calibration() const { return m_calib; }
+    /** Image size [px], from the first pair's headers. */
+    ///@{
     unsigned int imageWidth() const { return m_width; }
     unsigned int imageHeight() const { return m_height; }
+    ///@}
 
     /** Timestamp of frame `i` [ns since the UNIX epoch]. */
     std::int64_t timestampNs(std::size_t i) const;
@@ -113,7 +117,9 @@ public:
     /** Number of images (left and right) dropped because the other camera has
      * no image with their timestamp. */
     std::size_t unpairedCount() const { return m_unpaired; }
+    /** Path of the left image of frame `i`. */
     std::string leftImageFile(std::size_t i) const;
+    /** Path of the right image of frame `i`. */
     std::string rightImageFile(std::size_t i) const;
 
     /** Loads frame `i`. Throws, naming the file, if an image cannot be read
@@ -132,8 +138,8 @@ public:
     /** One row of a EuRoC camera-pose CSV file. */
     struct GtRow
     {
-        std::int64_t t_ns{0};
-        mrpt::poses::CPose3D pose;
+        std::int64_t t_ns{0};       //!< timestamp [ns since the UNIX epoch]
+        mrpt::poses::CPose3D pose;  //!< T_world_left
     };
     /** Reads a `timestamp_ns,x,y,z,qx,qy,qz,qw` file (a `#` header line is
      * allowed; timestamps may carry a fractional part, which is ignored).

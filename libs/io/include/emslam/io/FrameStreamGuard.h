@@ -53,13 +53,20 @@ public:
     /** What a frame's camera is compared by. */
     struct Camera
     {
-        std::uint32_t width{0}, height{0};  //!< the (left / intensity) image [px]
+        /** Size of the (left / intensity) image [px]. */
+        ///@{
+        std::uint32_t width{0}, height{0};
+        ///@}
         /** Left (RGB-D: intensity) camera's intrinsics [px]. */
+        ///@{
         double fx{0}, fy{0}, cx{0}, cy{0};
+        ///@}
         /** Right (RGB-D: depth) camera's intrinsics [px]. */
+        ///@{
         double right_fx{0}, right_fy{0}, right_cx{0}, right_cy{0};
+        ///@}
         double baseline{0};  //!< [m]; 0 for RGB-D
-        bool rgbd{false};
+        bool rgbd{false};    //!< an RGB-D camera (intensity + depth), not a stereo pair
 
         /** Same size and, within a relative 1e-6, same numbers. */
         bool sameAs(const Camera& o) const;
@@ -68,12 +75,14 @@ public:
         std::string toString() const;
     };
 
+    /** What check() says about a frame. */
     enum class Verdict
     {
         Use,        //!< a frame the app may use: process it, then accept() or skipUnusable()
         NotAFrame,  //!< neither stereo nor RGB-D: not the guard's business
         Skip        //!< skipped and counted (see Decision::warning)
     };
+    /** Why a frame was skipped. */
     enum class Cause
     {
         BadStamp,
@@ -84,7 +93,7 @@ public:
     /** What check() decided. */
     struct Decision
     {
-        Verdict verdict{Verdict::NotAFrame};
+        Verdict verdict{Verdict::NotAFrame};  //!< use it, not a frame, or skipped
         /** For a skip: the warning line (without the program's prefix), or ""
          * once NAMED_PER_CAUSE of its cause were named. */
         std::string warning;
@@ -93,7 +102,11 @@ public:
     /** Frames skipped per cause. */
     struct Counts
     {
+        /** Skipped for a bad timestamp, another camera, or unusable by the app. */
+        ///@{
         std::size_t bad_stamps{0}, camera_changes{0}, unusable{0};
+        ///@}
+        /** Skipped frames in all. */
         std::size_t total() const { return bad_stamps + camera_changes + unusable; }
     };
 
@@ -102,7 +115,10 @@ public:
     struct CameraChange
     {
         std::size_t record{0};  //!< the first frame whose camera differed
+        /** The session's camera and the one that differed. */
+        ///@{
         Camera from, to;
+        ///@}
         bool for_good{true};  //!< no frame with the session's camera was used after it
         /** Runs of consecutive frames with another camera (1 when for good). */
         std::size_t runs{0};
@@ -135,6 +151,7 @@ public:
      * ("skipping unusable observation at record N: reason") or "". */
     std::string skipUnusable(std::size_t record, const std::string& reason);
 
+    /** Frames skipped so far, per cause. */
     const Counts& counts() const { return m_counts; }
     /** Frames used (accept()). */
     std::size_t accepted() const { return m_accepted; }

@@ -43,6 +43,7 @@ public:
     uint64_t getTotalBytesCount() const override { return m_written; }
     /** Uncompressed bytes written so far. */
     uint64_t getPosition() const override { return m_written; }
+    /** "gzip file 'NAME'", for MRPT's messages. */
     std::string getStreamDescription() const override { return "gzip file '" + m_name + "'"; }
 
 private:

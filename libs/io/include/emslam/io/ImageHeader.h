@@ -9,8 +9,8 @@ namespace emslam::io
 /** The size an image file declares in its header. \ingroup emslam_io_grp */
 struct ImageHeader
 {
-    std::uint32_t width{0};
-    std::uint32_t height{0};
+    std::uint32_t width{0};   //!< [px]
+    std::uint32_t height{0};  //!< [px]
     /** "PNG", "JPEG", "BMP" or "PNM". */
     const char* format{""};
 };

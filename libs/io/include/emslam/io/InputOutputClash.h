@@ -10,8 +10,8 @@ namespace emslam::io
  * ("world file", "output rawlog"). \ingroup emslam_io_grp */
 struct RolePath
 {
-    std::string what;
-    std::string path;
+    std::string what;  //!< what the path is for, e.g. "world file"
+    std::string path;  //!< the path as given
 };
 
 /** Refuses, before any work, an output that would overwrite one of the

@@ -47,7 +47,7 @@ public:
     /** One frame: the stereo observation and, if known, its ground truth. */
     struct Frame
     {
-        mrpt::obs::CObservationStereoImages::Ptr obs;
+        mrpt::obs::CObservationStereoImages::Ptr obs;  //!< the stereo pair, rectified, stamped
         /** T_first_left: the left camera in the frame of sequence frame 0. */
         std::optional<mrpt::poses::CPose3D> ground_truth;
         /** Timestamp [s]: UNIX time, `time_offset` + times.txt value. */
@@ -74,15 +74,20 @@ public:
      * the limit. */
     void open(const std::string& sequence_dir, const std::string& poses_file = {});
 
+    /** True after a successful open(). */
     bool isOpen() const { return !m_dir.empty(); }
     /** Number of frames (lines of times.txt). */
     std::size_t size() const override { return m_times.size(); }
     std::vector<std::string> inputFiles() const override;
+    /** The sequence folder in use. */
     const std::string& directory() const { return m_dir; }
     /** Rectified stereo calibration read from calib.txt. */
     const mrpt::img::TStereoCamera& calibration() const { return m_calib; }
+    /** Image size [px], from the first pair's headers. */
+    ///@{
     unsigned int imageWidth() const { return m_width; }
     unsigned int imageHeight() const { return m_height; }
+    ///@}
 
     /** Timestamp of frame `i` [s]: UNIX time, `time_offset + sequenceTime(i)`. */
     double timestamp(std::size_t i) const override;
@@ -95,7 +100,9 @@ public:
     }
     /** Ground-truth pose of frame `i` (T_first_left); throws if there is none. */
     const mrpt::poses::CPose3D& groundTruth(std::size_t i) const;
+    /** Path of the left (image_0) image of frame `i`. */
     std::string leftImageFile(std::size_t i) const;
+    /** Path of the right (image_1) image of frame `i`. */
     std::string rightImageFile(std::size_t i) const;
 
     /** Loads frame `i`. Throws, naming the file, if an image cannot be read

@@ -50,6 +50,7 @@ public:
     uint64_t getTotalBytesCount() const override { return m_written; }
     /** Bytes written so far (buffered ones included). */
     uint64_t getPosition() const override { return m_written; }
+    /** "file 'NAME'", for MRPT's messages. */
     std::string getStreamDescription() const override { return "file '" + m_name + "'"; }
 
     /** Appends `count` bytes; false (the error kept for close()) on failure. */

@@ -27,6 +27,7 @@ namespace emslam::io
 class RawlogReadAhead : public ObservationSource
 {
 public:
+    /** Starts reading `in`'s next observation on a background thread. */
     explicit RawlogReadAhead(RawlogInput& in);
     ~RawlogReadAhead() override;
     RawlogReadAhead(const RawlogReadAhead&) = delete;

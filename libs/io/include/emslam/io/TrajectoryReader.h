@@ -29,7 +29,7 @@ struct TrajectoryReadOptions
  * \ingroup emslam_io_grp \sa loadTrajectory() */
 struct LoadedTrajectory
 {
-    TumTrajectory trajectory;
+    TumTrajectory trajectory;  //!< the poses read
     /** The format read (never Auto). */
     TrajectoryFormat format{TrajectoryFormat::Tum};
     /** False for a KITTI file without a times file: the pose of line i then

@@ -52,7 +52,8 @@ public:
     /** One frame: the RGB-D observation and, if known, its ground truth. */
     struct Frame
     {
-        mrpt::obs::CObservation3DRangeScan::Ptr obs;
+        mrpt::obs::CObservation3DRangeScan::Ptr
+            obs;  //!< the RGB-D scan: intensity, depth and calibration, stamped
         /** T_world_rgb from groundtruth.txt, if associated. */
         std::optional<mrpt::poses::CPose3D> ground_truth;
         /** Timestamp [s] of the colour image. */
@@ -75,13 +76,18 @@ public:
      * the limit. */
     void open(const std::string& rgbd_dir);
 
+    /** True after a successful open(). */
     bool isOpen() const { return !m_dir.empty(); }
     /** Number of associated (colour, depth) pairs. */
     std::size_t size() const override { return m_rgb_t.size(); }
     std::vector<std::string> inputFiles() const override;
+    /** The folder in use. */
     const std::string& directory() const { return m_dir; }
+    /** Image size [px], from the first colour image. */
+    ///@{
     unsigned int imageWidth() const { return m_width; }
     unsigned int imageHeight() const { return m_height; }
+    ///@}
 
     /** Timestamp of frame `i` [s] (colour image). */
     double timestamp(std::size_t i) const override;
@@ -99,7 +105,9 @@ public:
     std::size_t framesWithoutGroundTruth() const;
     /** Number of colour images dropped for lack of a depth image. */
     std::size_t unassociatedCount() const { return m_unassociated; }
+    /** Path of the colour image of frame `i`. */
     std::string rgbImageFile(std::size_t i) const;
+    /** Path of the depth image of frame `i`. */
     std::string depthImageFile(std::size_t i) const;
 
     /** Loads frame `i`. Throws, naming the file, if an image cannot be read,

@@ -42,13 +42,17 @@ class TumTrajectory
 {
 public:
     TumTrajectory() = default;
+    /** A trajectory of the poses `p`. */
     explicit TumTrajectory(std::vector<TumPose> p) : poses(std::move(p)) {}
 
     /** The poses, in file order. */
     std::vector<TumPose> poses;
 
+    /** Number of poses. */
     std::size_t size() const { return poses.size(); }
+    /** No pose. */
     bool empty() const { return poses.empty(); }
+    /** Appends pose `pose` at time `t` [s]. */
     void add(double t, const mrpt::poses::CPose3D& pose) { poses.push_back({t, pose}); }
 
     /** Writes all poses to a text file (overwritten). Throws

@@ -79,8 +79,10 @@ public:
     /** Creation options (`_creationOpts` section). */
     struct TCreationOptions : public mrpt::config::CLoadableOptions
     {
+        /** Reads the keys of section `s` of `c`; absent keys keep their value. */
         void loadFromConfigFile(
             const mrpt::config::CConfigFileBase& c, const std::string& s) override;
+        /** Writes every key to section `s` of `c`. */
         void saveToConfigFile(
             mrpt::config::CConfigFileBase& c, const std::string& s) const override;
         /** Throws, naming the INI key, if a value is invalid. */
@@ -98,8 +100,10 @@ public:
     /** Insertion options (`_insertOpts` section). */
     struct TInsertionOptions : public mrpt::config::CLoadableOptions
     {
+        /** Reads the keys of section `s` of `c`; absent keys keep their value. */
         void loadFromConfigFile(
             const mrpt::config::CConfigFileBase& c, const std::string& s) override;
+        /** Writes every key to section `s` of `c`. */
         void saveToConfigFile(
             mrpt::config::CConfigFileBase& c, const std::string& s) const override;
         /** Throws, naming the INI key, if a value is invalid. */
@@ -117,8 +121,10 @@ public:
     /** Drawing options (`_drawOpts` section). */
     struct TDrawOptions : public mrpt::config::CLoadableOptions
     {
+        /** Reads the keys of section `s` of `c`; absent keys keep their value. */
         void loadFromConfigFile(
             const mrpt::config::CConfigFileBase& c, const std::string& s) override;
+        /** Writes every key to section `s` of `c`. */
         void saveToConfigFile(
             mrpt::config::CConfigFileBase& c, const std::string& s) const override;
         /** Throws, naming the INI key, if a value is invalid. */
@@ -255,7 +261,10 @@ public:
     /** @} */
 
 protected:
+    /** Removes every observation (CMetricMap::clear()). */
     void internal_clear() override;
+    /** Inserts a CObservation3DRangeScan or CObservationPointCloud at `robotPose` (identity if
+     * none); false for other classes. */
     bool internal_insertObservation(
         const mrpt::obs::CObservation& obs,
         const std::optional<const mrpt::poses::CPose3D>& robotPose = std::nullopt) override;
@@ -270,6 +279,8 @@ protected:
      * sparse cells it occupies. The map is not modified. */
     double internal_computeObservationLikelihood(
         const mrpt::obs::CObservation& obs, const mrpt::poses::CPose3D& takenFrom) const override;
+    /** True for the classes internal_insertObservation() takes: CObservation3DRangeScan,
+     * CObservationPointCloud. */
     bool internal_canComputeObservationLikelihood(
         const mrpt::obs::CObservation& obs) const override;
 

@@ -38,16 +38,16 @@ public:
     /** One requested move: observation index and its new pose in the map. */
     struct ObservationMove
     {
-        std::size_t index{0};
-        mrpt::poses::CPose3D pose;
+        std::size_t index{0};       //!< index of the observation, in insertion order
+        mrpt::poses::CPose3D pose;  //!< its new pose in the map
     };
 
     /** An observation as given to assignObservations(): a cloud in its own
      * frame and its pose in the map. */
     struct PosedCloud
     {
-        WeightedPointCloud cloud;
-        mrpt::poses::CPose3D pose;
+        WeightedPointCloud cloud;   //!< points in the observation's own frame
+        mrpt::poses::CPose3D pose;  //!< the observation's pose in the map
     };
 
     /** Memory statistics, for reports and benchmarks. */

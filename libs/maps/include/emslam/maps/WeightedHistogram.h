@@ -13,11 +13,13 @@ namespace emslam::maps
  * \ingroup emslam_maps_grp */
 struct CellIndex
 {
-    std::int32_t x{0};
-    std::int32_t y{0};
-    std::int32_t z{0};
+    std::int32_t x{0};  //!< cell along x
+    std::int32_t y{0};  //!< cell along y
+    std::int32_t z{0};  //!< cell along z
 
+    /** Same cell. */
     bool operator==(const CellIndex& o) const { return x == o.x && y == o.y && z == o.z; }
+    /** Another cell. */
     bool operator!=(const CellIndex& o) const { return !(*this == o); }
 };
 
@@ -111,8 +113,8 @@ public:
     /** One deferred update: weight `w` added to cell `key`. */
     struct Update
     {
-        std::uint64_t key{0};
-        double w{0};
+        std::uint64_t key{0};  //!< the cell's packed key
+        double w{0};           //!< weight added (negative: removed)
     };
     /** addDeferred() for many updates, prefetching the slots a few updates
      * ahead: independent look-ups overlap their cache misses, which is what

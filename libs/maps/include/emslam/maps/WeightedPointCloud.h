@@ -15,7 +15,9 @@ struct WeightedPointCloud
     std::vector<mrpt::math::TPoint3Df> points;  //!< coordinates [m]
     std::vector<float> weights;                 //!< one per point, > 0
 
+    /** Number of points. */
     std::size_t size() const { return points.size(); }
+    /** No point. */
     bool empty() const { return points.empty(); }
     /** Σ weights. */
     double totalWeight() const;

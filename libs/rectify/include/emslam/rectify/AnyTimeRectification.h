@@ -24,6 +24,8 @@ namespace emslam::rectify
 class AnyTimeRectification : public RectificationRunner
 {
 public:
+    /** Starts the rectification thread over an empty trajectory whose map has `map_options` and
+     * `insertion_options`. */
     AnyTimeRectification(
         const TRectifierOptions& options,
         const emslam::CEntropyVoxelMap::TCreationOptions& map_options,

@@ -15,9 +15,9 @@ namespace emslam::rectify
  * averaged pose by pose (meanPose()). Beside the paper: each chain is the
  * paper's Metropolis-Hastings search, but on a voxel-grid entropy that is
  * rough below a cell, where a single chain ends depends on its seed (the
- * hall's loop gap moves by up to 0.5 m from seed to seed, doc/rectify.md,
- * "Averaged chains"); the mean of K chains keeps what they agree on and
- * divides the seed's share of the error by about √K.
+ * hall's loop gap moves by up to 0.5 m from seed to seed,
+ * doc/notes/2026-12-03-averaged-chains-and-noise-weights.md); the mean of K chains keeps what they
+ * agree on and divides the seed's share of the error by about √K.
  *
  * The chains run one after the other in the caller's thread (with
  * `threads = 2`, the odd ones in a second thread), so a rectification costs
@@ -34,6 +34,8 @@ namespace emslam::rectify
 class AveragedChainsRectification : public RectificationRunner
 {
 public:
+    /** `options.chains` chains over empty trajectories whose maps have `map_options` and
+     * `insertion_options`. */
     AveragedChainsRectification(
         const TRectifierOptions& options,
         const emslam::CEntropyVoxelMap::TCreationOptions& map_options,

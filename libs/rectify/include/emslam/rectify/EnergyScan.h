@@ -60,6 +60,7 @@ struct EnergyScanLine
     /** (E(+s) − E(−s)) / 2s for the smallest step s [nats per m, or per rad]. */
     double slope{0};
 
+    /** True for δθx, δθy, δθz (offsets in rad). */
     bool isRotation() const { return dimension >= 3; }
     /** True if the truth is the minimum along this line. */
     bool truthIsMinimum() const { return argmin_offset == 0.0; }
@@ -68,8 +69,8 @@ struct EnergyScanLine
 /** One dimension's lines, summarised. */
 struct EnergyScanDimension
 {
-    int dimension{0};
-    std::size_t lines{0};
+    int dimension{0};      //!< 0..5, as EnergyScanLine::dimension
+    std::size_t lines{0};  //!< lines scanned along it
     /** Fraction of the lines whose minimum is at the truth. */
     double fraction_at_truth{0};
     /** Median |argmin offset| [m, or rad]. */
@@ -81,18 +82,20 @@ struct EnergyScanDimension
 /** The aggregate of a scan; NaN where there were no lines. */
 struct EnergyScanSummary
 {
-    std::size_t lines{0};
+    std::size_t lines{0};           //!< lines scanned
     std::size_t lines_at_truth{0};  //!< lines whose minimum is at the truth
     std::size_t evaluations{0};     //!< energies computed (offset 0 once)
     std::size_t elements{0};        //!< N
-    int grid_phases{1};
-    double energy_at_truth{0};  //!< [nats]
+    int grid_phases{1};             //!< grid phases of the scanned entropy
+    double energy_at_truth{0};      //!< [nats]
     /** Fraction of all lines whose minimum is at the truth. */
     double fraction_at_truth{0};
     /** Median |argmin offset| over the translation lines [m] and over the
      * rotation lines [rad]. */
+    ///@{
     double median_abs_argmin_translation_m{0};
     double median_abs_argmin_rotation_rad{0};
+    ///@}
     /** Per scanned dimension, in order. */
     std::vector<EnergyScanDimension> dimensions;
     double seconds{0};  //!< wall time of the scan [s]
@@ -101,8 +104,8 @@ struct EnergyScanSummary
 /** A whole scan: one line per (action, dimension), actions ascending. */
 struct EnergyScan
 {
-    std::vector<EnergyScanLine> lines;
-    EnergyScanSummary summary;
+    std::vector<EnergyScanLine> lines;  //!< one per (action, dimension), actions ascending
+    EnergyScanSummary summary;          //!< their aggregate
 };
 
 /** "x", "y", "z", "theta_x", "theta_y", "theta_z" for dimensions 0..5.

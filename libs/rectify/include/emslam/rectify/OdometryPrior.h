@@ -48,8 +48,10 @@ struct OdometryPrior
     double weight{0.0};         //!< [nats] per unit squared Mahalanobis distance ×2
     double sigma_xyz{0.02};     //!< [m] translation deviation of one accepted step
     double sigma_rot_deg{0.5};  //!< [deg] rotation deviation of one accepted step
-    PriorCovariance covariance{PriorCovariance::Fixed};
+    PriorCovariance covariance{PriorCovariance::Fixed};  //!< where Σ comes from: the sigmas above,
+                                                         //!< or the egomotion's covariance
 
+    /** The prior counts: weight > 0. */
     bool enabled() const { return weight > 0.0; }
     /** The prior cost of `action` against the egomotion's `reference`, spanning
      * `steps` (≥ 1) accepted frames. */

@@ -36,9 +36,13 @@ namespace emslam::rectify
 class PoseGraph
 {
 public:
+    /** A relative-pose measurement between two nodes. */
     struct Edge
     {
+        /** The nodes it joins. */
+        ///@{
         std::size_t from{0}, to{0};
+        ///@}
         mrpt::poses::CPose3D measurement;  //!< pose of node `to` in node `from`
         ActionCovariance information;      //!< inverse covariance of `measurement`
         std::size_t tag{0};                //!< the caller's: what kind of edge, which one
@@ -46,7 +50,7 @@ public:
     /** A direction measured in a node that should be the world direction. */
     struct DirectionPrior
     {
-        std::size_t node{0};
+        std::size_t node{0};                      //!< the node the direction was measured in
         mrpt::math::TVector3D in_node;            //!< measured, unit, node frame
         mrpt::math::CMatrixDouble33 information;  //!< of `in_node`, node frame
     };
@@ -68,7 +72,7 @@ public:
     /** What optimize() did. */
     struct Result
     {
-        int iterations{0};
+        int iterations{0};       //!< Levenberg–Marquardt iterations run
         double initial_cost{0};  //!< E before
         double final_cost{0};    //!< E after
     };
@@ -97,16 +101,23 @@ public:
         std::size_t node,
         const mrpt::math::TVector3D& in_node,
         const mrpt::math::CMatrixDouble33& information);
+    /** Sets the world up and bias, and which of them optimize() solves. */
     void setDirectionFrame(const DirectionFrame& f) { m_frame = f; }
     /** After optimize(): with the solved w and b. */
     const DirectionFrame& directionFrame() const { return m_frame; }
+    /** Removes every direction prior. */
     void clearDirectionPriors() { m_priors.clear(); }
+    /** The direction priors, in the order added. */
     const std::vector<DirectionPrior>& directionPriors() const { return m_priors; }
     /** ½ ρᵀ Λ ρ of one prior at the current nodes. */
     double priorCost(const DirectionPrior& p) const;
+    /** Number of nodes. */
     std::size_t nodeCount() const { return m_nodes.size(); }
+    /** The edges, in the order added (removeEdgesIf() keeps the order). */
     const std::vector<Edge>& edges() const { return m_edges; }
+    /** World pose of node `i` (std::out_of_range otherwise). */
     const mrpt::poses::CPose3D& node(std::size_t i) const { return m_nodes.at(i); }
+    /** World poses of every node. */
     const std::vector<mrpt::poses::CPose3D>& nodes() const { return m_nodes; }
 
     /** E at the current nodes. */

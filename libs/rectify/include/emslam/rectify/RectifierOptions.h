@@ -91,7 +91,9 @@ enum class ProposalShape : std::uint8_t
  * \ingroup emslam_rectify_grp */
 struct TRectifierOptions : public mrpt::config::CLoadableOptions
 {
+    /** Reads the `[Rectifier]` keys of section `s` of `c`; absent keys keep their value. */
     void loadFromConfigFile(const mrpt::config::CConfigFileBase& c, const std::string& s) override;
+    /** Writes every key to section `s` of `c`. */
     void saveToConfigFile(mrpt::config::CConfigFileBase& c, const std::string& s) const override;
     /** Throws std::invalid_argument naming the `[Rectifier]` key of a bad value. */
     void validate() const;

@@ -11,6 +11,8 @@ namespace emslam::rectify
 class SerialRectification : public RectificationRunner
 {
 public:
+    /** An empty trajectory whose map has `map_options` and `insertion_options`, rectified with
+     * `options`. */
     SerialRectification(
         const TRectifierOptions& options,
         const emslam::CEntropyVoxelMap::TCreationOptions& map_options,

@@ -31,8 +31,10 @@ public:
     /** `[SpaceSampling]` parameters. */
     struct TParameters : public mrpt::config::CLoadableOptions
     {
+        /** Reads the `[SpaceSampling]` keys of section `s` of `c`; absent keys keep their value. */
         void loadFromConfigFile(
             const mrpt::config::CConfigFileBase& c, const std::string& s) override;
+        /** Writes every key to section `s` of `c`. */
         void saveToConfigFile(
             mrpt::config::CConfigFileBase& c, const std::string& s) const override;
         /** Throws std::invalid_argument naming the key of a bad value. */
@@ -44,6 +46,7 @@ public:
     };
 
     SpaceSampler() = default;
+    /** A sampler with the thresholds `p` (validated). */
     explicit SpaceSampler(const TParameters& p);
 
     /** Feeds the action T_prev_cur of a new frame; returns true if the frame
@@ -55,10 +58,11 @@ public:
     const mrpt::poses::CPose3D& actionSinceAccepted() const { return m_since_accepted; }
     /** Frames accepted / rejected so far. */
     std::size_t accepted() const { return m_accepted; }
-    std::size_t rejected() const { return m_rejected; }
+    std::size_t rejected() const { return m_rejected; }  //!< (see accepted())
     /** Forgets the last accepted frame (the next feed() is accepted); the
      * counters stay. */
     void reset();
+    /** The thresholds it uses. */
     const TParameters& params() const { return m_p; }
 
 private:

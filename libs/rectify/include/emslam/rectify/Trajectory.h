@@ -26,9 +26,9 @@ struct ElementFrame
 /** A frame pose in the world, for trajectory outputs. */
 struct TimedPose
 {
-    double timestamp{0.0};
-    std::size_t frame_index{std::numeric_limits<std::size_t>::max()};
-    mrpt::poses::CPose3D T_world_frame;
+    double timestamp{0.0};                                             //!< the frame's time [s]
+    std::size_t frame_index{std::numeric_limits<std::size_t>::max()};  //!< caller's frame id
+    mrpt::poses::CPose3D T_world_frame;  //!< pose of the frame in the world
 };
 
 /** The trajectory of the rectifier (§2.2.3): actions a_0..a_{N-1} and, per
@@ -48,8 +48,8 @@ public:
     /** A new value for one action. */
     struct ActionChange
     {
-        std::size_t index{0};
-        mrpt::poses::CPose3D action;
+        std::size_t index{0};         //!< the element whose action changes
+        mrpt::poses::CPose3D action;  //!< its new value
     };
 
     /** An empty trajectory whose map has these options (validated). */
@@ -65,6 +65,7 @@ public:
 
     /** Number of elements N. */
     std::size_t size() const { return m_actions.size(); }
+    /** No element. */
     bool empty() const { return m_actions.empty(); }
 
     /** Appends an element: `action` = pose of the new frame in the previous
@@ -80,7 +81,9 @@ public:
         std::size_t frame_index = std::numeric_limits<std::size_t>::max(),
         const std::optional<ActionCovariance>& covariance = std::nullopt);
 
+    /** Action i: pose of element i in element i−1 (a_0: element 0 in the world). */
     const mrpt::poses::CPose3D& action(std::size_t i) const { return m_actions.at(i); }
+    /** Every action, a_0 first. */
     const std::vector<mrpt::poses::CPose3D>& actions() const { return m_actions; }
     /** Pose of element i in the world. */
     const mrpt::poses::CPose3D& pose(std::size_t i) const { return m_map.observationPose(i); }
@@ -111,11 +114,13 @@ public:
      * average removes most of that. 1 (the default) is the paper's single
      * grid. Costs `phases` times the moves. Throws unless 1 <= phases <= 8. */
     void setGridPhases(int phases);
+    /** The number of grid phases set (1: one grid). */
     int gridPhases() const { return static_cast<int>(m_phase_maps.size()) + 1; }
     /** Threads of one change's map updates, 1 or 2 (see
      * IncrementalEntropyGrid::setThreads(): the same results, sooner);
      * kept through compress() and setGridPhases(). Throws otherwise. */
     void setThreads(int threads);
+    /** Threads of one change's map updates (setThreads()). */
     int threads() const { return m_map.threads(); }
     /** The world shift of grid phase k of `phases`: k / phases of a cell
      * along (1, 1, 1). */
@@ -126,7 +131,9 @@ public:
      * simplified at l_d. append() and compress() need level 0 (they return
      * to it). Throws unless 0 <= level <= 4. */
     void setResolutionLevel(int level);
+    /** The level setResolutionLevel() set (0: l_d). */
     int resolutionLevel() const { return m_level; }
+    /** The odometry prior in use (weight 0: off). */
     const OdometryPrior& odometryPrior() const { return m_prior; }
     /** The egomotion's estimate of action i (the prior's reference). */
     const mrpt::poses::CPose3D& referenceAction(std::size_t i) const { return m_reference.at(i); }

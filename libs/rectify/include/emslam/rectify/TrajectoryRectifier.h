@@ -47,6 +47,7 @@ namespace emslam::rectify
 class TrajectoryRectifier
 {
 public:
+    /** A rectifier with the options `p` (validated). */
     explicit TrajectoryRectifier(const TRectifierOptions& p = {});
 
     /** Rectifies to convergence (see the class comment). `stop`, if given,
@@ -72,6 +73,7 @@ public:
     int consecutiveFailures() const { return m_consecutive_failures; }
     /** @} */
 
+    /** The options it runs with. */
     const TRectifierOptions& params() const { return m_p; }
 
 private:

@@ -38,8 +38,10 @@ public:
     /** [Camera] parameters. */
     struct TParameters : public mrpt::config::CLoadableOptions
     {
+        /** Reads the keys of section `s` of `c`; absent keys keep their value. */
         void loadFromConfigFile(
             const mrpt::config::CConfigFileBase& c, const std::string& s) override;
+        /** Writes every key to section `s` of `c`. */
         void saveToConfigFile(
             mrpt::config::CConfigFileBase& c, const std::string& s) const override;
         /** Throws std::invalid_argument naming the [Camera] key of a bad value. */
@@ -67,10 +69,12 @@ public:
     };
 
     StereoRenderer() = default;
+    /** A renderer with the camera `p` (validated). */
     explicit StereoRenderer(const TParameters& p) { setParameters(p); }
 
     /** Sets (and validates) the camera. */
     void setParameters(const TParameters& p);
+    /** The camera it renders with. */
     const TParameters& params() const { return m_p; }
 
     /** The calibration of the rendered pair (rectified, no distortion;

@@ -41,8 +41,10 @@ public:
     /** [Simulation] parameters. */
     struct TParameters : public mrpt::config::CLoadableOptions
     {
+        /** Reads the keys of section `s` of `c`; absent keys keep their value. */
         void loadFromConfigFile(
             const mrpt::config::CConfigFileBase& c, const std::string& s) override;
+        /** Writes every key to section `s` of `c`. */
         void saveToConfigFile(
             mrpt::config::CConfigFileBase& c, const std::string& s) const override;
         double fps{5.0};                     //!< [Hz] (Default: 5)
@@ -87,9 +89,13 @@ public:
     /** Renders frame i (< frameCount()). */
     Frame renderFrame(std::size_t i, bool want_depth = false) const;
 
+    /** The parameters it was built with. */
     const TParameters& params() const { return m_p; }
+    /** The world it renders. */
     const World& world() const { return m_world; }
+    /** The camera's path through the world. */
     const Trajectory& trajectory() const { return m_traj; }
+    /** The stereo renderer of the camera. */
     const StereoRenderer& renderer() const { return m_renderer; }
     /** World seed ([World] seed). */
     int seed() const { return m_seed; }

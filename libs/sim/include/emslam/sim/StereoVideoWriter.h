@@ -40,6 +40,7 @@ public:
     /** Finishes the file (also done by the destructor). */
     void close();
 
+    /** Stereo pairs written so far. */
     std::size_t framesWritten() const { return m_frames; }
 
 private:

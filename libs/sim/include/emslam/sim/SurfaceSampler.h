@@ -46,10 +46,14 @@ struct SurfaceSample
 class SurfaceSampler
 {
 public:
+    /** Sample spacing, depth window and the pose steps of the visibility test (INI keys of the
+     * class comment). */
     struct TParameters : public mrpt::config::CLoadableOptions
     {
+        /** Reads the keys of section `s` of `c`; absent keys keep their value. */
         void loadFromConfigFile(
             const mrpt::config::CConfigFileBase& c, const std::string& s) override;
+        /** Writes every key to section `s` of `c`. */
         void saveToConfigFile(
             mrpt::config::CConfigFileBase& c, const std::string& s) const override;
         /** Throws std::invalid_argument naming the key of a bad value. */
@@ -62,6 +66,7 @@ public:
         double pose_step_deg{10};  //!< [deg] (Default: 10)
     };
 
+    /** A sampler with the parameters `p` (validated). */
     explicit SurfaceSampler(const TParameters& p);
 
     /** Every static surface of `world`, scene frame, seen_range 0. */

@@ -45,8 +45,10 @@ public:
     /** [Trajectory] parameters. */
     struct TParameters : public mrpt::config::CLoadableOptions
     {
+        /** Reads the keys of section `s` of `c`; absent keys keep their value. */
         void loadFromConfigFile(
             const mrpt::config::CConfigFileBase& c, const std::string& s) override;
+        /** Writes every key to section `s` of `c`. */
         void saveToConfigFile(
             mrpt::config::CConfigFileBase& c, const std::string& s) const override;
 

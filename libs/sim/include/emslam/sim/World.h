@@ -30,9 +30,11 @@ struct Element
         Box,         //!< axis-aligned box [lo, hi], possibly moving
         HeightField  //!< World::heightField() over [lo.x, hi.x] x [lo.z, hi.z]
     };
-    Kind kind{Kind::Plane};
+    Kind kind{Kind::Plane};  //!< plane, box or height field
     /** Axis-aligned bounds (for a moving box: at time t0). */
+    ///@{
     Vec3 lo{0, 0, 0}, hi{0, 0, 0};
+    ///@}
     /** Normal axis of a Plane (0: X, 1: Y, 2: Z). */
     int axis{0};
     /** Index into World::textures(). */
@@ -53,7 +55,10 @@ struct Element
  * \ingroup emslam_sim_grp */
 struct HeightField
 {
-    double x0{0}, z0{0};  //!< scene coordinates of sample (0,0) [m]
+    /** Scene coordinates of sample (0,0) [m]. */
+    ///@{
+    double x0{0}, z0{0};
+    ///@}
     double cell{0.1};     //!< sample spacing [m]
     cv::Mat heights;      //!< CV_32FC1, rows along Z, columns along X
     float max_height{0};  //!< largest height [m]
@@ -151,9 +156,13 @@ public:
     /** Sets the height field and adds its Element. */
     void setHeightField(const HeightField& h, int texture, double texel_size);
 
+    /** Every element (planes, boxes, the height field), in the order added. */
     const std::vector<Element>& elements() const { return m_elements; }
+    /** The procedural textures the elements index. */
     const std::vector<ProceduralTexture>& textures() const { return m_textures; }
+    /** True once setHeightField() gave a ground relief. */
     bool hasHeightField() const { return !m_height.heights.empty(); }
+    /** The ground relief (empty heights without one). */
     const HeightField& heightField() const { return m_height; }
     /** Ground height under scene (x, z): the height field, or 0. */
     double groundHeight(double x, double z) const;
@@ -163,8 +172,10 @@ public:
     /** [Building] parameters (type = building). */
     struct TBuildingParams : public mrpt::config::CLoadableOptions
     {
+        /** Reads the keys of section `s` of `c`; absent keys keep their value. */
         void loadFromConfigFile(
             const mrpt::config::CConfigFileBase& c, const std::string& s) override;
+        /** Writes every key to section `s` of `c`. */
         void saveToConfigFile(
             mrpt::config::CConfigFileBase& c, const std::string& s) const override;
         double cell_size{2.0};     //!< [m] edge of a map cell (Default: 2.0)
@@ -190,8 +201,10 @@ public:
     /** [Ground] parameters (type = ground). */
     struct TGroundParams : public mrpt::config::CLoadableOptions
     {
+        /** Reads the keys of section `s` of `c`; absent keys keep their value. */
         void loadFromConfigFile(
             const mrpt::config::CConfigFileBase& c, const std::string& s) override;
+        /** Writes every key to section `s` of `c`. */
         void saveToConfigFile(
             mrpt::config::CConfigFileBase& c, const std::string& s) const override;
         double extent{40.0};    //!< [m] side of the square floor (Default: 40)
@@ -207,8 +220,10 @@ public:
     /** [Terrain] parameters (type = terrain). */
     struct TTerrainParams : public mrpt::config::CLoadableOptions
     {
+        /** Reads the keys of section `s` of `c`; absent keys keep their value. */
         void loadFromConfigFile(
             const mrpt::config::CConfigFileBase& c, const std::string& s) override;
+        /** Writes every key to section `s` of `c`. */
         void saveToConfigFile(
             mrpt::config::CConfigFileBase& c, const std::string& s) const override;
         double extent{40.0};        //!< [m] side of the square terrain (Default: 40)
@@ -225,8 +240,8 @@ public:
 
     /** Generator parameters as loaded. */
     TBuildingParams building;
-    TGroundParams ground;
-    TTerrainParams terrain;
+    TGroundParams ground;    //!< `[Ground]`, as loaded
+    TTerrainParams terrain;  //!< `[Terrain]`, as loaded
 
 private:
     void buildBuilding(const mrpt::config::CConfigFileBase& cfg, std::uint64_t seed);

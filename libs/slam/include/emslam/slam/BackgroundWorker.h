@@ -23,6 +23,7 @@ namespace emslam::slam
 class BackgroundWorker
 {
 public:
+    /** Starts the thread, which runs `job` whenever work is requested. */
     explicit BackgroundWorker(std::function<void()> job);
     /** Stops the thread after the job it runs (no rethrow). */
     ~BackgroundWorker();

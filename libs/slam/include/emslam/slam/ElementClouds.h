@@ -64,8 +64,8 @@ public:
      * first frame once fused): what that camera saw, a scan from its pose. */
     struct Scan
     {
-        std::size_t frame_index{0};
-        IntensityCloud cloud;
+        std::size_t frame_index{0};  //!< the frame whose camera frame the cloud is in
+        IntensityCloud cloud;        //!< the points, in that camera's frame
     };
     /** Moves every stored cloud out (the elements are left empty). */
     std::vector<Scan> takeScans();

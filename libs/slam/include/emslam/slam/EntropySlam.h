@@ -56,8 +56,10 @@ public:
     /** `[Mapper]`: what EntropySlam keeps besides the paper's parameters. */
     struct TOptions : public mrpt::config::CLoadableOptions
     {
+        /** Reads the keys of section `s` of `c`; absent keys keep their value. */
         void loadFromConfigFile(
             const mrpt::config::CConfigFileBase& c, const std::string& s) override;
+        /** Writes every key to section `s` of `c`. */
         void saveToConfigFile(
             mrpt::config::CConfigFileBase& c, const std::string& s) const override;
         /** Throws std::invalid_argument naming the key of a bad value. */
@@ -103,6 +105,7 @@ public:
         void saveToConfigFile(mrpt::config::CConfigFileBase& c) const;
     };
 
+    /** A mapper with the parameters `p`. */
     explicit EntropySlam(const TParameters& p);
     ~EntropySlam();
     EntropySlam(const EntropySlam&) = delete;
@@ -137,6 +140,7 @@ public:
      * process(). */
     void setStopCheck(std::function<bool()> stop) { m_stop_check = std::move(stop); }
 
+    /** The parameters it runs with. */
     const TParameters& parameters() const { return m_p; }
 
     /** Frames processed (stereo or RGB-D observations). */
@@ -154,8 +158,10 @@ public:
     /** Successful steps matched near the constant-velocity prediction, and
      * steps whose guided attempt fell back to the full search
      * ([Egomotion] guided_matching; both 0 without it). */
+    ///@{
     std::size_t guidedSteps() const { return m_odometry.guidedSteps(); }
     std::size_t guidedFallbacks() const { return m_odometry.guidedFallbacks(); }
+    ///@}
     /** One record per processed frame. */
     const std::vector<FrameRecord>& frames() const { return m_records; }
     /** Energy of the map after the last rectification (or of the unrectified
@@ -166,8 +172,10 @@ public:
     bool hasEnergy() const { return m_has_energy; }
 
     /** Size of the frames as processed (after any stereo scaling) [px]; 0 before the first. */
+    ///@{
     int imageWidth() const { return m_image_width; }
     int imageHeight() const { return m_image_height; }
+    ///@}
 
     /** Egomotion pose of every processed frame (T_world_cam, world = first camera). */
     const std::vector<emslam::rectify::TimedPose>& egomotionPoses() const { return m_egomotion; }

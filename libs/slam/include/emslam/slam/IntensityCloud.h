@@ -21,7 +21,9 @@ struct IntensityCloud
     std::vector<mrpt::math::TPoint3Df> points;  //!< [m]
     std::vector<std::uint8_t> intensity;        //!< grey level of each point
 
+    /** Number of points. */
     std::size_t size() const { return points.size(); }
+    /** No point. */
     bool empty() const { return points.empty(); }
     /** Appends `other`'s points moved by `T` (p' = T ⊕ p). */
     void appendTransformed(const IntensityCloud& other, const mrpt::poses::CPose3D& T);

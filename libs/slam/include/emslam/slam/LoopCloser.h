@@ -124,8 +124,10 @@ public:
     /** `[LoopCloser]` */
     struct TParameters : public mrpt::config::CLoadableOptions
     {
+        /** Reads the keys of section `s` of `c`; absent keys keep their value. */
         void loadFromConfigFile(
             const mrpt::config::CConfigFileBase& c, const std::string& s) override;
+        /** Writes every key to section `s` of `c`. */
         void saveToConfigFile(
             mrpt::config::CConfigFileBase& c, const std::string& s) const override;
         /** Throws std::invalid_argument naming the key of a bad value. */
@@ -213,19 +215,29 @@ public:
         std::size_t local_solves{0};  //!< of them: the recent keyframes only
         /** From a keyframe's addKeyframe() to its loop edges in the
          * current poses [ms], over the keyframes that closed a loop. */
+        ///@{
         double latency_ms_mean{0}, latency_ms_max{0};
-        std::size_t latency_count{0};
+        ///@}
+        std::size_t latency_count{0};   //!< keyframes the mean is over
         std::size_t dropped_edges{0};   //!< loop edges the solved graph disagreed with
         std::size_t refused_groups{0};  //!< consensus groups the solved graph refused
         /** Of those, the groups asking for another correction than the loop
          * followed, their registrations and the keyframes they registered. */
+        ///@{
         std::size_t contradicting_groups{0}, contradicting_edges{0}, contradicting_keyframes{0};
-        std::size_t kept_bytes{0};                      //!< kept descriptions, all keyframes
-        double initial_cost{0}, final_cost{0};          //!< of the pose graph, first and last solve
-        double ms{0};                                   //!< update() and close(), all of it
-        double polish_ms{0};                            //!< close() alone
-        double polish_solve_ms{0}, polish_level_ms{0};  //!< of it: the solve, the levelling
-        std::size_t refused_edges{0};                   //!< loop edges of the refused groups
+        ///@}
+        std::size_t kept_bytes{0};  //!< kept descriptions, all keyframes
+        /** Cost of the pose graph at the first and the last solve. */
+        ///@{
+        double initial_cost{0}, final_cost{0};
+        ///@}
+        double ms{0};         //!< update() and close(), all of it
+        double polish_ms{0};  //!< close() alone
+        /** Of polish_ms: the solve, the levelling. */
+        ///@{
+        double polish_solve_ms{0}, polish_level_ms{0};
+        ///@}
+        std::size_t refused_edges{0};  //!< loop edges of the refused groups
         /** Empty, or why the loop closing is not to be trusted: the solved
          * graph contradicted the registrations (dropped edges, refused
          * groups) more often than chance and one look-alike place explain
@@ -239,8 +251,8 @@ public:
     /** A keyframe's pose in the current estimate. */
     struct KeyframePose
     {
-        std::size_t frame_index{0};
-        mrpt::poses::CPose3D pose;  //!< world
+        std::size_t frame_index{0};  //!< as given to addKeyframe()
+        mrpt::poses::CPose3D pose;   //!< world
     };
 
     /** The last keyframe in the graph at its current pose (any thread). */
@@ -249,16 +261,21 @@ public:
     /** An accepted loop edge, for reports. */
     struct LoopEdge
     {
-        std::size_t frame_from{0}, frame_to{0};  //!< frame indices (as given to addKeyframe())
-        mrpt::poses::CPose3D measurement;        //!< pose of `frame_to` in `frame_from`
-        std::size_t matches{0};                  //!< after LWO
+        /** Frame indices (as given to addKeyframe()). */
+        ///@{
+        std::size_t frame_from{0}, frame_to{0};
+        ///@}
+        mrpt::poses::CPose3D measurement;  //!< pose of `frame_to` in `frame_from`
+        std::size_t matches{0};            //!< after LWO
     };
 
+    /** A loop closer with the parameters `p` (validated); the graph is empty. */
     explicit LoopCloser(const TParameters& p);
     ~LoopCloser();
     LoopCloser(const LoopCloser&) = delete;
     LoopCloser& operator=(const LoopCloser&) = delete;
 
+    /** The parameters it runs with. */
     const TParameters& parameters() const { return m_p; }
 
     /** Adds the next keyframe (producer thread): its frame index, its
@@ -322,6 +339,8 @@ public:
     const Stats& stats() const { return m_stats; }
     /** Stats::unreliable as it stands (any thread). */
     std::string unreliable() const;
+    /** The accepted loop edges, in the order accepted (after close(), or from the thread that calls
+     * update()). */
     const std::vector<LoopEdge>& loopEdges() const { return m_edges; }
 
 private:

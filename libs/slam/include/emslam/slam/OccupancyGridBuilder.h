@@ -39,8 +39,10 @@ public:
     /** `[OccupancyGrid]` */
     struct TParameters : public mrpt::config::CLoadableOptions
     {
+        /** Reads the keys of section `s` of `c`; absent keys keep their value. */
         void loadFromConfigFile(
             const mrpt::config::CConfigFileBase& c, const std::string& s) override;
+        /** Writes every key to section `s` of `c`. */
         void saveToConfigFile(
             mrpt::config::CConfigFileBase& c, const std::string& s) const override;
         /** Throws std::invalid_argument naming the key of a bad value. */
@@ -66,11 +68,15 @@ public:
     /** What build() counted. */
     struct Stats
     {
+        /** Cells of the grid, of them occupied, and free (seen through). */
+        ///@{
         std::size_t cells{0}, occupied{0}, free{0};
+        ///@}
         std::size_t band_points{0};  //!< map points inside the height band
-        std::size_t rays{0};
+        std::size_t rays{0};         //!< free-space rays cast
     };
 
+    /** A builder with the parameters `p` (validated). */
     explicit OccupancyGridBuilder(const TParameters& p);
 
     /** The grid of `cloud` (world frame = the first camera's) seen from the
@@ -79,6 +85,7 @@ public:
     mrpt::maps::COccupancyGridMap2D build(
         const IntensityCloud& cloud, const std::vector<emslam::rectify::TimedPose>& keyframes);
 
+    /** What the last build() counted. */
     const Stats& stats() const { return m_stats; }
 
     /** Grid coordinates (X forward, Y left) of a point of the map frame. */

@@ -35,8 +35,10 @@ public:
     /** `[OctoMap]` */
     struct TParameters : public mrpt::config::CLoadableOptions
     {
+        /** Reads the keys of section `s` of `c`; absent keys keep their value. */
         void loadFromConfigFile(
             const mrpt::config::CConfigFileBase& c, const std::string& s) override;
+        /** Writes every key to section `s` of `c`. */
         void saveToConfigFile(
             mrpt::config::CConfigFileBase& c, const std::string& s) const override;
         /** Throws std::invalid_argument naming the key of a bad value. */
@@ -52,9 +54,13 @@ public:
     /** What build() inserted. */
     struct Stats
     {
+        /** Scans inserted and their points. */
+        ///@{
         std::size_t scans{0}, points{0};
+        ///@}
     };
 
+    /** A builder with the parameters `p` (validated). */
     explicit OctoMapBuilder(const TParameters& p);
 
     /** The OctoMap of `scans` (each in the camera frame of its frame index)
@@ -65,6 +71,7 @@ public:
         const std::vector<ElementClouds::Scan>& scans,
         const std::vector<emslam::rectify::TimedPose>& keyframes);
 
+    /** What the last build() counted. */
     const Stats& stats() const { return m_stats; }
 
 private:

@@ -43,18 +43,20 @@ public:
     /** A place and how much it looks like the query. */
     struct Match
     {
-        std::size_t place{0};
-        double score{0};  //!< sum of the shared words' weights
+        std::size_t place{0};  //!< the place's number, as given to add()
+        double score{0};       //!< sum of the shared words' weights
     };
 
     /** A description's words, TABLES per feature (each tagged by its
      * table), each once: hashed once per keyframe for query() and add(). */
     using Words = std::vector<std::uint32_t>;
+    /** The words of `c`'s features (TABLES per feature). */
     Words wordsOf(const emslam::egomotion::EgomotionEstimator::CompactDescription& c) const;
 
     /** Adds a place (numbers increasing: the keyframe's index). A
      * description without features adds nothing. */
     void add(std::size_t place, const Words& words);
+    /** add() of the words of `c`. */
     void add(std::size_t place, const emslam::egomotion::EgomotionEstimator::CompactDescription& c)
     {
         add(place, wordsOf(c));
@@ -62,6 +64,7 @@ public:
     /** The `count` places numbered below `before` that look most like `c`,
      * best first (only places that share a word with it). */
     std::vector<Match> query(const Words& words, std::size_t before, std::size_t count) const;
+    /** query() with the words of `c`. */
     std::vector<Match> query(
         const emslam::egomotion::EgomotionEstimator::CompactDescription& c,
         std::size_t before,

@@ -26,7 +26,8 @@ public:
     struct Step
     {
         emslam::stereo::StereoFrame frame;  //!< the front-end's output
-        emslam::egomotion::EgomotionResult egomotion;
+        emslam::egomotion::EgomotionResult
+            egomotion;  //!< the egomotion's result for the step (not ok after a failure)
         /** The motion from the previous frame: the egomotion's, or after a
          * failure the previous step again; the identity for the first frame. */
         mrpt::poses::CPose3D action;
@@ -35,6 +36,7 @@ public:
         double ms_stereo{0.0};  //!< the front-end's time [ms]
     };
 
+    /** A front-end with `stereo` and an egomotion with `egomotion`. */
     StereoOdometry(
         const emslam::stereo::StereoMatcher::TParameters& stereo,
         const emslam::egomotion::EgomotionEstimator::TParameters& egomotion);
@@ -49,14 +51,20 @@ public:
     /** T_world_cam of the last processed frame (world = the first camera). */
     const mrpt::poses::CPose3D& pose() const { return m_T_world_cur; }
     /** Frames processed, and steps whose egomotion failed. */
+    ///@{
     std::size_t frameCount() const { return m_frames; }
     std::size_t failures() const { return m_failures; }
+    ///@}
     /** Steps matched near the constant-velocity prediction, and guided
      * attempts that fell back to the full search ([Egomotion] guided_matching). */
+    ///@{
     std::size_t guidedSteps() const { return m_guided_steps; }
     std::size_t guidedFallbacks() const { return m_guided_fallbacks; }
+    ///@}
 
+    /** The stereo front-end. */
     const emslam::stereo::StereoFrontEnd& frontEnd() const { return m_front; }
+    /** The egomotion estimator. */
     const emslam::egomotion::EgomotionEstimator& estimator() const { return m_estimator; }
 
 private:

@@ -37,6 +37,7 @@ namespace emslam::stereo
 class SparseStereoMatcher
 {
 public:
+    /** Options of the row search (the `[Stereo]` keys they come from: fromStereo()). */
     struct TParameters
     {
         /** Disparities searched at full resolution [px], >= 3. (Default: 128) */
@@ -50,7 +51,9 @@ public:
         /** Left-right tolerance [px]; negative: no check. (Default: 1) */
         int lr_max_diff{1};
         /** Depth window of the points kept [m]. (Default: 0.3, 12) */
+        ///@{
         double min_range{0.3}, max_range{12.0};
+        ///@}
 
         /** Throws std::invalid_argument naming the `[Stereo]` key of a bad value. */
         void validate() const;
@@ -62,7 +65,9 @@ public:
     static TParameters fromStereo(const StereoMatcher::TParameters& p);
 
     SparseStereoMatcher() = default;
+    /** A matcher with the options `p` (validated). */
     explicit SparseStereoMatcher(const TParameters& p);
+    /** The options it runs with. */
     const TParameters& parameters() const { return m_params; }
 
     /** The frame of `left_gray` (8-bit, 1 channel, rectified, the size of

@@ -32,10 +32,11 @@ struct PixelCoord
  * \ingroup emslam_stereo_grp \sa StereoFrontEnd, toRangeScan, fromRangeScan */
 struct StereoFrame
 {
+    /** Shared pointer to a frame. */
     using Ptr = std::shared_ptr<StereoFrame>;
 
-    mrpt::Clock::time_point timestamp{};
-    std::string sensor_label;
+    mrpt::Clock::time_point timestamp{};  //!< acquisition time of the pair
+    std::string sensor_label;             //!< the sensor's label (CObservation::sensorLabel)
 
     /** Reference intensity image, CV_8UC1. */
     cv::Mat intensity;
@@ -44,14 +45,16 @@ struct StereoFrame
     /** Disparity of every valid pixel [px], CV_32FC1 (0 where invalid); empty for RGB-D input. */
     cv::Mat disparity;
 
-    std::vector<mrpt::math::TPoint3Df> points;
-    std::vector<PixelCoord> pixels;
+    std::vector<mrpt::math::TPoint3Df> points;  //!< 3D points, left camera frame [m]
+    std::vector<PixelCoord> pixels;             //!< pixel of `intensity` where each point is seen
 
     /** Calibration of `intensity` (rectified, scaled). For RGB-D input only
      * the left camera is meaningful and the baseline is zero. */
     mrpt::img::TStereoCamera camera;
 
+    /** Number of points. */
     std::size_t size() const { return points.size(); }
+    /** No point. */
     bool empty() const { return points.empty(); }
     /** Fraction of the image pixels that have a 3D point, in [0,1]. */
     double density() const;

@@ -35,6 +35,7 @@ public:
     using PixelSelector = std::function<std::vector<PixelCoord>(const cv::Mat& left_gray)>;
 
     StereoFrontEnd() = default;
+    /** A front-end with the matcher parameters `p` (validated). */
     explicit StereoFrontEnd(const StereoMatcher::TParameters& p);
 
     /** Turns sparse mode on if the parameters ask for it (no-op otherwise). */
@@ -51,8 +52,11 @@ public:
      * the map's cloud itself. */
     std::function<StereoFrame()> mapFrameTask(const StereoFrame& processed) const;
 
+    /** The dense matcher. */
+    ///@{
     StereoMatcher& matcher() { return m_matcher; }
     const StereoMatcher& matcher() const { return m_matcher; }
+    ///@}
 
     /** Processes one stereo observation. Throws if the right image is missing,
      * the images are empty or their sizes differ from each other or from the
@@ -64,6 +68,7 @@ public:
      * for classes the front-end does not handle. */
     bool process(const mrpt::obs::CObservation& obs, StereoFrame& frame);
 
+    /** The rectification maps of the last calibration. */
     const StereoRectifier& rectifier() const { return m_rectifier; }
 
 private:

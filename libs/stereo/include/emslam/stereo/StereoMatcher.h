@@ -48,10 +48,13 @@ namespace emslam::stereo
 class StereoMatcher
 {
 public:
+    /** `[Stereo]` parameters: the keys of the INI block above. */
     struct TParameters : public mrpt::config::CLoadableOptions
     {
+        /** Reads the keys of section `s` of `c`; absent keys keep their value. */
         void loadFromConfigFile(
             const mrpt::config::CConfigFileBase& c, const std::string& s) override;
+        /** Writes every key to section `s` of `c`. */
         void saveToConfigFile(
             mrpt::config::CConfigFileBase& c, const std::string& s) const override;
         /** Throws std::exception with a message naming the key when a value is out of range. */
@@ -106,11 +109,15 @@ public:
     };
 
     StereoMatcher();
+    /** A matcher with the parameters `p` (validated). */
     explicit StereoMatcher(const TParameters& p);
     ~StereoMatcher();
+    /** Moves the matcher and its OpenCV state. */
     StereoMatcher(StereoMatcher&&) noexcept;
+    /** Moves the matcher and its OpenCV state. */
     StereoMatcher& operator=(StereoMatcher&&) noexcept;
 
+    /** The parameters it runs with. */
     const TParameters& parameters() const { return m_params; }
     /** Validates and applies new parameters. */
     void setParameters(const TParameters& p);

@@ -26,6 +26,7 @@ public:
     /** (Re)builds the maps only if `raw` differs from the cached calibration. */
     void setCalibration(const mrpt::img::TStereoCamera& raw, double alpha = 0.0);
 
+    /** True once a calibration was set. */
     bool isInitialized() const { return m_initialized; }
     /** True when the input calibration is already rectified. */
     bool isIdentity() const { return m_identity; }
@@ -37,7 +38,9 @@ public:
         cv::Mat& rect_left,
         cv::Mat& rect_right) const;
 
+    /** The calibration given (setCalibration()). */
     const mrpt::img::TStereoCamera& rawCamera() const { return m_raw; }
+    /** The calibration of the rectified pair. */
     const mrpt::img::TStereoCamera& rectifiedCamera() const { return m_rectified; }
 
     /** True if `cam` needs no rectification: no distortion, equal fx, fy and cy, the

@@ -50,8 +50,10 @@ public:
     /** `[LoopCloser]` keys `vertical_*`. */
     struct TParameters : public mrpt::config::CLoadableOptions
     {
+        /** Reads the keys of section `s` of `c`; absent keys keep their value. */
         void loadFromConfigFile(
             const mrpt::config::CConfigFileBase& c, const std::string& s) override;
+        /** Writes every key to section `s` of `c`. */
         void saveToConfigFile(
             mrpt::config::CConfigFileBase& c, const std::string& s) const override;
         /** Throws std::invalid_argument naming the key of a bad value. */
@@ -66,6 +68,7 @@ public:
         int min_patches{8};
     };
 
+    /** A measurement with the parameters `p` (validated). */
     explicit VerticalFromPlanes(const TParameters& p);
 
     /** The up direction of `f` near `predicted_up` (camera frame, any
