@@ -3,8 +3,8 @@
 #include <emslam/hwdrivers/SensorStatus.h>
 #include <emslam/io/CalibrationFiles.h>
 #include <emslam/io/OpenCvStereoCalibration.h>
-#include <emslam/util/ExceptionMessage.h>
 #include <emslam/stereo/StereoCalibration.h>
+#include <emslam/util/ExceptionMessage.h>
 
 #include <mrpt/config/CConfigFileBase.h>
 #include <mrpt/core/format.h>
