@@ -25,8 +25,8 @@ cmake -S examples -B "$scratch/examples" -DCMAKE_PREFIX_PATH="$prefix" \
     -DCMAKE_BUILD_TYPE=Release >/dev/null
 cmake --build "$scratch/examples" -j2 >/dev/null
 "$scratch/examples/entropy_map_from_ini"
-"$prefix/bin/emslam-sim" "$prefix/share/emslam/config/sim/hall_double_loop.ini" \
-    --max-frames 12 -o "$scratch/hall.rawlog" -q
+# The installed world by its name: found in the prefix's share/emslam/config.
+"$prefix/bin/emslam-sim" hall_double_loop --max-frames 12 -o "$scratch/hall.rawlog" -q
 "$scratch/examples/map_rawlog" "$prefix/share/emslam/config/mapper/3dof-low-structured.ini" \
     "$scratch/hall.rawlog"
 

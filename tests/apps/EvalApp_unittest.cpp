@@ -4,10 +4,15 @@
 
 #include <emslam/apps/AppMain.h>
 #include <emslam/apps/EvalApp.h>
+#include <emslam/apps/PlyFile.h>
 #include <emslam/io/EurocTrajectory.h>
+#include <emslam/io/GzOutputStream.h>
 #include <emslam/io/KittiSequence.h>
 #include <emslam/io/KittiTrajectory.h>
 #include <emslam/io/TumTrajectory.h>
+
+#include <mrpt/maps/COccupancyGridMap2D.h>
+#include <mrpt/serialization/CArchive.h>
 
 #include <gtest/gtest.h>
 
@@ -124,6 +129,138 @@ TEST(EvalApp, writesJsonWithKnownValues)
     EXPECT_LT(jsonValue(sj, "ate_rmse_m"), 1e-9);
     EXPECT_LT(jsonValue(sj, "t_rel_percent"), 1e-9);
 }
+
+namespace
+{
+/** The unit square z = 0 sampled every 2 cm (normal +z, seen from 2 m). */
+emslam::eval::ReferenceSurface floorSquare()
+{
+    emslam::eval::ReferenceSurface r;
+    r.spacing = 0.02;
+    for (int i = 0; i < 50; ++i)
+    {
+        for (int j = 0; j < 50; ++j)
+        {
+            r.points.emplace_back(
+                static_cast<float>((i + 0.5) * 0.02), static_cast<float>((j + 0.5) * 0.02), 0.0F);
+            r.normals.emplace_back(0.0F, 0.0F, 1.0F);
+            r.seen_range.push_back(2.0F);
+        }
+    }
+    return r;
+}
+
+/** A free 2 x 2 m grid of 10 cm cells with the cells of `occupied` (x, y) set. */
+void writeGrid(const std::string& file, const std::vector<std::pair<double, double>>& occupied)
+{
+    mrpt::maps::COccupancyGridMap2D g;
+    g.setSize(0.0F, 2.0F, 0.0F, 2.0F, 0.1F, 1.0F);
+    for (const auto& [x, y] : occupied)
+    {
+        g.setCell(g.x2idx(x), g.y2idx(y), 0.0F);
+    }
+    emslam::io::GzOutputStream f(file, 1, file);
+    mrpt::serialization::archiveFrom(f) << g;
+    f.close();
+}
+}  // namespace
+
+// The map is the left half of the floor square, 3 cm above it; the grid has
+// one of its two walls' cells right and one false cell.
+TEST(EvalApp, measuresAMapAndAGridAgainstTheTruth)
+{
+    const std::string dir = emslam::test::makeTempDir("eval_app_map");
+    const auto truth = floorSquare();
+    emslam::apps::saveReferencePly(truth, dir + "/ref.ply");
+    emslam::slam::IntensityCloud map;
+    for (const auto& p : truth.points)
+    {
+        if (p.x < 0.5F)
+        {
+            map.points.emplace_back(p.x, p.y, 0.03F);
+            map.intensity.push_back(128);
+        }
+    }
+    emslam::apps::savePly(map, dir + "/map.ply");
+    writeGrid(dir + "/plan.gridmap", {{0.55, 0.55}, {1.55, 1.55}});
+    writeGrid(dir + "/grid.gridmap", {{0.65, 0.55}, {1.05, 0.25}});
+
+    const EvalRun r = runEval(
+        {"--map", dir + "/map.ply", "--map-gt", dir + "/ref.ply", "--grid", dir + "/grid.gridmap",
+         "--grid-gt", dir + "/plan.gridmap", "--json", dir + "/m.json"});
+    ASSERT_EQ(r.exit_code, 0) << r.err;
+    EXPECT_NE(r.out.find("map accuracy       median 0.0300 m"), std::string::npos) << r.out;
+    EXPECT_NE(r.out.find("grid occupied      precision 0.500, recall 0.500"), std::string::npos)
+        << r.out;
+    EXPECT_EQ(r.out.find("ATE"), std::string::npos) << "no trajectory was given";
+    const std::string json = readFile(dir + "/m.json");
+    EXPECT_NEAR(jsonValue(json, "accuracy_median_m"), 0.03, 1e-6) << json;
+    EXPECT_NEAR(jsonValue(json, "accuracy_p90_m"), 0.03, 1e-6);
+    // Columns x < 0.5 (25 of 50), and x = 0.51, 0.53 within 5 cm of them.
+    EXPECT_DOUBLE_EQ(jsonValue(json, "completeness"), 27.0 / 50.0);
+    EXPECT_DOUBLE_EQ(jsonValue(json, "f1"), 0.5);
+
+    // With trajectories too: their keys stay at the top level.
+    line(1.0).saveToFile(dir + "/gt.tum");
+    const EvalRun both = runEval(
+        {dir + "/gt.tum", dir + "/gt.tum", "--map", dir + "/map.ply", "--map-gt", dir + "/ref.ply",
+         "--json", dir + "/b.json"});
+    ASSERT_EQ(both.exit_code, 0) << both.err;
+    const std::string bj = readFile(dir + "/b.json");
+    EXPECT_EQ(jsonValue(bj, "matched_poses"), 41.0) << bj;
+    EXPECT_NE(bj.find("\"map_accuracy\": {"), std::string::npos) << bj;
+    EXPECT_NEAR(jsonValue(bj, "accuracy_median_m"), 0.03, 1e-6);
+
+    expectFailure({"--map", dir + "/map.ply"}, {"--map and --map-gt go together"});
+    expectFailure({"--grid-gt", dir + "/plan.gridmap"}, {"--grid and --grid-gt go together"});
+    expectFailure(
+        {"--map", dir + "/ref.ply", "--map-gt", dir + "/none.ply"}, {"none.ply", "true surfaces"});
+    expectFailure(
+        {"--grid", dir + "/map.ply", "--grid-gt", dir + "/plan.gridmap"},
+        {"map.ply' is not an MRPT occupancy grid"});
+    expectFailure(
+        {"--map", dir + "/map.ply", "--map-gt", dir + "/ref.ply", "--completeness-distance", "0"},
+        {"--completeness-distance"});
+}
+
+#if defined(EMSLAM_SIM_EXE) && defined(EMSLAM_MAPPER_EXE) && defined(EMSLAM_EVAL_EXE)
+// End to end (label e2e): the simulator's truth, the mapper's map and grid of
+// the first 60 frames of the hall, and emslam-eval's figures for them.
+TEST(EvalApp, endToEndSimMapperEvalMeasuresTheMap)
+{
+    const std::string dir = emslam::test::makeTempDir("eval_app_e2e");
+    const std::string src = emslam::test::sourceDir();
+    const std::string mapper_ini = src + "/config/mapper/3dof-low-structured.ini";
+    const auto sim = emslam::test::runProgram(
+        EMSLAM_SIM_EXE,
+        {src + "/config/sim/hall_double_loop.ini", "-o", dir + "/h.rawlog", "--gt-out",
+         dir + "/h.tum", "--max-frames", "60", "--map-gt-out", dir + "/ref.ply", "--grid-gt-out",
+         dir + "/plan.gridmap", "--grid-config", mapper_ini, "-q"});
+    ASSERT_EQ(sim.exit_code, 0) << sim.stderr_text;
+    const auto mapper = emslam::test::runProgram(
+        EMSLAM_MAPPER_EXE, {mapper_ini, dir + "/h.rawlog", "--out", dir + "/map", "-q"});
+    ASSERT_EQ(mapper.exit_code, 0) << mapper.stderr_text;
+    const auto eval = emslam::test::runProgram(
+        EMSLAM_EVAL_EXE,
+        {dir + "/h.tum", dir + "/map/trajectory_slam.tum", "--map", dir + "/map/map.ply",
+         "--map-gt", dir + "/ref.ply", "--grid", dir + "/map/map_grid.gridmap", "--grid-gt",
+         dir + "/plan.gridmap", "--json", dir + "/eval.json"});
+    ASSERT_EQ(eval.exit_code, 0) << eval.stderr_text;
+    EXPECT_NE(eval.stdout_text.find("map accuracy       median"), std::string::npos)
+        << eval.stdout_text;
+    EXPECT_NE(eval.stdout_text.find("grid occupied      precision"), std::string::npos);
+    const std::string json = readFile(dir + "/eval.json");
+    // Stereo at 320 x 240 with a 10 cm baseline, points out to 12 m: a
+    // median of about a decimetre (0.12 m measured), half of the near
+    // surfaces (0.52) covered; the grid F1 is low (0.14, see doc).
+    EXPECT_GT(jsonValue(json, "accuracy_median_m"), 0.01) << json;
+    EXPECT_LT(jsonValue(json, "accuracy_median_m"), 0.5);
+    EXPECT_LT(jsonValue(json, "accuracy_p90_m"), 2.0);
+    EXPECT_GT(jsonValue(json, "completeness_near"), 0.2);
+    EXPECT_GT(jsonValue(json, "true_occupied"), 50.0);
+    EXPECT_GE(jsonValue(json, "f1"), 0.0);
+}
+#endif
 
 TEST(EvalApp, badInputFailsWithMessage)
 {

@@ -82,6 +82,19 @@ TEST(ExperimentsApp, quickRunOfThePaperSuiteWritesEveryTableAndRun)
         EXPECT_EQ(r.ground_truth.size(), 40u);
         EXPECT_EQ(r.egomotion.size(), 40u);
         EXPECT_EQ(r.variant, "full");
+        // The maps against the true surfaces: a stereo map of 40 frames.
+        EXPECT_GT(r.slam_map_median_m, 0.0);
+        EXPECT_GE(r.slam_map_p90_m, r.slam_map_median_m);
+        EXPECT_GT(r.slam_map_completeness, 0.02);
+        EXPECT_LE(r.slam_map_completeness, 1.0);
+        EXPECT_GT(r.egomotion_map_median_m, 0.0);
+        if (r.experiment != "outdoor_eight" && r.experiment != "river_bed_loop")
+        {
+            // Indoors (0.04-0.12 m measured). Outdoors the medians are metres:
+            // stereo puts points in the flat, noisy sky, far from any surface.
+            EXPECT_LT(r.slam_map_median_m, 0.5);
+            EXPECT_LT(r.egomotion_map_median_m, 0.5);
+        }
         const std::string run = out + "/runs/" + r.experiment + "/" +
                                 fs::path(r.mapper).stem().string() + "/full/seed7";
         for (const char* f :
@@ -102,6 +115,7 @@ TEST(ExperimentsApp, quickRunOfThePaperSuiteWritesEveryTableAndRun)
     EXPECT_NE(md.find("paper SLAM gap [m]"), std::string::npos);
     EXPECT_NE(md.find("| three_corridors (open) |"), std::string::npos);
     EXPECT_NE(md.find("H rect. (before LC)"), std::string::npos);
+    EXPECT_NE(md.find("| SLAM map med. [m] |"), std::string::npos);
     EXPECT_EQ(count(md, "\n| "), 1u + 11u);  // header and one row per run (one seed: no medians)
 
     const std::string json = readFile(out + "/experiments.json");

@@ -1,7 +1,8 @@
 // SPDX-License-Identifier: BSD-3-Clause
 // emslam-mapview's loading: entropy_map.bin and .3Dscene files become scenes
 // (the window itself is covered by the LiveViewer test); bad files fail
-// naming the file and the cause.
+// naming the file and the cause; no window (no display, no OpenGL) fails the
+// program.
 #include "MapDrawingFixture.h"
 #include "TestData.h"
 #include "TestHelpers.h"
@@ -62,3 +63,50 @@ TEST(MapViewApp, badFilesFailNamingTheFileAndCause)
         [&] { MapViewApp::loadScene(dir + "/bad.3Dscene", 10); },
         {"bad.3Dscene", "not a readable .3Dscene"});
 }
+
+#ifdef EMSLAM_MAPVIEW_EXE
+namespace
+{
+/** A small scene file to show. */
+std::string sceneFile(const std::string& tag)
+{
+    const emslam::test::MapDrawingFixture f;
+    const std::string file = emslam::test::makeTempDir(tag) + "/map.3Dscene";
+    emslam::apps::writeMapScene(f.content(), file);
+    return file;
+}
+}  // namespace
+
+// Nothing to show the scene on: a clear error and exit status 1, not 0.
+TEST(MapViewApp, noDisplayExitsNonZeroWithTheReason)
+{
+    const std::string file = sceneFile("mapview_no_display");
+    const auto run =
+        emslam::test::runProgram("/usr/bin/env", {"-u", "DISPLAY", EMSLAM_MAPVIEW_EXE, file});
+    EXPECT_EQ(run.exit_code, 1) << run.stderr_text;
+    EXPECT_NE(
+        run.stderr_text.find(
+            "emslam-mapview: error: cannot show '" + file + "': DISPLAY is not set"),
+        std::string::npos)
+        << run.stderr_text;
+}
+
+// A display without OpenGL (an Xvfb without its GLX extension): the window
+// toolkit only times out (5 s), so the program checks the window opened.
+TEST(MapViewApp, noOpenGlWindowExitsNonZeroWithTheReason)
+{
+    if (emslam::test::runProgram("/bin/sh", {"-c", "command -v xvfb-run"}).exit_code != 0)
+    {
+        GTEST_SKIP() << "xvfb-run not installed";
+    }
+    const std::string file = sceneFile("mapview_no_glx");
+    const auto run = emslam::test::runProgram(
+        "/usr/bin/env", {"xvfb-run", "-a", "-s", "-extension GLX", EMSLAM_MAPVIEW_EXE, file});
+    EXPECT_EQ(run.exit_code, 1) << run.stderr_text;
+    EXPECT_NE(
+        run.stderr_text.find(
+            "emslam-mapview: error: cannot show '" + file + "': no window opened on display"),
+        std::string::npos)
+        << run.stderr_text;
+}
+#endif

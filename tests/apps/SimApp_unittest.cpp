@@ -3,11 +3,14 @@
 #include "TestHelpers.h"
 
 #include <emslam/apps/AppMain.h>
+#include <emslam/apps/PlyFile.h>
 #include <emslam/apps/SimApp.h>
+#include <emslam/io/OpenCvStereoCalibration.h>
 #include <emslam/io/TumTrajectory.h>
 #include <emslam/sim/StereoSimulator.h>
 
 #include <mrpt/io/CFileGZInputStream.h>
+#include <mrpt/maps/COccupancyGridMap2D.h>
 #include <mrpt/obs/CObservationStereoImages.h>
 #include <mrpt/serialization/CArchive.h>
 
@@ -20,6 +23,9 @@
 #include <filesystem>
 #include <fstream>
 #include <iterator>
+#include <opencv2/core.hpp>
+#include <opencv2/imgproc.hpp>
+#include <opencv2/videoio.hpp>
 #include <string>
 #include <vector>
 
@@ -115,6 +121,107 @@ TEST(SimApp, writesRawlogAndGroundTruthThatReadBack)
     }
     EXPECT_EQ(gt.poses[0].pose.norm(), 0.0);
     EXPECT_GT(gt.poses[5].pose.norm(), 0.3);
+}
+
+// --video writes the frames side by side (FFV1: exactly), --video-calibration
+// the rawlog's calibration; a bad codec or calibration name is a usage error.
+TEST(SimApp, videoHoldsTheRawlogsFramesSideBySide)
+{
+    const std::string out = emslam::test::makeTempDir("sim_app_video");
+    SimApp app;
+    initApp(
+        app, {emslam::test::sourceDir() + HALL, "-o", out + "/h.rawlog", "--max-frames", "4",
+              "--video", out + "/h.mkv", "--video-calibration", out + "/h.yml", "--quiet"});
+    app.run();
+    EXPECT_FALSE(fs::exists(out + "/h.partial.mkv"));
+    const auto obs = readRawlog(out + "/h.rawlog");
+    ASSERT_EQ(obs.size(), 4U);
+    cv::VideoCapture cap(out + "/h.mkv", cv::CAP_FFMPEG);
+    ASSERT_TRUE(cap.isOpened());
+    EXPECT_DOUBLE_EQ(cap.get(cv::CAP_PROP_FPS), 5.0);  // the world's [Simulation] fps
+    cv::Mat frame, grey;
+    std::size_t k = 0;
+    for (; cap.read(frame); ++k)
+    {
+        ASSERT_LT(k, obs.size());
+        cv::cvtColor(frame, grey, cv::COLOR_BGR2GRAY);
+        ASSERT_EQ(grey.cols, 640);
+        EXPECT_EQ(
+            cv::norm(grey.colRange(0, 320), obs[k]->imageLeft.asCvMatRef(), cv::NORM_INF), 0.0);
+        EXPECT_EQ(
+            cv::norm(grey.colRange(320, 640), obs[k]->imageRight.asCvMatRef(), cv::NORM_INF), 0.0);
+    }
+    EXPECT_EQ(k, 4U);
+    const auto cam = emslam::io::loadOpenCvStereoCalibration(out + "/h.yml");
+    EXPECT_EQ(cam.leftCamera.ncols, 320U);
+    EXPECT_DOUBLE_EQ(cam.leftCamera.fx(), obs[0]->leftCamera.fx());
+    EXPECT_DOUBLE_EQ(cam.leftCamera.cx(), obs[0]->leftCamera.cx());
+    EXPECT_NEAR(cam.rightCameraPose.x, obs[0]->rightCameraPose.x(), 1e-15);
+
+    SimApp bad;
+    emslam::test::expectThrowContaining(
+        [&]
+        {
+            initApp(
+                bad, {emslam::test::sourceDir() + HALL, "-o", out + "/b.rawlog", "--video",
+                      out + "/b.avi", "--video-codec", "FFV"});
+        },
+        {"--video-codec"});
+    emslam::test::expectThrowContaining(
+        [&]
+        {
+            initApp(
+                bad, {emslam::test::sourceDir() + HALL, "-o", out + "/b.rawlog", "--video",
+                      out + "/b.avi", "--video-calibration", out + "/c.txt"});
+        },
+        {"--video-calibration", ".yml"});
+}
+
+TEST(SimApp, writesTheTrueSurfacesAndFloorPlanTheFramesSaw)
+{
+    const std::string out = emslam::test::makeTempDir("sim_app_truth");
+    SimApp app;
+    initApp(
+        app, {emslam::test::sourceDir() + HALL, "-o", out + "/h.rawlog", "--max-frames", "6",
+              "--map-gt-out", out + "/ref.ply", "--map-gt-spacing", "0.03", "--map-gt-range", "8",
+              "--grid-gt-out", out + "/plan.gridmap", "--grid-config",
+              emslam::test::sourceDir() + "/config/mapper/3dof-low-structured.ini", "--quiet"});
+    app.run();
+    const auto ref = emslam::apps::loadPly(out + "/ref.ply");
+    EXPECT_EQ(ref.points.size(), app.reference_points);
+    EXPECT_GT(ref.points.size(), 10000U);
+    EXPECT_DOUBLE_EQ(ref.spacing, 0.03);
+    ASSERT_EQ(ref.normals.size(), ref.points.size());
+    ASSERT_EQ(ref.seen_range.size(), ref.points.size());
+    for (std::size_t i = 0; i < ref.points.size(); ++i)
+    {
+        // The hall's floor is 1 m below the first camera (y down), its
+        // ceiling 2.5 m above; the first frames look along +z at the wall
+        // 21 m ahead, out of range.
+        const auto& p = ref.points[i];
+        ASSERT_GE(p.y, -2.5F - 1e-4F);
+        ASSERT_LE(p.y, 1.0F + 1e-4F);
+        ASSERT_GT(p.z, 0.0F);
+        ASSERT_LE(ref.seen_range[i], 8.0F);
+    }
+    mrpt::io::CFileGZInputStream f(out + "/plan.gridmap");
+    mrpt::maps::COccupancyGridMap2D plan;
+    mrpt::serialization::archiveFrom(f) >> plan;
+    EXPECT_NEAR(plan.getResolution(), 0.1, 1e-6);
+    std::size_t occupied = 0;
+    for (unsigned cy = 0; cy < plan.getSizeY(); ++cy)
+    {
+        for (unsigned cx = 0; cx < plan.getSizeX(); ++cx)
+        {
+            occupied += plan.getCell(cx, cy) < 0.5F ? 1 : 0;
+        }
+    }
+    EXPECT_EQ(occupied, app.floor_plan_occupied);
+    // The side walls 2 m left and right of the path (grid Y = left), seen
+    // from the start on: occupied cells there, none in the free middle.
+    EXPECT_GT(occupied, 40U);
+    EXPECT_GT(plan.getPos(4.05F, 1.95F) < 0.5F || plan.getPos(4.05F, 2.05F) < 0.5F, 0);
+    EXPECT_GT(plan.getPos(4.05F, 0.05F), 0.5F);
 }
 
 TEST(SimApp, sameSeedSameBytesOtherSeedOtherBytes)

@@ -1,5 +1,6 @@
 // SPDX-License-Identifier: BSD-3-Clause
 #include "PngWithSize.h"
+#include "SyntheticKitti.h"
 #include "TestData.h"
 #include "TestHelpers.h"
 
@@ -25,65 +26,18 @@ namespace fs = std::filesystem;
 using emslam::test::expectThrowContaining;
 using emslam::test::writeFile;
 
+using emslam::test::kittiPixel;
+using emslam::test::writeKittiSequence;
+constexpr int W = emslam::test::KITTI_W;
+constexpr int H = emslam::test::KITTI_H;
+constexpr double FX = emslam::test::KITTI_FX;
+constexpr double BASELINE = emslam::test::KITTI_BASELINE;
+
 namespace
 {
 std::string frameName(const std::string& dir, const char* sub, int i)
 {
-    char name[16];
-    std::snprintf(name, sizeof(name), "%06d.png", i);
-    return dir + "/" + sub + "/" + name;
-}
-
-/** Pixel (u, v) of synthetic image `i`, left (0) or right (1). */
-std::uint8_t pixel(int i, int side, int u, int v)
-{
-    return static_cast<std::uint8_t>((7 * u + 3 * v + 11 * i + 50 * side) % 256);
-}
-
-constexpr int W = 40;
-constexpr int H = 24;
-constexpr double FX = 50.0;
-constexpr double BASELINE = 0.25;
-
-/** A small valid KITTI sequence with `n` frames in `root/seq`; poses in
- * `root/poses.txt` (frame i at z = i metres, rotated i*0.01 rad about y). */
-std::string writeSequence(const std::string& root, int n)
-{
-    std::string dir = root + "/seq";
-    fs::create_directories(dir + "/image_0");
-    fs::create_directories(dir + "/image_1");
-    char p0[256], p1[256];
-    std::snprintf(p0, sizeof(p0), "P0: %g 0 %g 0 0 %g %g 0 0 0 1 0\n", FX, W / 2.0, FX, H / 2.0);
-    std::snprintf(
-        p1, sizeof(p1), "P1: %g 0 %g %g 0 %g %g 0 0 0 1 0\n", FX, W / 2.0, -BASELINE * FX, FX,
-        H / 2.0);
-    writeFile(dir + "/calib.txt", std::string(p0) + p1 + "P2: 1 0 0 0 0 1 0 0 0 0 1 0\n");
-    std::string times, poses;
-    for (int i = 0; i < n; i++)
-    {
-        times += std::to_string(0.1 * i) + "\n";
-        const double a = 0.01 * i;
-        char line[256];
-        std::snprintf(
-            line, sizeof(line), "%.9f 0 %.9f 0 0 1 0 0 %.9f 0 %.9f %d\n", std::cos(a), std::sin(a),
-            -std::sin(a), std::cos(a), i);
-        poses += line;
-        for (int side = 0; side < 2; side++)
-        {
-            cv::Mat im(H, W, CV_8UC1);
-            for (int v = 0; v < H; v++)
-            {
-                for (int u = 0; u < W; u++)
-                {
-                    im.at<std::uint8_t>(v, u) = pixel(i, side, u, v);
-                }
-            }
-            cv::imwrite(frameName(dir, side == 0 ? "image_0" : "image_1", i), im);
-        }
-    }
-    writeFile(dir + "/times.txt", times);
-    writeFile(root + "/poses.txt", poses);
-    return dir;
+    return emslam::test::kittiFrameName(dir, sub, i);
 }
 }  // namespace
 
@@ -123,7 +77,7 @@ TEST(KittiSequence, readsRealSequence06)
 TEST(KittiSequence, readsSyntheticSequence)
 {
     const std::string root = emslam::test::makeTempDir("kitti_ok");
-    const std::string dir = writeSequence(root, 5);
+    const std::string dir = writeKittiSequence(root, 5);
     KittiSequence s;
     EXPECT_FALSE(s.isOpen());
     s.sensor_label = "CAM";
@@ -143,8 +97,8 @@ TEST(KittiSequence, readsSyntheticSequence)
     const auto R = f.obs->imageRight.asCvMat<cv::Mat>(mrpt::img::SHALLOW_COPY);
     for (const auto& [u, v] : {std::pair{0, 0}, std::pair{W - 1, H - 1}, std::pair{17, 9}})
     {
-        EXPECT_EQ(L.at<std::uint8_t>(v, u), pixel(3, 0, u, v));
-        EXPECT_EQ(R.at<std::uint8_t>(v, u), pixel(3, 1, u, v));
+        EXPECT_EQ(L.at<std::uint8_t>(v, u), kittiPixel(3, 0, u, v));
+        EXPECT_EQ(R.at<std::uint8_t>(v, u), kittiPixel(3, 1, u, v));
     }
     const auto cam = f.obs->getStereoCameraParams();
     EXPECT_DOUBLE_EQ(cam.leftCamera.fx(), FX);
@@ -184,7 +138,7 @@ TEST(KittiSequence, missingFolderThrows)
 TEST(KittiSequence, missingOrGarbledCalibrationThrows)
 {
     const std::string root = emslam::test::makeTempDir("kitti_calib");
-    const std::string dir = writeSequence(root, 3);
+    const std::string dir = writeKittiSequence(root, 3);
     const std::string calib = dir + "/calib.txt";
     std::ifstream in(calib);
     std::string p0, p1;
@@ -208,7 +162,7 @@ TEST(KittiSequence, missingOrGarbledCalibrationThrows)
 TEST(KittiSequence, sizeMismatchThrows)
 {
     const std::string root = emslam::test::makeTempDir("kitti_size");
-    const std::string dir = writeSequence(root, 3);
+    const std::string dir = writeKittiSequence(root, 3);
     // First pair: left/right differ -> open() fails.
     cv::imwrite(frameName(dir, "image_1", 0), cv::Mat(H, W + 2, CV_8UC1, cv::Scalar(9)));
     expectThrowContaining(
@@ -226,7 +180,7 @@ TEST(KittiSequence, sizeMismatchThrows)
 TEST(KittiSequence, hugeImageIsRefusedFromItsHeader)
 {
     const std::string root = emslam::test::makeTempDir("kitti_huge");
-    const std::string dir = writeSequence(root, 3);
+    const std::string dir = writeKittiSequence(root, 3);
     const std::string left1 = frameName(dir, "image_0", 1);
     emslam::test::writePngDeclaring(left1, 30000, 30000);
     KittiSequence s(dir);
@@ -256,7 +210,7 @@ TEST(KittiSequence, hugeImageIsRefusedFromItsHeader)
 TEST(KittiSequence, unreadableImageThrows)
 {
     const std::string root = emslam::test::makeTempDir("kitti_garbage");
-    const std::string dir = writeSequence(root, 3);
+    const std::string dir = writeKittiSequence(root, 3);
     writeFile(frameName(dir, "image_1", 2), "this is not a PNG file");
     KittiSequence s(dir);
     expectThrowContaining([&] { s.frame(2); }, {frameName(dir, "image_1", 2), "Cannot read"});
@@ -267,13 +221,13 @@ TEST(KittiSequence, unreadableImageThrows)
 TEST(KittiSequence, missingImageOrTimesMismatchThrows)
 {
     const std::string root = emslam::test::makeTempDir("kitti_missing");
-    const std::string dir = writeSequence(root, 3);
+    const std::string dir = writeKittiSequence(root, 3);
     fs::rename(frameName(dir, "image_1", 1), dir + "/image_1/000009.png");
     expectThrowContaining([&] { KittiSequence s(dir); }, {frameName(dir, "image_1", 1)});
     fs::remove(dir + "/image_1/000009.png");
     expectThrowContaining([&] { KittiSequence s(dir); }, {"times.txt", "3 frames", "2 PNG"});
 
-    const std::string dir2 = writeSequence(emslam::test::makeTempDir("kitti_times"), 3);
+    const std::string dir2 = writeKittiSequence(emslam::test::makeTempDir("kitti_times"), 3);
     writeFile(dir2 + "/times.txt", "0.0\n0.1\nzero.two\n");
     expectThrowContaining([&] { KittiSequence s(dir2); }, {"times.txt:3"});
     // Were accepted and gave NaN or 0 timestamps in the rawlog.
@@ -289,7 +243,7 @@ TEST(KittiSequence, missingImageOrTimesMismatchThrows)
 TEST(KittiSequence, poseCountMismatchThrows)
 {
     const std::string root = emslam::test::makeTempDir("kitti_poses");
-    const std::string dir = writeSequence(root, 4);
+    const std::string dir = writeKittiSequence(root, 4);
     const std::string poses = root + "/poses.txt";
     std::ifstream in(poses);
     std::string l0, l1, l2;

@@ -285,6 +285,45 @@ TEST(ElementClouds, withoutCompressionTheMapIsTheUnionOfTheFrameClouds)
     EXPECT_THROW(clouds.worldCloud({}), std::logic_error);
 }
 
+TEST(ElementClouds, takeScansHandsOverEveryCloudInItsFrame)
+{
+    const auto landmarks = wallLandmarks();
+    Trajectory t(mapOptions());
+    ElementClouds clouds(4, CELL);  // compressed: fused elements hold one cloud
+    for (std::size_t k = 0; k < 12; ++k)
+    {
+        const IntensityCloud c = view(truePose(k), landmarks);
+        t.append(k == 0 ? truePose(0) : truePose(k) - truePose(k - 1), weighted(c), 0.1 * k, k);
+        if (t.size() > 4)
+        {
+            t.compress();
+        }
+        clouds.append(k, c);
+        clouds.fuse(t.framePoses());
+    }
+    const IntensityCloud world = clouds.worldCloud(t.framePoses());
+    const std::size_t points = clouds.pointCount();
+    const auto scans = clouds.takeScans();
+    ASSERT_EQ(scans.size(), t.size());
+    // Placed at their frames' poses, the scans are the map cloud.
+    std::map<std::size_t, CPose3D> pose_of;
+    for (const auto& p : t.framePoses())
+    {
+        pose_of[p.frame_index] = p.T_world_frame;
+    }
+    IntensityCloud placed;
+    std::size_t taken = 0;
+    for (std::size_t e = 0; e < scans.size(); ++e)
+    {
+        EXPECT_EQ(scans[e].frame_index, t.framesOf(e).front().frame_index);
+        placed.appendTransformed(scans[e].cloud, pose_of.at(scans[e].frame_index));
+        taken += scans[e].cloud.size();
+    }
+    EXPECT_EQ(taken, points);
+    EXPECT_EQ(emslam::slam::voxelDownsample(placed, CELL).size(), world.size());
+    EXPECT_EQ(clouds.pointCount(), 0u);
+}
+
 TEST(ElementClouds, followsAnAnyTimeRunnerWhileItRectifies)
 {
     // Slightly drifted actions, so the rectifier moves the frames while they

@@ -168,10 +168,10 @@ TEST(LoopCloser, aPeriodicWorldIsUnreliableAndClosesNoLoop)
     const LoopRun run = runLoop(closer, textures, STEPS);
     const auto& s = closer.stats();
     std::printf(
-        "periodic: %zu registrations, %zu loop edges, %zu dropped, %zu groups refused, %zu "
-        "withdrawn: %s\n",
-        s.registrations, s.loop_edges, s.dropped_edges, s.refused_groups, s.withdrawn_edges,
-        s.unreliable.c_str());
+        "periodic: %zu registrations, %zu loop edges, %zu dropped, %zu groups refused (%zu "
+        "contradicting, %zu keyframes), %zu withdrawn: %s\n",
+        s.registrations, s.loop_edges, s.dropped_edges, s.refused_groups, s.contradicting_groups,
+        s.contradicting_keyframes, s.withdrawn_edges, s.unreliable.c_str());
     EXPECT_FALSE(s.unreliable.empty());
     EXPECT_EQ(closer.unreliable(), s.unreliable);
     EXPECT_TRUE(closer.loopEdges().empty());

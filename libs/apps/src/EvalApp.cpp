@@ -1,12 +1,16 @@
 // SPDX-License-Identifier: BSD-3-Clause
 #include <emslam/apps/CommandLine.h>
 #include <emslam/apps/EvalApp.h>
+#include <emslam/apps/PlyFile.h>
+#include <emslam/io/InputFileChecks.h>
 #include <emslam/io/InputOutputClash.h>
 #include <emslam/io/OutputFile.h>
 #include <emslam/io/TrajectoryInput.h>
-#include <emslam/stereo/ExceptionMessage.h>
+#include <emslam/util/ExceptionMessage.h>
 
 #include <mrpt/core/format.h>
+#include <mrpt/io/CFileGZInputStream.h>
+#include <mrpt/serialization/CArchive.h>
 
 #include <cmath>
 #include <cstdio>
@@ -32,6 +36,50 @@ std::string fmt(double v, const char* f = "%.4f")
     std::snprintf(buf, sizeof(buf), f, v);
     return buf;
 }
+
+/** `"key": object` as a member of an enclosing JSON object (indented). */
+std::string jsonMember(const std::string& key, const std::string& object)
+{
+    std::string out = "  \"" + key + "\": ";
+    for (std::size_t i = 0; i < object.size(); ++i)
+    {
+        out += object[i];
+        if (object[i] == '\n' && i + 1 < object.size())
+        {
+            out += "  ";
+        }
+    }
+    while (!out.empty() && out.back() == '\n')
+    {
+        out.pop_back();
+    }
+    return out;
+}
+
+/** An MRPT occupancy grid from a (gz-compressed or plain) serialized file. */
+mrpt::maps::COccupancyGridMap2D loadGrid(const std::string& file, const std::string& what)
+{
+    io::requireInputFile(file, what);
+    mrpt::maps::COccupancyGridMap2D grid;
+    try
+    {
+        mrpt::io::CFileGZInputStream f(file);
+        mrpt::serialization::archiveFrom(f) >> grid;
+    }
+    catch (const std::exception& e)
+    {
+        throw std::runtime_error(
+            "'" + file + "' is not an MRPT occupancy grid (" +
+            emslam::stereo::shortExceptionMessage(e) + ")");
+    }
+    return grid;
+}
+
+std::vector<mrpt::math::TPoint3Df> loadMapCloud(const std::string& file)
+{
+    io::requireInputFile(file, "map cloud (--map)");
+    return loadPly(file).points;
+}
 }  // namespace
 
 EvalApp::EvalApp() : App(PROGRAM) {}
@@ -43,10 +91,43 @@ bool EvalApp::parseArguments(int argc, const char** argv)
         "times or EuRoC ground-truth CSV, told from the content): ATE RMSE after alignment, "
         "KITTI drift, end-point error, loop gap, path length.",
         ' ', "0.1");
-    TCLAP::UnlabeledValueArg<std::string> gt(
-        "gt", "Ground-truth trajectory (TUM, KITTI poses or EuRoC CSV)", true, "", "GT", cmd);
-    TCLAP::UnlabeledValueArg<std::string> est(
-        "est", "Estimated trajectory (TUM, KITTI poses or EuRoC CSV)", true, "", "EST", cmd);
+    // One optional multi-argument: TCLAP allows no unlabeled argument after an
+    // optional one, and both are optional when only a map is measured.
+    TCLAP::UnlabeledMultiArg<std::string> trajectories(
+        "trajectories",
+        "GT EST: the ground-truth trajectory, then the estimate (each TUM, KITTI poses or EuRoC "
+        "CSV)",
+        false, "GT EST", cmd);
+    TCLAP::ValueArg<std::string> map_arg(
+        "", "map", "A map cloud (PLY, e.g. the mapper's map.ply) to measure against --map-gt",
+        false, "", "MAP.ply", cmd);
+    TCLAP::ValueArg<std::string> map_gt_arg(
+        "", "map-gt", "The true surfaces (PLY of 'emslam-sim --map-gt-out')", false, "", "REF.ply",
+        cmd);
+    TCLAP::ValueArg<double> completeness_arg(
+        "", "completeness-distance",
+        withDefault(
+            "A true surface sample is covered if a map point is this close [m]",
+            mrpt::format("%g", map_options.completeness_distance)),
+        false, map_options.completeness_distance, "M", cmd);
+    TCLAP::ValueArg<double> near_arg(
+        "", "near-range",
+        withDefault(
+            "Completeness is also given over the samples seen within this depth [m]",
+            mrpt::format("%g", map_options.near_range)),
+        false, map_options.near_range, "M", cmd);
+    TCLAP::ValueArg<std::string> grid_arg(
+        "", "grid", "An occupancy grid (the mapper's map_grid.gridmap) to compare with --grid-gt",
+        false, "", "MAP.gridmap", cmd);
+    TCLAP::ValueArg<std::string> grid_gt_arg(
+        "", "grid-gt", "The true floor plan ('emslam-sim --grid-gt-out')", false, "",
+        "PLAN.gridmap", cmd);
+    TCLAP::ValueArg<long long> grid_tolerance_arg(
+        "", "grid-tolerance",
+        withDefault(
+            "An occupied cell matches one of the other grid this many cells away",
+            std::to_string(grid_tolerance)),
+        false, grid_tolerance, "CELLS", cmd);
     TCLAP::ValueArg<std::string> gt_format_arg(
         "", "gt-format",
         withDefault("Format of GT: auto (from the content), tum, kitti or euroc", "auto"), false,
@@ -90,8 +171,44 @@ bool EvalApp::parseArguments(int argc, const char** argv)
     {
         return false;
     }
-    m_gt = gt.getValue();
-    m_est = est.getValue();
+    const auto& files = trajectories.getValue();
+    if (files.size() != 0 && files.size() != 2)
+    {
+        usageError(
+            files.size() == 1 ? "missing required argument <EST> (GT then EST)"
+                              : "three or more trajectories: give GT then EST");
+    }
+    m_gt = files.empty() ? "" : files[0];
+    m_est = files.empty() ? "" : files[1];
+    m_map = map_arg.getValue();
+    m_map_gt = map_gt_arg.getValue();
+    m_grid = grid_arg.getValue();
+    m_grid_gt = grid_gt_arg.getValue();
+    for (const auto& [a, b, what] :
+         {std::tuple{&m_gt, &m_est, "GT and EST"},
+          {&m_map, &m_map_gt, "--map and --map-gt"},
+          {&m_grid, &m_grid_gt, "--grid and --grid-gt"}})
+    {
+        if (a->empty() != b->empty())
+        {
+            usageError(std::string(what) + " go together");
+        }
+    }
+    if (m_gt.empty() && m_map.empty() && m_grid.empty())
+    {
+        usageError(
+            "missing required arguments <GT>, <EST> (or --map and --map-gt, or --grid and "
+            "--grid-gt)");
+    }
+    map_options.completeness_distance = completeness_arg.getValue();
+    map_options.near_range = near_arg.getValue();
+    if (!(map_options.completeness_distance > 0) ||
+        !std::isfinite(map_options.completeness_distance) || !(map_options.near_range > 0))
+    {
+        usageError("--completeness-distance and --near-range must be positive distances [m]");
+    }
+    grid_tolerance = static_cast<int>(
+        countOption(grid_tolerance_arg.getValue(), "--grid-tolerance", 0, PROGRAM));
     for (auto [arg, o] :
          {std::pair{&gt_format_arg, &m_gt_options}, {&est_format_arg, &m_est_options}})
     {
@@ -131,12 +248,108 @@ bool EvalApp::parseArguments(int argc, const char** argv)
         {{"the JSON output (--json)", m_json}},
         {{"the ground truth", m_gt},
          {"the estimate", m_est},
+         {"the map cloud (--map)", m_map},
+         {"the true surfaces (--map-gt)", m_map_gt},
+         {"the grid (--grid)", m_grid},
+         {"the true floor plan (--grid-gt)", m_grid_gt},
          {"the ground-truth times (--gt-times)", m_gt_options.times_file},
          {"the estimate's times (--est-times)", m_est_options.times_file}});
     return true;
 }
 
 void EvalApp::execute()
+{
+    map_accuracy.reset();
+    grid_accuracy.reset();
+    std::vector<std::string> members;
+    std::string json = m_gt.empty() ? std::string("{\n") : evaluateTrajectory();
+    if (!m_map.empty())
+    {
+        members.push_back(evaluateMap());
+    }
+    if (!m_grid.empty())
+    {
+        members.push_back(evaluateGrid());
+    }
+    if (!members.empty())
+    {
+        // The trajectory's keys stay at the top level, as without a map.
+        if (json.size() > 3)
+        {
+            json.erase(json.size() - 3);  // "\n}\n"
+            json += ",\n";
+        }
+        for (std::size_t k = 0; k < members.size(); ++k)
+        {
+            json += members[k] + (k + 1 < members.size() ? ",\n" : "\n");
+        }
+        json += "}\n";
+    }
+    if (!m_json.empty())
+    {
+        io::OutputFile f(m_json);
+        f.text() << json;
+        f.close();
+        std::printf("metrics written to '%s'\n", m_json.c_str());
+    }
+}
+
+std::string EvalApp::evaluateMap()
+{
+    const auto map = loadMapCloud(m_map);
+    io::requireInputFile(m_map_gt, "true surfaces (--map-gt)");
+    const auto truth = loadPly(m_map_gt);
+    try
+    {
+        map_accuracy = eval::MapAccuracy::compute(map, truth, map_options);
+    }
+    catch (const std::invalid_argument& e)
+    {
+        throw std::runtime_error(
+            std::string(e.what()) + "; map '" + m_map + "', true surfaces '" + m_map_gt + "'");
+    }
+    const auto& a = *map_accuracy;
+    std::printf(
+        "map accuracy       median %s m, 90th percentile %s m, mean %s m (%zu map points to the "
+        "true surface)\n"
+        "map completeness   %s %% of %zu true-surface samples within %g m of the map",
+        fmt(a.median_m).c_str(), fmt(a.p90_m).c_str(), fmt(a.mean_m).c_str(), a.map_points,
+        fmt(100 * a.completeness, "%.1f").c_str(), a.reference_points,
+        map_options.completeness_distance);
+    if (a.near_reference_points > 0)
+    {
+        std::printf(
+            "; %s %% of the %zu seen within %g m", fmt(100 * a.completeness_near, "%.1f").c_str(),
+            a.near_reference_points, map_options.near_range);
+    }
+    std::printf("\n");
+    return jsonMember("map_accuracy", a.toJson());
+}
+
+std::string EvalApp::evaluateGrid()
+{
+    const auto estimate = loadGrid(m_grid, "occupancy grid (--grid)");
+    const auto truth = loadGrid(m_grid_gt, "true floor plan (--grid-gt)");
+    try
+    {
+        grid_accuracy = eval::OccupancyGridAccuracy::compute(estimate, truth, grid_tolerance);
+    }
+    catch (const std::invalid_argument& e)
+    {
+        throw std::runtime_error(
+            std::string(e.what()) + "; grid '" + m_grid + "', floor plan '" + m_grid_gt + "'");
+    }
+    const auto& g = *grid_accuracy;
+    std::printf(
+        "grid occupied      precision %s, recall %s, F1 %s (%zu occupied cells of %g m, %zu "
+        "true; matched within %d cell%s)\n",
+        fmt(g.precision, "%.3f").c_str(), fmt(g.recall, "%.3f").c_str(), fmt(g.f1, "%.3f").c_str(),
+        g.estimated_occupied, g.cell_size, g.true_occupied, g.tolerance_cells,
+        g.tolerance_cells == 1 ? "" : "s");
+    return jsonMember("grid_accuracy", g.toJson());
+}
+
+std::string EvalApp::evaluateTrajectory()
 {
     const auto gt = io::loadTrajectoryInput(m_gt, "ground-truth", m_gt_options);
     const auto est = io::loadTrajectoryInput(m_est, "estimate", m_est_options);
@@ -181,13 +394,7 @@ void EvalApp::execute()
         m.rel.segments, lengths.c_str(), options.segment_step, fmt(m.end_error_m).c_str(),
         fmt(m.loop_gap_m).c_str(), fmt(m.path_length_m, "%.3f").c_str(),
         fmt(m.est_path_length_m, "%.3f").c_str());
-    if (!m_json.empty())
-    {
-        io::OutputFile f(m_json);
-        f.text() << m.toJson();
-        f.close();
-        std::printf("metrics written to '%s'\n", m_json.c_str());
-    }
+    return m.toJson();
 }
 
 }  // namespace emslam::apps

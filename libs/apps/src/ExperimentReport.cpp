@@ -47,6 +47,17 @@ const std::vector<Column>& columns()
          [](const R& r) { return r.slam_gap_m > 0 ? r.egomotion_gap_m / r.slam_gap_m : NAN; }},
         {"ego ATE [m]", "egomotion_ate_m", 3, [](const R& r) { return r.egomotion_ate_m; }},
         {"SLAM ATE [m]", "slam_ate_m", 3, [](const R& r) { return r.slam_ate_m; }},
+        {"ego map med. [m]", "egomotion_map_median_m", 3,
+         [](const R& r) { return r.egomotion_map_median_m; }},
+        {"ego map p90 [m]", "egomotion_map_p90_m", 3,
+         [](const R& r) { return r.egomotion_map_p90_m; }},
+        {"ego map compl.", "egomotion_map_completeness", 3,
+         [](const R& r) { return r.egomotion_map_completeness; }},
+        {"SLAM map med. [m]", "slam_map_median_m", 3,
+         [](const R& r) { return r.slam_map_median_m; }},
+        {"SLAM map p90 [m]", "slam_map_p90_m", 3, [](const R& r) { return r.slam_map_p90_m; }},
+        {"SLAM map compl.", "slam_map_completeness", 3,
+         [](const R& r) { return r.slam_map_completeness; }},
         {"paper path [m]", "paper_path_m", 1, [](const R& r) { return r.paper_path_m; }},
         {"paper obs.", "paper_observations", 0, [](const R& r) { return r.paper_observations; }},
         {"paper ego gap [m]", "paper_egomotion_gap_m", 2,
@@ -182,7 +193,11 @@ std::string markdown(const std::vector<Row>& rows, const ExperimentReportInfo& i
       << "Gaps are the end-point error once the trajectory is anchored to the ground truth "
          "at its first pose: on a loop (the ground truth returns to its start) that is the "
          "paper's loop gap, the distance between the first and last poses; on an open path "
-         "(marked) it is the end error. ATE: RMSE after SE(3) alignment. H: the paper's "
+         "(marked) it is the end error. ATE: RMSE after SE(3) alignment. Map columns: the map "
+         "cloud against the true surfaces the frames saw within the mapper's stereo range "
+         "(emslam-eval --map): median and 90th percentile of the distance of its points to "
+         "them, and completeness, the share of the surfaces within 5 cm of a map point; "
+         "ego: the same keyframe clouds placed by the egomotion. H: the paper's "
          "entropy of the final map's elements placed by the ground truth, the egomotion and "
          "SLAM; H phase spread: how much H of the true map changes when the whole map moves by "
          "1/4, 1/2 or 3/4 of a cell (same geometry, another grid phase). Scan columns "
@@ -340,7 +355,9 @@ std::string html(
       << (info.interrupted ? " (interrupted: the finished runs only)" : "") << " in "
       << cell(info.seconds / 60.0, 1)
       << " min. Gaps: end-point error after anchoring at the first pose (the loop gap on "
-         "a loop); ATE after SE(3) alignment; H: the paper's entropy of the final map at "
+         "a loop); ATE after SE(3) alignment; map: distance of the map points to the true "
+         "surfaces (median, 90th percentile) and the share of the surfaces within 5 cm of the "
+         "map; H: the paper's entropy of the final map at "
          "the ground truth, the egomotion and SLAM.</p>\n<table id=\"experiments\">\n<tr>"
       << "<th>experiment</th><th>energy</th>" << (variants ? "<th>variant</th>" : "")
       << "<th>seed</th>";

@@ -5,14 +5,16 @@
 #include <emslam/apps/ExperimentRunner.h>
 #include <emslam/apps/MapperOutputs.h>
 #include <emslam/apps/MapperReport.h>
+#include <emslam/eval/MapAccuracy.h>
 #include <emslam/eval/TrajectoryMetrics.h>
 #include <emslam/maps/EntropyEnergy.h>
 #include <emslam/rectify/EnergyAtPoses.h>
 #include <emslam/sim/ExactDepthFrame.h>
 #include <emslam/sim/StereoSimulator.h>
+#include <emslam/sim/SurfaceSampler.h>
 #include <emslam/slam/EntropySlam.h>
-#include <emslam/stereo/ExceptionMessage.h>
 #include <emslam/stereo/RangeScanConversion.h>
+#include <emslam/util/ExceptionMessage.h>
 
 #include <mrpt/config/CConfigFileMemory.h>
 
@@ -20,6 +22,7 @@
 #include <chrono>
 #include <filesystem>
 #include <limits>
+#include <map>
 #include <stdexcept>
 
 namespace emslam::apps
@@ -63,8 +66,7 @@ emslam::sim::StereoSimulator loadWorld(const std::string& file, int seed)
     }
     catch (const std::exception& e)
     {
-        throw std::runtime_error(
-            "world '" + file + "': " + emslam::stereo::shortExceptionMessage(e));
+        throw std::runtime_error("world '" + file + "': " + emslam::util::shortExceptionMessage(e));
     }
 }
 
@@ -86,7 +88,68 @@ slam::EntropySlam::TParameters loadMapper(
     catch (const std::exception& e)
     {
         throw std::runtime_error(
-            "mapper config '" + file + "': " + emslam::stereo::shortExceptionMessage(e));
+            "mapper config '" + file + "': " + emslam::util::shortExceptionMessage(e));
+    }
+}
+
+/** The keyframe clouds placed at `poses` (frame index → T_world_frame),
+ * downsampled at `cell_size` as the map cloud is. */
+std::vector<mrpt::math::TPoint3Df> cloudAt(
+    const std::vector<slam::ElementClouds::Scan>& scans,
+    const std::vector<emslam::rectify::TimedPose>& poses,
+    double cell_size)
+{
+    std::map<std::size_t, const mrpt::poses::CPose3D*> pose_of;
+    for (const auto& p : poses)
+    {
+        pose_of[p.frame_index] = &p.T_world_frame;
+    }
+    slam::IntensityCloud world;
+    for (const auto& s : scans)
+    {
+        if (const auto it = pose_of.find(s.frame_index); it != pose_of.end())
+        {
+            world.appendTransformed(s.cloud, *it->second);
+        }
+    }
+    return slam::voxelDownsample(world, cell_size).points;
+}
+
+/** ExperimentResult's map figures: SLAM's map and the egomotion's against
+ * the surfaces the first `frames` frames saw. */
+void measureMaps(
+    const emslam::sim::StereoSimulator& sim,
+    std::size_t frames,
+    const slam::EntropySlam& mapper,
+    ExperimentResult& r)
+{
+    emslam::sim::SurfaceSampler::TParameters sp;
+    sp.spacing = 0.03;  // 5 cm completeness: a few samples within reach
+    sp.max_range = mapper.parameters().stereo.max_range;
+    eval::ReferenceSurface ref;
+    ref.spacing = sp.spacing;
+    for (const auto& s : emslam::sim::SurfaceSampler(sp).visibleSurfaces(sim, frames))
+    {
+        ref.points.emplace_back(s.position[0], s.position[1], s.position[2]);
+        ref.normals.emplace_back(s.normal[0], s.normal[1], s.normal[2]);
+        ref.seen_range.push_back(s.seen_range);
+    }
+    if (ref.points.empty() || mapper.mapCloud().size() == 0)
+    {
+        return;
+    }
+    const auto slam_map = eval::MapAccuracy::compute(mapper.mapCloud().points, ref);
+    r.slam_map_median_m = slam_map.median_m;
+    r.slam_map_p90_m = slam_map.p90_m;
+    r.slam_map_completeness = slam_map.completeness;
+    const auto ego_cloud = cloudAt(
+        mapper.keyframeScans(), mapper.egomotionPoses(), mapper.parameters().mapper.map_cell_size);
+    if (!ego_cloud.empty())
+    {
+        const auto ego_map = eval::MapAccuracy::compute(ego_cloud, ref);
+        r.egomotion_map_median_m = ego_map.median_m;
+        r.egomotion_map_p90_m = ego_map.p90_m;
+        r.egomotion_map_completeness = ego_map.completeness;
     }
 }
 
@@ -238,6 +301,10 @@ ExperimentResult runExperiment(
             rectified_elements.push_back(traj.pose(i));
         }
         r.entropy_rectified = emslam::rectify::entropyAtElementPoses(traj, rectified_elements);
+    }
+    if (options.map_accuracy)
+    {
+        measureMaps(sim, r.frames, mapper, r);
     }
     r.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t_start).count();
     info.seconds = r.seconds;

@@ -1,5 +1,6 @@
 // SPDX-License-Identifier: BSD-3-Clause
 #include <emslam/apps/CommandLine.h>
+#include <emslam/apps/ConfigLookup.h>
 #include <emslam/apps/ExperimentReport.h>
 #include <emslam/apps/ExperimentsApp.h>
 #include <emslam/apps/ProgressLine.h>
@@ -50,8 +51,8 @@ bool ExperimentsApp::parseArguments(int argc, const char** argv)
         ' ', "0.1");
     TCLAP::UnlabeledValueArg<std::string> suite(
         "suite",
-        "Experiment set INI ([Experiments] + one section per experiment); see "
-        "config/experiments/paper.ini",
+        "Experiment set INI ([Experiments] + one section per experiment), or the name of a "
+        "shipped one (paper, rectification: share/emslam/config/experiments)",
         true, "", "SUITE.ini", cmd);
     TCLAP::ValueArg<std::string> out(
         "o", "out", "Output folder (created if needed)", true, "", "DIR", cmd);
@@ -95,7 +96,7 @@ bool ExperimentsApp::parseArguments(int argc, const char** argv)
     {
         m_command += std::string(" ") + argv[i];
     }
-    m_suite_file = suite.getValue();
+    m_suite_file = findConfigFile(suite.getValue(), "experiments");
     m_out = out.getValue();
     m_quick = quick.getValue();
     m_exact_depth = exact_depth.getValue();

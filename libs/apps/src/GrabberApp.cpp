@@ -13,8 +13,8 @@
 #include <emslam/hwdrivers/SensorStatus.h>
 #include <emslam/io/InputOutputClash.h>
 #include <emslam/io/RawlogOutput.h>
-#include <emslam/stereo/ExceptionMessage.h>
 #include <emslam/stereo/StereoMatcher.h>
+#include <emslam/util/ExceptionMessage.h>
 
 #include <mrpt/3rdparty/tclap/CmdLine.h>
 #include <mrpt/core/format.h>
@@ -70,7 +70,8 @@ bool GrabberApp::parseArguments(int argc, const char** argv)
 {
     TCLAP::CmdLine cmd(
         "Records stereo cameras (CDigiclopsStereoCamera, CSimulatedStereoCamera, "
-        "CStereoImageFolderCamera) and stock MRPT sensors of a rawlog-grabber INI file into one "
+        "CStereoImageFolderCamera, CVideoStereoCamera) and stock MRPT sensors of a rawlog-grabber "
+        "INI file into one "
         "gz-compressed rawlog, every observation in timestamp order. Stops on SIGINT/SIGTERM, "
         "after --max-frames stereo frames or --seconds, or when every sensor has stopped. Example: "
         "'" +
@@ -92,8 +93,9 @@ bool GrabberApp::parseArguments(int argc, const char** argv)
         "", "seconds", "Stop after S seconds.", false, 0.0, "S", cmd);
     TCLAP::SwitchArg arg_list(
         "", "list-devices",
-        "List the IEEE-1394 / USB cameras (libdc1394) and USB devices (libusb), then exit.", cmd,
-        false);
+        "List the IEEE-1394 / USB cameras (libdc1394), USB devices (libusb) and V4L2 video "
+        "devices, then exit.",
+        cmd, false);
     TCLAP::SwitchArg arg_quiet("q", "quiet", "No status line or summary.", cmd, false);
     TCLAP::SwitchArg arg_viewer(
         "", "viewer", "Show the left images live in a window (no display: a warning).", cmd, false);

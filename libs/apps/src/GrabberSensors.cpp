@@ -6,9 +6,10 @@
 #include <emslam/hwdrivers/CDigiclopsStereoCamera.h>
 #include <emslam/hwdrivers/CSimulatedStereoCamera.h>
 #include <emslam/hwdrivers/CStereoImageFolderCamera.h>
+#include <emslam/hwdrivers/CVideoStereoCamera.h>
 #include <emslam/hwdrivers/SensorStatus.h>
-#include <emslam/stereo/ExceptionMessage.h>
 #include <emslam/stereo/StereoMatcher.h>
+#include <emslam/util/ExceptionMessage.h>
 
 #include <mrpt/config/CConfigFileMemory.h>
 #include <mrpt/core/format.h>
@@ -26,7 +27,7 @@ using Clock = std::chrono::steady_clock;
 
 std::string errorText(const std::exception& e)
 {
-    const std::string s = emslam::stereo::shortExceptionMessage(e);
+    const std::string s = emslam::util::shortExceptionMessage(e);
     if (s.find("==== MRPT exception") == std::string::npos)
     {
         return s;
@@ -145,6 +146,10 @@ void requireWellFormedValues(const mrpt::config::CConfigFileBase& cfg)
             emslam::hwdrivers::CStereoImageFolderCamera::TParameters().saveToConfigFile(
                 known, section);
         }
+        else if (driver == "CVideoStereoCamera")
+        {
+            emslam::hwdrivers::CVideoStereoCamera::TParameters().saveToConfigFile(known, section);
+        }
     }
     requireWellFormedConfigValues(cfg, known);
 }
@@ -185,7 +190,8 @@ std::vector<std::unique_ptr<Slot>> createSensors(
             throw std::invalid_argument(
                 "'" + config_file + "': " + where +
                 "unknown driver (not a registered MRPT sensor class; emslam's are "
-                "CDigiclopsStereoCamera, CSimulatedStereoCamera, CStereoImageFolderCamera)");
+                "CDigiclopsStereoCamera, CSimulatedStereoCamera, CStereoImageFolderCamera, "
+                "CVideoStereoCamera)");
         }
         try
         {

@@ -1,7 +1,7 @@
 // SPDX-License-Identifier: BSD-3-Clause
 #include <emslam/apps/LiveViewer.h>
 #include <emslam/apps/MapStyle.h>
-#include <emslam/stereo/ExceptionMessage.h>
+#include <emslam/util/ExceptionMessage.h>
 
 #include <mrpt/gui/CDisplayWindow3D.h>
 #include <mrpt/opengl/CFrustum.h>
@@ -263,7 +263,7 @@ void LiveViewer::run()
     }
     catch (const std::exception& e)
     {
-        disable("cannot open the window: " + emslam::stereo::shortExceptionMessage(e));
+        disable("cannot open the window: " + emslam::util::shortExceptionMessage(e));
         return;
     }
 

@@ -5,7 +5,7 @@
 #include <emslam/apps/MapStyle.h>
 #include <emslam/apps/MapViewApp.h>
 #include <emslam/io/InputFileChecks.h>
-#include <emslam/stereo/ExceptionMessage.h>
+#include <emslam/util/ExceptionMessage.h>
 
 #include <mrpt/3rdparty/tclap/CmdLine.h>
 #include <mrpt/gui/CDisplayWindow3D.h>
@@ -16,6 +16,7 @@
 #include <mrpt/system/filesystem.h>
 
 #include <chrono>
+#include <cstdlib>
 #include <stdexcept>
 #include <thread>
 
@@ -81,7 +82,7 @@ mrpt::opengl::COpenGLScene::Ptr MapViewApp::loadScene(
     {
         throw std::runtime_error(
             "'" + file +
-            "' is not a serialized MRPT object: " + emslam::stereo::shortExceptionMessage(e));
+            "' is not a serialized MRPT object: " + emslam::util::shortExceptionMessage(e));
     }
     if (const auto entropy = std::dynamic_pointer_cast<emslam::CEntropyVoxelMap>(obj))
     {
@@ -109,6 +110,14 @@ void MapViewApp::execute()
         throw std::runtime_error("cannot show '" + m_file + "': " + problem);
     }
     mrpt::gui::CDisplayWindow3D win(std::string(PROGRAM) + ": " + m_file, 1000, 700);
+    // The toolkit only prints why a window failed (no GLX on the display, a
+    // GL context refused) and times out: nothing would be shown, so fail.
+    if (!win.isOpen())
+    {
+        throw std::runtime_error(
+            "cannot show '" + m_file + "': no window opened on display '" + std::getenv("DISPLAY") +
+            "' (no OpenGL / GLX there? see the toolkit's message above)");
+    }
     {
         auto& shown = win.get3DSceneAndLock();
         shown = scene;

@@ -1,5 +1,6 @@
 // SPDX-License-Identifier: BSD-3-Clause
 #include <emslam/apps/CommandLine.h>
+#include <emslam/apps/ConfigLookup.h>
 #include <emslam/apps/ConfigValidation.h>
 #include <emslam/apps/EnergyScanOutputs.h>
 #include <emslam/apps/MapperApp.h>
@@ -9,6 +10,8 @@
 #include <emslam/apps/ProgressLine.h>
 #include <emslam/apps/StopSignal.h>
 #include <emslam/io/AtomicTextFile.h>
+#include <emslam/io/DatasetFolder.h>
+#include <emslam/io/DatasetReadAhead.h>
 #include <emslam/io/FrameStreamGuard.h>
 #include <emslam/io/InputFileChecks.h>
 #include <emslam/io/InputOutputClash.h>
@@ -17,7 +20,7 @@
 #include <emslam/io/RawlogReadAhead.h>
 #include <emslam/io/TrajectoryInput.h>
 #include <emslam/io/TrajectoryWriter.h>
-#include <emslam/stereo/ExceptionMessage.h>
+#include <emslam/util/ExceptionMessage.h>
 
 #include <mrpt/core/bits_math.h>
 #include <mrpt/core/format.h>
@@ -64,6 +67,7 @@ const std::vector<std::string>& outputNames()
         "map_top.png",
         "map_grid.gridmap",
         "map_grid.png",
+        "map.bt",
         "entropy_map.bin",
         "entropy_map.3Dscene",
         "stats.csv",
@@ -73,6 +77,69 @@ const std::vector<std::string>& outputNames()
         "energy_scan.csv"};
     return names;
 }
+
+/** The arguments (without the program name) with `-c NAME`, `--config NAME`
+ * or `--config=NAME` taken out and NAME put first, where the positional
+ * CONFIG stands; `moved` says whether one was. Throws when the option lacks
+ * its value or is given twice. */
+std::vector<std::string> configOptionFirst(const std::vector<std::string>& args, bool& moved)
+{
+    std::vector<std::string> out;
+    std::vector<std::string> names;
+    for (std::size_t i = 0; i < args.size(); ++i)
+    {
+        const std::string& a = args[i];
+        if (a == "--")
+        {
+            out.insert(out.end(), args.begin() + static_cast<std::ptrdiff_t>(i), args.end());
+            break;
+        }
+        const bool inline_value = a.rfind("--config=", 0) == 0;
+        if (inline_value || a == "-c" || a == "--config")
+        {
+            const std::string name =
+                inline_value ? a.substr(9) : (i + 1 < args.size() ? args[++i] : std::string());
+            if (name.empty())
+            {
+                usageError(PROGRAM, a + " needs a value (a config name such as kitti, or a file)");
+            }
+            names.push_back(name);
+        }
+        else
+        {
+            out.push_back(a);
+        }
+    }
+    if (names.size() > 1)
+    {
+        usageError(PROGRAM, "-c / --config given " + std::to_string(names.size()) + " times");
+    }
+    moved = !names.empty();
+    if (moved)
+    {
+        out.insert(out.begin(), names.front());
+    }
+    return out;
+}
+
+/** The mapper's input read ahead: a dataset folder's frames, or a rawlog's
+ * records (the rawlog outlives its reader). */
+struct InputReader
+{
+    InputReader(
+        const std::shared_ptr<io::DatasetSequence>& sequence, const std::string& rawlog_file)
+    {
+        if (sequence)
+        {
+            source = std::make_unique<io::DatasetReadAhead>(*sequence);
+            return;
+        }
+        rawlog = std::make_unique<io::RawlogInput>(rawlog_file);
+        source = std::make_unique<io::RawlogReadAhead>(*rawlog);
+    }
+    std::unique_ptr<io::RawlogInput> rawlog;
+    std::unique_ptr<io::ObservationSource> source;
+};
 
 void writeEffectiveIni(const slam::EntropySlam::TParameters& p, const std::string& file)
 {
@@ -136,8 +203,10 @@ MapperApp::MapperApp() : App(PROGRAM) {}
 bool MapperApp::parseArguments(int argc, const char** argv)
 {
     TCLAP::CmdLine cmd(
-        "emslam-mapper: Entropy Minimization SLAM over a rawlog. Stereo (or RGB-D) "
-        "observations go through the stereo front-end, egomotion (GLM features, log-polar "
+        "emslam-mapper: Entropy Minimization SLAM over a rawlog or a KITTI odometry, EuRoC MAV "
+        "or TUM RGB-D folder (ground truth found in the folder is used as with --gt). Stereo "
+        "(or RGB-D) observations go through the stereo front-end, egomotion (GLM features, "
+        "log-polar "
         "matching, LWO, Dpp), space sampling and global rectification by entropy minimization; "
         "the trajectories, map, statistics and an HTML report are written to --out. Exit "
         "status: 0 ok; 1 error (an error that stops the mapping still writes the outputs of "
@@ -146,13 +215,21 @@ bool MapperApp::parseArguments(int argc, const char** argv)
         "interrupted by SIGINT / SIGTERM (outputs written).",
         ' ', "0.1");
     TCLAP::UnlabeledValueArg<std::string> config(
-        "config",
+        "config_file",
         "INI file ([Stereo] [Egomotion] [EntropyVoxelMap] [SpaceSampling] [Rectifier] [LoopCloser] "
-        "[Mapper]); see config/mapper/",
+        "[Mapper]), or the name of a shipped one (kitti, euroc, 6dof-structured, ...: see "
+        "share/emslam/config/mapper); or give it as -c NAME",
         true, "", "CONFIG.ini", cmd);
     TCLAP::UnlabeledValueArg<std::string> rawlog(
-        "rawlog", "Rawlog with CObservationStereoImages / CObservation3DRangeScan", true, "",
-        "DATASET.rawlog", cmd);
+        "rawlog",
+        "Rawlog with CObservationStereoImages / CObservation3DRangeScan, or a KITTI odometry "
+        "sequence, EuRoC MAV or TUM RGB-D folder",
+        true, "", "DATASET.rawlog", cmd);
+    // Taken out of the arguments before parsing (configOptionFirst()): listed
+    // here for --help and the check of known options.
+    TCLAP::ValueArg<std::string> config_option(
+        "c", "config", "The config (a name or a file) instead of the first argument", false, "",
+        "NAME", cmd);
     TCLAP::ValueArg<std::string> out(
         "o", "out", "Output folder (created if needed)", true, "", "DIR", cmd);
     TCLAP::SwitchArg egomotion_only(
@@ -190,11 +267,11 @@ bool MapperApp::parseArguments(int argc, const char** argv)
     TCLAP::SwitchArg viewer(
         "", "viewer", "Show the run live in a window (map, trajectories, camera, image)", cmd);
 
-    if (!parseCommandLine(cmd, argc, argv))
+    if (!parseConfigFirst(cmd, config, rawlog, argc, argv))
     {
         return false;
     }
-    m_config = config.getValue();
+    m_config = findConfigFile(config.getValue(), "mapper");
     m_rawlog = rawlog.getValue();
     m_out = out.getValue();
     m_gt = gt.getValue();
@@ -227,15 +304,56 @@ bool MapperApp::parseArguments(int argc, const char** argv)
 
     // Everything a run needs is checked here, before any long work.
     checkConfig(params);
-    io::requireInputFile(m_rawlog, "rawlog");
+    checkInputsAndOutputs();
+    return true;
+}
+
+bool MapperApp::parseConfigFirst(
+    TCLAP::CmdLine& cmd,
+    const TCLAP::Arg& config,
+    const TCLAP::Arg& dataset,
+    int argc,
+    const char** argv)
+{
+    bool config_option_given = false;
+    std::vector<std::string> args = configOptionFirst(
+        std::vector<std::string>(argv + std::min(argc, 1), argv + std::max(argc, 0)),
+        config_option_given);
+    args.insert(args.begin(), PROGRAM);
+    std::vector<const char*> c_args;
+    for (const auto& a : args)
+    {
+        c_args.push_back(a.c_str());
+    }
+    try
+    {
+        return parseCommandLine(cmd, static_cast<int>(c_args.size()), c_args.data());
+    }
+    catch (const std::invalid_argument&)
+    {
+        if (config_option_given && config.isSet() && dataset.isSet())
+        {
+            usageError("give the config once: as -c NAME or as the first argument");
+        }
+        throw;
+    }
+}
+
+void MapperApp::checkInputsAndOutputs()
+{
+    openInput();
     io::requireOutputFolder(m_out, "output folder");
     io::requireReplaceableFiles(m_out, outputNames());
-    io::requireOutputsAreNotInputs(
-        io::filesOfOutputFolder(m_out, outputNames(), "output"),
-        {{"the config file", m_config},
-         {"the rawlog", m_rawlog},
-         {"the ground truth (--gt)", m_gt},
-         {"the ground-truth times (--gt-times)", m_gt_options.times_file}});
+    std::vector<io::RolePath> inputs{
+        {"the config file", m_config},
+        {"the rawlog", m_sequence ? std::string() : m_rawlog},
+        {"the ground truth (--gt)", m_gt},
+        {"the ground-truth times (--gt-times)", m_gt_options.times_file}};
+    for (const auto& f : m_sequence ? m_sequence->inputFiles() : std::vector<std::string>())
+    {
+        inputs.push_back({"a file of the dataset", f});
+    }
+    io::requireOutputsAreNotInputs(io::filesOfOutputFolder(m_out, outputNames(), "output"), inputs);
     m_ground_truth = {};
     if (!m_gt.empty())
     {
@@ -244,7 +362,43 @@ bool MapperApp::parseArguments(int argc, const char** argv)
         m_ground_truth = io::loadTrajectoryInput(m_gt, "ground-truth", m_gt_options);
         io::requireTimes(m_ground_truth, m_gt, "ground truth", "--gt-times");
     }
-    return true;
+    else if (m_sequence)
+    {
+        // The dataset's own ground truth, as emslam-import --gt-out writes it.
+        m_ground_truth.trajectory = m_sequence->groundTruthTrajectory();
+    }
+}
+
+void MapperApp::openInput()
+{
+    m_sequence.reset();
+    if (!io::DatasetFolder::isFolder(m_rawlog))
+    {
+        io::requireInputFile(m_rawlog, "rawlog");
+        m_input_name = "rawlog '" + m_rawlog + "'";
+        return;
+    }
+    const auto folder = io::DatasetFolder::detect(m_rawlog);
+    // Opened now: a bad folder stops the run before the long work.
+    m_sequence = folder.open();
+    m_input_name = folder.formatName() + " folder '" + folder.sequence_dir + "'";
+    if (!quiet())
+    {
+        std::string gt = "no ground truth";
+        if (!m_gt.empty())
+        {
+            gt = "ground truth from --gt";
+        }
+        else if (m_sequence->hasGroundTruth())
+        {
+            gt = "ground truth " + (folder.ground_truth_file.empty()
+                                        ? std::string("from the folder")
+                                        : "'" + folder.ground_truth_file + "'");
+        }
+        std::printf(
+            "%s: %s, %zu frames, %s\n", PROGRAM, m_input_name.c_str(), m_sequence->size(),
+            gt.c_str());
+    }
 }
 
 void MapperApp::checkConfig(const mrpt::config::CConfigFileBase& params)
@@ -264,7 +418,6 @@ void MapperApp::execute()
     p.loadFromConfigFile(params);
     p.mapper.egomotion_only = p.mapper.egomotion_only || m_egomotion_only;
     const emslam::io::TumTrajectory& ground_truth = m_ground_truth.trajectory;
-    io::RawlogInput in(m_rawlog);
     m_mapper = std::make_unique<slam::EntropySlam>(p);
     // A signal during the loop closer's catching up or polish ends them.
     m_mapper->setStopCheck([] { return StopSignal::requested(); });
@@ -280,7 +433,9 @@ void MapperApp::execute()
     bool done = false;
     // Frames with a bad timestamp or another camera never reach the mapper.
     io::FrameStreamGuard guard;
-    io::RawlogReadAhead reader(in);  // the next record is read while this one is mapped
+    // The next record (or frame) is read while this one is mapped.
+    const InputReader input(m_sequence, m_rawlog);
+    io::ObservationSource& reader = *input.source;
     while (!done && reader.next(batch))
     {
         for (const auto& o : batch)
@@ -316,7 +471,7 @@ void MapperApp::execute()
             {
                 // The mapper cannot go on, but what it has is still worth writing.
                 m_info.stopped_by_error = "record " + std::to_string(record) + ": " +
-                                          emslam::stereo::shortExceptionMessage(e);
+                                          emslam::util::shortExceptionMessage(e);
                 done = true;
                 break;
             }
@@ -339,7 +494,8 @@ void MapperApp::execute()
         if (reader.recordsRead() == 0)
         {
             throw std::runtime_error(
-                "'" + m_rawlog + "' is not a readable rawlog: " + reader.endReason());
+                m_sequence ? m_input_name + ": " + reader.endReason()
+                           : "'" + m_rawlog + "' is not a readable rawlog: " + reader.endReason());
         }
         if (reader.corrupt() && m_info.stopped_by_error.empty())
         {
@@ -366,7 +522,7 @@ void MapperApp::execute()
         if (!m_info.stopped_by_error.empty())
         {
             throw std::runtime_error(
-                "rawlog '" + m_rawlog + "', " + m_info.stopped_by_error + " (no output written)");
+                m_input_name + ", " + m_info.stopped_by_error + " (no output written)");
         }
         std::string skipped;
         if (m_info.skipped_observations > 0)
@@ -374,7 +530,7 @@ void MapperApp::execute()
             skipped = "; " + guard.skippedText() + ", first: " + m_info.skipped_reasons.front();
         }
         throw std::runtime_error(
-            "no usable stereo or RGB-D observation in rawlog '" + m_rawlog + "' (" +
+            "no usable stereo or RGB-D observation in " + m_input_name + " (" +
             std::to_string(m_info.ignored_observations) + " observations of other classes" +
             skipped + ")");
     }
@@ -422,7 +578,7 @@ void MapperApp::execute()
     {
         throw std::runtime_error(
             what + " (and the outputs could not be written: " +
-            emslam::stereo::shortExceptionMessage(e) + ")");
+            emslam::util::shortExceptionMessage(e) + ")");
     }
     throw std::runtime_error(
         what + "; the outputs of the " + std::to_string(m_mapper->frameCount()) +
@@ -480,7 +636,7 @@ void MapperApp::writeOutputs(const emslam::io::TumTrajectory& ground_truth)
         }
         catch (const std::exception& e)
         {
-            scan_error = emslam::stereo::shortExceptionMessage(e);
+            scan_error = emslam::util::shortExceptionMessage(e);
         }
     }
     const auto ego = tumTrajectoryOf(m.egomotionPoses());
@@ -510,6 +666,7 @@ void MapperApp::writeOutputs(const emslam::io::TumTrajectory& ground_truth)
     writeScene(m, ground_truth, joinPath(m_out, "map.3Dscene"));
     writeTopViewPng(m, ground_truth, joinPath(m_out, "map_top.png"));
     writeOccupancyGrid(m, joinPath(m_out, "map_grid.gridmap"), joinPath(m_out, "map_grid.png"));
+    writeOctoMap(m, joinPath(m_out, "map.bt"));
     writeEntropyMap(m, joinPath(m_out, "entropy_map.bin"));
     writeEntropyMapView(m, joinPath(m_out, "entropy_map.3Dscene"));
     writeMapperReport(joinPath(m_out, "report.html"), makeReportData(m, m_info, ground_truth));

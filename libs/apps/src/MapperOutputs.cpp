@@ -13,6 +13,7 @@
 #include <emslam/io/OutputFile.h>
 #include <emslam/maps/EntropyEnergy.h>
 #include <emslam/slam/OccupancyGridBuilder.h>
+#include <emslam/slam/OctoMapBuilder.h>
 
 #include <mrpt/core/bits_math.h>
 #include <mrpt/serialization/CArchive.h>
@@ -287,11 +288,19 @@ void writeSummaryJson(
       << ", \"final_cost\": " << io::jsonNumber(lc.final_cost)
       << ", \"dropped_edges\": " << lc.dropped_edges
       << ", \"refused_groups\": " << lc.refused_groups
+      << ", \"contradicting_groups\": " << lc.contradicting_groups
+      << ", \"contradicting_edges\": " << lc.contradicting_edges
+      << ", \"contradicting_keyframes\": " << lc.contradicting_keyframes
       << ", \"refused_edges\": " << lc.refused_edges
       << ", \"withdrawn_edges\": " << lc.withdrawn_edges
       << ", \"local_solves\": " << lc.local_solves
       << ", \"latency_ms_mean\": " << io::jsonNumber(lc.latency_ms_mean)
       << ", \"latency_ms_max\": " << io::jsonNumber(lc.latency_ms_max)
+      << ", \"place_candidates\": " << lc.place_candidates
+      << ", \"place_index_bytes\": " << lc.place_index_bytes
+      << ", \"place_ms\": " << io::jsonNumber(lc.place_ms)
+      << ", \"place_visited_max\": " << lc.place_visited_max
+      << ", \"drift_scale\": " << io::jsonNumber(lc.drift_scale)
       << ", \"kept_bytes\": " << lc.kept_bytes << ", \"unreliable\": "
       << (lc.unreliable.empty() ? std::string("null") : io::jsonString(lc.unreliable))
       << ", \"polish_ms\": " << io::jsonNumber(lc.polish_ms)
@@ -429,6 +438,18 @@ void writeOccupancyGrid(
             io::writeImageFile(partial, picture.asCvMatRef(), png_file);
             return true;
         });
+}
+
+void writeOctoMap(const slam::EntropySlam& m, const std::string& file)
+{
+    if (m.parameters().octomap.resolution <= 0)
+    {
+        return;
+    }
+    slam::OctoMapBuilder builder(m.parameters().octomap);
+    const auto tree = builder.build(m.keyframeScans(), m.keyframePoses());
+    io::writeFileAtomically(
+        file, [&](const std::string& partial) { return tree->writeBinary(partial); });
 }
 
 void writeEntropyMap(const slam::EntropySlam& m, const std::string& file)

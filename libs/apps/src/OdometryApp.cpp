@@ -1,5 +1,6 @@
 // SPDX-License-Identifier: BSD-3-Clause
 #include <emslam/apps/CommandLine.h>
+#include <emslam/apps/ConfigLookup.h>
 #include <emslam/apps/ConfigValidation.h>
 #include <emslam/apps/OdometryApp.h>
 #include <emslam/apps/StopSignal.h>
@@ -9,7 +10,7 @@
 #include <emslam/io/RawlogInput.h>
 #include <emslam/io/TrajectoryWriter.h>
 #include <emslam/slam/StereoOdometry.h>
-#include <emslam/stereo/ExceptionMessage.h>
+#include <emslam/util/ExceptionMessage.h>
 
 #include <mrpt/img/CImage.h>
 #include <mrpt/serialization/CArchive.h>
@@ -76,7 +77,10 @@ bool OdometryApp::parseArguments(int argc, const char** argv)
         false, "tum", "tum|kitti|both", cmd);
     TCLAP::ValueArg<std::string> config(
         "c", "config",
-        withDefault("INI file with [Stereo] and [Egomotion] sections", "the built-in defaults"),
+        withDefault(
+            "INI file with [Stereo] and [Egomotion] sections, or the name of a shipped one (kitti, "
+            "euroc: share/emslam/config/odometry)",
+            "the built-in defaults"),
         false, "", "CONFIG.ini", cmd);
     addSetOption(cmd, "Override a parameter: SECTION.key=value ([Stereo], [Egomotion])");
     addMaxFramesOption(cmd, "Stop after N frames (0: all)");
@@ -88,6 +92,7 @@ bool OdometryApp::parseArguments(int argc, const char** argv)
     }
     m_rawlog = rawlog.getValue();
     m_output = output.getValue();
+    const std::string config_file = findConfigFile(config.getValue(), "odometry");
     try
     {
         m_trajectory_output = emslam::io::parseTrajectoryOutput(trajectory_format.getValue());
@@ -102,9 +107,9 @@ bool OdometryApp::parseArguments(int argc, const char** argv)
         outputs.push_back({"output trajectory", f});
     }
     io::requireOutputsAreNotInputs(
-        outputs, {{"the rawlog", m_rawlog}, {"the config file", config.getValue()}});
+        outputs, {{"the rawlog", m_rawlog}, {"the config file", config_file}});
     const auto known = knownParameters();
-    loadParameters(config.getValue(), &known);
+    loadParameters(config_file, &known);
     checkConfig(params);
     return true;
 }
@@ -230,7 +235,7 @@ void OdometryApp::execute()
             catch (const std::exception& e)
             {
                 // StereoOdometry changed nothing: the frame is skipped.
-                warn(guard.skipUnusable(record, emslam::stereo::shortExceptionMessage(e)));
+                warn(guard.skipUnusable(record, emslam::util::shortExceptionMessage(e)));
                 continue;
             }
             guard.accept();

@@ -1,5 +1,6 @@
 // SPDX-License-Identifier: BSD-3-Clause
 #include <emslam/apps/CommandLine.h>
+#include <emslam/apps/ConfigLookup.h>
 #include <emslam/apps/ConfigValidation.h>
 #include <emslam/apps/StereoApp.h>
 #include <emslam/apps/StopSignal.h>
@@ -12,10 +13,10 @@
 #include <emslam/io/OutputFile.h>
 #include <emslam/io/RawlogInput.h>
 #include <emslam/io/RawlogOutput.h>
-#include <emslam/stereo/ExceptionMessage.h>
 #include <emslam/stereo/RangeScanConversion.h>
 #include <emslam/stereo/StereoCalibration.h>
 #include <emslam/stereo/StereoFrontEnd.h>
+#include <emslam/util/ExceptionMessage.h>
 
 #include <mrpt/img/CImage.h>
 
@@ -52,7 +53,7 @@ cv::Mat readImage(const std::string& f, const std::string& what)
     }
     catch (const std::exception& e)
     {
-        throw std::runtime_error(what + ": " + emslam::stereo::shortExceptionMessage(e));
+        throw std::runtime_error(what + ": " + emslam::util::shortExceptionMessage(e));
     }
 }
 
@@ -131,7 +132,11 @@ bool StereoApp::parseArguments(int argc, const char** argv)
         false, "CAMERA", "NAME", cmd);
     addMaxFramesOption(cmd, "Stop after N frames of the rawlog (0: all)");
     TCLAP::ValueArg<std::string> config(
-        "c", "config", withDefault("INI file with a [Stereo] section", "the built-in defaults"),
+        "c", "config",
+        withDefault(
+            "INI file with a [Stereo] section, or the name of a shipped one "
+            "(share/emslam/config/stereo)",
+            "the built-in defaults"),
         false, "", "CONFIG.ini", cmd);
     addSetOption(cmd, "Override a parameter: Stereo.key=value");
     TCLAP::ValueArg<std::string> gt(
@@ -178,6 +183,7 @@ bool StereoApp::parseArguments(int argc, const char** argv)
     m_right = in.size() == 3 ? in[1] : "";
     m_calib = in.size() == 3 ? in[2] : "";
     m_calib_section = calib_section.getValue();
+    const std::string config_file = findConfigFile(config.getValue(), "stereo");
     m_gt_disparity = gt.getValue();
     m_gt_scale = gt_scale.getValue();
     m_out_rawlog = out_rawlog.getValue();
@@ -192,10 +198,10 @@ bool StereoApp::parseArguments(int argc, const char** argv)
          {"the right image", m_right},
          {"the calibration", m_calib},
          {"the ground-truth disparity", m_gt_disparity},
-         {"the config file", config.getValue()}});
+         {"the config file", config_file}});
     mrpt::config::CConfigFileMemory known;
     emslam::stereo::StereoMatcher::TParameters().saveToConfigFile(known, STEREO_SECTION);
-    loadParameters(config.getValue(), &known);
+    loadParameters(config_file, &known);
     checkConfig(params);
     return true;
 }
@@ -361,7 +367,7 @@ void StereoApp::execute()
                     }
                     catch (const std::exception& e)
                     {
-                        warn(guard.skipUnusable(record, emslam::stereo::shortExceptionMessage(e)));
+                        warn(guard.skipUnusable(record, emslam::util::shortExceptionMessage(e)));
                         continue;
                     }
                     guard.accept();

@@ -1,8 +1,8 @@
 // SPDX-License-Identifier: BSD-3-Clause
 #include <emslam/hwdrivers/CDigiclopsStereoCamera.h>
-#include <emslam/stereo/ExceptionMessage.h>
 #include <emslam/stereo/RangeScanConversion.h>
 #include <emslam/stereo/StereoCalibration.h>
+#include <emslam/util/ExceptionMessage.h>
 
 #include <mrpt/config/CConfigFileBase.h>
 #include <mrpt/core/format.h>
@@ -128,7 +128,7 @@ void CDigiclopsStereoCamera::TParameters::loadFromConfigFile(
     {
         throw std::invalid_argument(
             "CDigiclopsStereoCamera, section " + s + ": calibration_section = '" + cs +
-            "': " + emslam::stereo::shortExceptionMessage(e));
+            "': " + emslam::util::shortExceptionMessage(e));
     }
     PackedLayout layout{};
     try
@@ -162,7 +162,7 @@ void CDigiclopsStereoCamera::TParameters::loadFromConfigFile(
             throw std::invalid_argument(
                 "CDigiclopsStereoCamera, section " + s + ": calibration_section = '" + cs +
                 "' (third camera: resolution, fx, fy, cx, cy, dist, distortion_model; " + cs +
-                "_LEFT2THIRD_POSE: pose_quaternion): " + emslam::stereo::shortExceptionMessage(e));
+                "_LEFT2THIRD_POSE: pose_quaternion): " + emslam::util::shortExceptionMessage(e));
         }
     }
     // Also checked when unused, so a bad value cannot wait for compute_range_scan.

@@ -1,7 +1,7 @@
 // SPDX-License-Identifier: BSD-3-Clause
 #include <emslam/hwdrivers/CSimulatedStereoCamera.h>
 #include <emslam/hwdrivers/SensorStatus.h>
-#include <emslam/stereo/ExceptionMessage.h>
+#include <emslam/util/ExceptionMessage.h>
 
 #include <mrpt/config/CConfigFileBase.h>
 
@@ -55,7 +55,7 @@ void CSimulatedStereoCamera::loadConfig_sensorSpecific(
     {
         throw std::invalid_argument(
             "CSimulatedStereoCamera, section " + section + ": world_file '" + p.world_file +
-            "': " + emslam::stereo::shortExceptionMessage(e));
+            "': " + emslam::util::shortExceptionMessage(e));
     }
     startReplay(
         p, sim->frameCount(), sim->params().fps,

@@ -3,7 +3,7 @@
 #include <emslam/hwdrivers/SensorStatus.h>
 #include <emslam/io/EurocSequence.h>
 #include <emslam/io/KittiSequence.h>
-#include <emslam/stereo/ExceptionMessage.h>
+#include <emslam/util/ExceptionMessage.h>
 
 #include <mrpt/config/CConfigFileBase.h>
 
@@ -88,7 +88,7 @@ void CStereoImageFolderCamera::loadConfig_sensorSpecific(
     }
     catch (const std::exception& e)
     {
-        throw std::invalid_argument(where + emslam::stereo::shortExceptionMessage(e));
+        throw std::invalid_argument(where + emslam::util::shortExceptionMessage(e));
     }
     m_params = p;
     // The dataset's mean rate; 10 Hz for a one-frame folder.

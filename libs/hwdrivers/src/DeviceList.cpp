@@ -5,8 +5,11 @@
 #include <libusb-1.0/libusb.h>
 #include <unistd.h>
 
+#include <algorithm>
+#include <cctype>
 #include <cstdio>
 #include <filesystem>
+#include <fstream>
 #include <sstream>
 
 namespace fs = std::filesystem;
@@ -177,7 +180,51 @@ void listUsb(DeviceReport& r)
     libusb_exit(ctx);
 }
 
+/** N of "videoN", or -1. */
+long videoNumber(const std::string& name)
+{
+    if (name.size() <= 5 || name.compare(0, 5, "video") != 0 || name.size() > 12 ||
+        !std::all_of(
+            name.begin() + 5, name.end(), [](unsigned char c) { return std::isdigit(c) != 0; }))
+    {
+        return -1;
+    }
+    return std::stol(name.substr(5));
+}
 }  // namespace
+
+std::vector<DeviceInfo> listVideoDevices(const std::string& dev_dir, const std::string& sysfs_dir)
+{
+    std::vector<std::pair<long, DeviceInfo>> found;
+    std::error_code ec;
+    for (const auto& e : fs::directory_iterator(dev_dir, ec))
+    {
+        const std::string name = e.path().filename().string();
+        const long n = videoNumber(name);
+        if (n < 0)
+        {
+            continue;
+        }
+        DeviceInfo d;
+        d.bus = "V4L2";
+        d.node = e.path().string();
+        std::ifstream in(sysfs_dir + "/" + name + "/name");
+        std::getline(in, d.model);
+        if (::access(d.node.c_str(), R_OK | W_OK) != 0)
+        {
+            d.note = "no read/write permission (add the user to the 'video' group)";
+        }
+        found.emplace_back(n, d);
+    }
+    std::sort(
+        found.begin(), found.end(), [](const auto& a, const auto& b) { return a.first < b.first; });
+    std::vector<DeviceInfo> out;
+    for (auto& [n, d] : found)
+    {
+        out.push_back(std::move(d));
+    }
+    return out;
+}
 
 DeviceReport listDevices()
 {
@@ -185,6 +232,13 @@ DeviceReport listDevices()
     checkFirewireNodes(r);
     listIidc(r);
     listUsb(r);
+    r.video_devices = listVideoDevices();
+    if (r.video_devices.empty())
+    {
+        r.notes.push_back(
+            "V4L2: no /dev/video* device nodes (no UVC / V4L2 camera connected, or none visible, "
+            "e.g. inside a container)");
+    }
     return r;
 }
 
@@ -222,6 +276,16 @@ std::string DeviceReport::toText() const
         }
         s << "\n";
     }
+    s << "V4L2 video devices (CVideoStereoCamera source): " << video_devices.size() << "\n";
+    for (const auto& d : video_devices)
+    {
+        s << "  " << d.node << "  '" << d.model << "'";
+        if (!d.note.empty())
+        {
+            s << "  [" << d.note << "]";
+        }
+        s << "\n";
+    }
     for (const auto& n : notes)
     {
         s << "note: " << n << "\n";
@@ -229,6 +293,11 @@ std::string DeviceReport::toText() const
     if (iidc_cameras.empty())
     {
         s << "No camera usable by CDigiclopsStereoCamera was found.\n";
+    }
+    if (video_devices.empty())
+    {
+        s << "No camera usable by CVideoStereoCamera was found (video files and GStreamer "
+             "pipelines need none).\n";
     }
     return s.str();
 }

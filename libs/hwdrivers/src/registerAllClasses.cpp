@@ -2,6 +2,7 @@
 #include <emslam/hwdrivers/CDigiclopsStereoCamera.h>
 #include <emslam/hwdrivers/CSimulatedStereoCamera.h>
 #include <emslam/hwdrivers/CStereoImageFolderCamera.h>
+#include <emslam/hwdrivers/CVideoStereoCamera.h>
 #include <emslam/hwdrivers/registerAllClasses.h>
 
 #include <mrpt/core/initializer.h>
@@ -13,6 +14,7 @@ void registerAllClasses()
     CDigiclopsStereoCamera::doRegister();
     CSimulatedStereoCamera::doRegister();
     CStereoImageFolderCamera::doRegister();
+    CVideoStereoCamera::doRegister();
 }
 }  // namespace emslam::hwdrivers
 

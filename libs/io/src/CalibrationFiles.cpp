@@ -4,8 +4,8 @@
 #include <emslam/io/EurocSensorYaml.h>
 #include <emslam/io/IniFile.h>
 #include <emslam/io/TextParsing.h>
-#include <emslam/stereo/ExceptionMessage.h>
 #include <emslam/stereo/StereoCalibration.h>
+#include <emslam/util/ExceptionMessage.h>
 
 #include <mrpt/config/CConfigFileMemory.h>
 #include <mrpt/core/format.h>

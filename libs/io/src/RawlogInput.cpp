@@ -1,7 +1,7 @@
 // SPDX-License-Identifier: BSD-3-Clause
 #include <emslam/io/InputFileChecks.h>
 #include <emslam/io/RawlogInput.h>
-#include <emslam/stereo/ExceptionMessage.h>
+#include <emslam/util/ExceptionMessage.h>
 
 #include <mrpt/img/CImage.h>
 #include <mrpt/obs/CRawlog.h>
@@ -198,7 +198,7 @@ bool RawlogInput::next(std::vector<mrpt::obs::CObservation::Ptr>& batch)
         else
         {
             cause = cut ? "the file ends in the middle of the record"
-                        : emslam::stereo::shortExceptionMessage(e);
+                        : emslam::util::shortExceptionMessage(e);
         }
         m_end_reason = "record " + std::to_string(m_records) + " (byte " + std::to_string(start) +
                        "): " + cause;

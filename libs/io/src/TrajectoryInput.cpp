@@ -1,7 +1,7 @@
 // SPDX-License-Identifier: BSD-3-Clause
 #include <emslam/io/NumberText.h>
 #include <emslam/io/TrajectoryInput.h>
-#include <emslam/stereo/ExceptionMessage.h>
+#include <emslam/util/ExceptionMessage.h>
 
 #include <cmath>
 #include <filesystem>
@@ -33,7 +33,7 @@ emslam::io::LoadedTrajectory loadTrajectoryInput(
     {
         // The reader's message names the file and line; say which input it was.
         throw std::runtime_error(
-            "cannot read " + what + ": " + emslam::stereo::shortExceptionMessage(e));
+            "cannot read " + what + ": " + emslam::util::shortExceptionMessage(e));
     }
     if (t.trajectory.empty())
     {

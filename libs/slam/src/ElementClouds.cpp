@@ -132,6 +132,20 @@ IntensityCloud ElementClouds::worldCloud(const std::vector<emslam::rectify::Time
     return voxelDownsample(world, m_cell_size);
 }
 
+std::vector<ElementClouds::Scan> ElementClouds::takeScans()
+{
+    std::vector<Scan> scans;
+    for (auto& e : m_elements)
+    {
+        for (auto& c : e.clouds)
+        {
+            scans.push_back({c.frame_index, std::move(c.cloud)});
+        }
+        e.clouds.clear();
+    }
+    return scans;
+}
+
 void ElementClouds::requireSameElementsAs(const emslam::rectify::Trajectory& t) const
 {
     const auto mismatch = [&](const std::string& what)

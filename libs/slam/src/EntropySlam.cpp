@@ -1,7 +1,7 @@
 // SPDX-License-Identifier: BSD-3-Clause
 #include <emslam/rectify/ActionCovariance.h>
 #include <emslam/slam/EntropySlam.h>
-#include <emslam/stereo/ExceptionMessage.h>
+#include <emslam/util/ExceptionMessage.h>
 
 #include <mrpt/config/CConfigFileBase.h>
 #include <mrpt/core/bits_math.h>
@@ -27,6 +27,7 @@ constexpr const char* SAMPLING_SECTION = "SpaceSampling";
 constexpr const char* RECTIFIER_SECTION = "Rectifier";
 constexpr const char* LOOP_CLOSER_SECTION = "LoopCloser";
 constexpr const char* OCCUPANCY_GRID_SECTION = "OccupancyGrid";
+constexpr const char* OCTOMAP_SECTION = "OctoMap";
 /** A failed egomotion step is predicted by the previous one, and may be off
  * by that whole motion or at least by these. */
 constexpr double FAILED_STEP_MIN_SIGMA_XYZ = 0.1;      // [m]
@@ -48,7 +49,7 @@ void loadSection(const std::string& section, const std::function<void()>& load)
     }
     catch (const std::exception& e)
     {
-        const std::string msg = emslam::stereo::shortExceptionMessage(e);
+        const std::string msg = emslam::util::shortExceptionMessage(e);
         if (msg.find("[" + section + "]") != std::string::npos)
         {
             throw std::invalid_argument(msg);
@@ -133,6 +134,7 @@ void EntropySlam::TParameters::loadFromConfigFile(const mrpt::config::CConfigFil
     loadSection(
         OCCUPANCY_GRID_SECTION,
         [&] { occupancy_grid.loadFromConfigFile(c, OCCUPANCY_GRID_SECTION); });
+    loadSection(OCTOMAP_SECTION, [&] { octomap.loadFromConfigFile(c, OCTOMAP_SECTION); });
 }
 
 void EntropySlam::TParameters::saveToConfigFile(mrpt::config::CConfigFileBase& c) const
@@ -146,6 +148,7 @@ void EntropySlam::TParameters::saveToConfigFile(mrpt::config::CConfigFileBase& c
     mapper.saveToConfigFile(c, MAPPER_SECTION);
     loop_closer.saveToConfigFile(c, LOOP_CLOSER_SECTION);
     occupancy_grid.saveToConfigFile(c, OCCUPANCY_GRID_SECTION);
+    octomap.saveToConfigFile(c, OCTOMAP_SECTION);
 }
 
 EntropySlam::EntropySlam(const TParameters& p)
@@ -243,12 +246,12 @@ bool EntropySlam::runOdometry(const mrpt::obs::CObservation& obs, StereoOdometry
     catch (const std::exception& e)
     {
         // The front-end changes no mapper state: the caller may skip the frame.
-        throw UnusableObservation(emslam::stereo::shortExceptionMessage(e));
+        throw UnusableObservation(emslam::util::shortExceptionMessage(e));
     }
 }
 
 emslam::rectify::ActionCovariance EntropySlam::recordStep(
-    const StereoOdometry::Step& step, FrameRecord& r) const
+    const StereoOdometry::Step& step, FrameRecord& r)
 {
     const auto& ego = step.egomotion;
     r.ms_egomotion = ego.ms_total;
@@ -262,6 +265,7 @@ emslam::rectify::ActionCovariance EntropySlam::recordStep(
     r.egomotion_ok = ego.ok;
     if (step.predicted)
     {
+        m_predicted_since_keyframe = true;
         // Constant velocity, with a covariance wide enough for the
         // rectifier to move the step wherever the map says.
         action_cov = emslam::rectify::predictionCovariance(
@@ -287,7 +291,8 @@ void EntropySlam::addKeyframe(
     // What registering this keyframe again needs, kept only for loop closing.
     m_loops.addKeyframe(
         r.index, loopClosing() ? m_odometry.estimator().lastDescription() : nullptr,
-        cov_since_keyframe, motion_since_keyframe);
+        cov_since_keyframe, motion_since_keyframe, m_predicted_since_keyframe);
+    m_predicted_since_keyframe = false;
     if (loopClosing())
     {
         m_loop_worker->notify();
@@ -490,6 +495,7 @@ void EntropySlam::finish()
     }
     m_clouds.requireSameElementsAs(m_runner->trajectory());
     m_map_cloud = m_clouds.worldCloud(poses);
+    m_keyframe_scans = m_clouds.takeScans();
     m_clouds = ElementClouds(0, m_p.mapper.map_cell_size);
     m_slam.clear();
     for (std::size_t i = 0; i < m_records.size(); i++)

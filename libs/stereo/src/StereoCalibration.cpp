@@ -1,6 +1,6 @@
 // SPDX-License-Identifier: BSD-3-Clause
-#include <emslam/stereo/ExceptionMessage.h>
 #include <emslam/stereo/StereoCalibration.h>
+#include <emslam/util/ExceptionMessage.h>
 
 #include <mrpt/poses/CPose3DQuat.h>
 
@@ -85,7 +85,7 @@ mrpt::img::TStereoCamera loadStereoCameraFromConfig(
             what,
             "cannot be read (resolution, cx, cy, fx, fy, dist, distortion_model, "
             "pose_quaternion): " +
-                shortExceptionMessage(e));
+                emslam::util::shortExceptionMessage(e));
     }
     validateStereoCamera(cam, what);
     // saveToConfigFile() writes the quaternion with 6 decimals: make it unit again.

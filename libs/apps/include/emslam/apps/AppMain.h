@@ -4,7 +4,7 @@
 #include <emslam/apps/StopSignal.h>
 #include <emslam/apps/registerAllClasses.h>
 #include <emslam/slam/FrameMemoryPolicy.h>
-#include <emslam/stereo/ExceptionMessage.h>
+#include <emslam/util/ExceptionMessage.h>
 
 #include <csignal>
 #include <iostream>
@@ -59,7 +59,7 @@ int appMain(const char* name, int argc, char** argv)
     }
     catch (const std::exception& e)
     {
-        std::cerr << name << ": error: " << emslam::stereo::shortExceptionMessage(e) << std::endl;
+        std::cerr << name << ": error: " << emslam::util::shortExceptionMessage(e) << std::endl;
         return 1;
     }
 }

@@ -6,6 +6,7 @@
 #include <emslam/rectify/EnergyScan.h>
 #include <emslam/slam/EntropySlam.h>
 
+#include <cmath>
 #include <cstddef>
 #include <functional>
 #include <optional>
@@ -35,6 +36,13 @@ struct ExperimentResult
     double slam_gap_m{0};       //!< end-point error of SLAM (last accepted frame) [m]
     double egomotion_ate_m{0};  //!< ATE RMSE after SE(3) alignment [m]
     double slam_ate_m{0};
+    /** The maps against the true surfaces the frames saw (eval::MapAccuracy,
+     * sim::SurfaceSampler out to the mapper's [Stereo] max_range): SLAM's
+     * map cloud, and the same keyframe clouds placed by the egomotion.
+     * Accuracy median and 90th percentile [m], completeness within 5 cm
+     * [0, 1]; NaN when not measured. */
+    double slam_map_median_m{NAN}, slam_map_p90_m{NAN}, slam_map_completeness{NAN};
+    double egomotion_map_median_m{NAN}, egomotion_map_p90_m{NAN}, egomotion_map_completeness{NAN};
     double ms_stereo{0}, ms_egomotion{0};  //!< mean per frame [ms]
     std::size_t rectifications{0}, attempts{0}, successes{0};
     double rect_median_ms{0}, rect_max_ms{0};  //!< per call [ms]
@@ -89,6 +97,9 @@ struct ExperimentRunOptions
      * (emslam::rectify::scanEnergy()): ExperimentResult::energy_scan, and
      * `energy_scan.csv` in `out_dir`. */
     bool energy_scan{false};
+    /** Measure the maps against the true surfaces (ExperimentResult's
+     * slam_map_* and egomotion_map_*): some seconds per run. */
+    bool map_accuracy{true};
     /** Called after every frame with (frames done, frames in all); return
      * false to stop the run early (Ctrl-C). */
     std::function<bool(std::size_t, std::size_t)> on_frame;

@@ -5,6 +5,7 @@
 #include <emslam/apps/DegenerateRun.h>
 #include <emslam/apps/MapperOutputs.h>
 #include <emslam/apps/ProgressLine.h>
+#include <emslam/io/DatasetSequence.h>
 #include <emslam/io/FrameStreamGuard.h>
 #include <emslam/io/TrajectoryReader.h>
 #include <emslam/io/TrajectoryWriter.h>
@@ -17,7 +18,8 @@
 
 namespace emslam::apps
 {
-/** `emslam-mapper`: the main job. Streams a rawlog through
+/** `emslam-mapper`: the main job. Streams a rawlog, or a KITTI / EuRoC /
+ * TUM RGB-D folder (io::DatasetFolder, read by io::DatasetReadAhead), through
  * emslam::slam::EntropySlam (stereo → egomotion → space sampling → global
  * rectification → compression, loop closing beside it) and writes, to the
  * output folder: `trajectory_egomotion.tum`, `trajectory_slam.tum`,
@@ -29,11 +31,15 @@ namespace emslam::apps
  * `report.html` (and `energy_scan.csv` with `--energy-scan`).
  *
  * \code
- * emslam-mapper CONFIG.ini DATASET.rawlog --out DIR [--egomotion-only]
+ * emslam-mapper CONFIG DATASET --out DIR [--egomotion-only]
+ * emslam-mapper -c CONFIG DATASET --out DIR ...
  *   [--gt GT [--gt-format auto|tum|kitti|euroc] [--gt-times TIMES]]
  *   [--trajectory-format tum|kitti|both] [--set SECTION.key=value ...]
  *   [--max-frames N] [--energy-scan] [--quiet] [--viewer]
  * \endcode
+ * - CONFIG is an INI file or the name of a shipped one (`kitti`,
+ *   `kitti.ini`: findConfigFile()); DATASET a rawlog or a dataset folder,
+ *   whose ground truth, when it has one, is used as `--gt` would be.
  * - `--energy-scan` (needs `--gt`): the entropy of the final trajectory's
  *   observations scanned around the ground truth along each dimension of a
  *   few actions (emslam::rectify::scanEnergy()): `energy_scan.csv` and an
@@ -99,12 +105,29 @@ private:
     void warnSkipped(const std::string& warning, ProgressLine& progress);
     /** Copies what `guard` skipped into the run info. */
     void recordSkips(const io::FrameStreamGuard& guard);
+    /** parseCommandLine() after `-c NAME` / `--config NAME` is moved to
+     * where the positional `config` stands (configOptionFirst()). */
+    bool parseConfigFirst(
+        TCLAP::CmdLine& cmd,
+        const TCLAP::Arg& config,
+        const TCLAP::Arg& dataset,
+        int argc,
+        const char** argv);
+    /** The input, outputs and ground truth, checked before any long work. */
+    void checkInputsAndOutputs();
+    /** Checks the input: a rawlog file, or a dataset folder (opened, into
+     * m_sequence). */
+    void openInput();
 
     std::string m_degenerate;
     bool m_viewer{false};
     bool m_egomotion_only{false};
     bool m_energy_scan{false};
     std::string m_config, m_rawlog, m_out, m_gt;
+    /** The input as messages name it: "rawlog 'FILE'", "KITTI odometry folder 'DIR'". */
+    std::string m_input_name;
+    /** The dataset folder when the input is one (else a rawlog). */
+    std::shared_ptr<io::DatasetSequence> m_sequence;
     emslam::io::TrajectoryReadOptions m_gt_options;
     emslam::io::LoadedTrajectory m_ground_truth;
     emslam::io::TrajectoryOutput m_trajectory_output{emslam::io::TrajectoryOutput::Tum};

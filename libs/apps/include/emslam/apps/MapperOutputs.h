@@ -114,6 +114,12 @@ void writeScene(
     const emslam::io::TumTrajectory& ground_truth,
     const std::string& file);
 
+/** map.bt: the OctoMap of the keyframes' clouds inserted from their final
+ * poses (slam::OctoMapBuilder, `[OctoMap]`), written with OctoMap's
+ * OcTree::writeBinary() (maximum-likelihood, pruned: what `octovis` and
+ * OcTree::readBinary() open). Nothing when `[OctoMap] resolution` is 0. */
+void writeOctoMap(const slam::EntropySlam& m, const std::string& file);
+
 /** map_top.png: the floor plan of the map with the trajectories (see
  * renderTopView()). */
 void writeTopViewPng(

@@ -1,6 +1,8 @@
 // SPDX-License-Identifier: BSD-3-Clause
 #pragma once
 
+#include <emslam/io/TumTrajectory.h>
+
 #include <mrpt/obs/CObservation.h>
 #include <mrpt/poses/CPose3D.h>
 
@@ -37,6 +39,9 @@ public:
     virtual double timestamp(std::size_t i) const = 0;
     /** True if ground truth was read with the folder. */
     virtual bool hasGroundTruth() const = 0;
+    /** Ground truth of frame `i` as the file gives it, if it has one (no
+     * image is read). */
+    virtual std::optional<mrpt::poses::CPose3D> groundTruthAt(std::size_t i) const = 0;
     /** Every file of the folder the reader reads: its lists, calibration and
      * the images of every frame, so that no output overwrites one
      * (requireOutputsAreNotInputs()). */
@@ -47,6 +52,11 @@ public:
     /** The mean frame rate [Hz] from the first and last timestamps, or
      * `fallback` for fewer than two frames or non-increasing times. */
     double meanFrameRate(double fallback) const;
+    /** The ground truth of every frame that has one, at its timestamp, as
+     * the pose in the first such frame (that one exactly the identity): what
+     * `emslam-import --gt-out` writes for the whole sequence. Empty without
+     * ground truth. */
+    TumTrajectory groundTruthTrajectory() const;
 };
 
 }  // namespace emslam::io

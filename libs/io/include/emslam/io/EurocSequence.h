@@ -102,6 +102,10 @@ public:
     }
     /** True if a ground-truth file was given. */
     bool hasGroundTruth() const override { return m_has_gt; }
+    std::optional<mrpt::poses::CPose3D> groundTruthAt(std::size_t i) const override
+    {
+        return groundTruth(i);
+    }
     /** Ground truth of frame `i` (T_world_left), if one was associated. */
     std::optional<mrpt::poses::CPose3D> groundTruth(std::size_t i) const;
     /** Number of frames with no ground truth within `gt_max_dt`. */

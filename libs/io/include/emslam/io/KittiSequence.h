@@ -89,6 +89,10 @@ public:
     /** Time of frame `i` [s] from the start of the sequence, as in times.txt. */
     double sequenceTime(std::size_t i) const;
     bool hasGroundTruth() const override { return !m_poses.empty(); }
+    std::optional<mrpt::poses::CPose3D> groundTruthAt(std::size_t i) const override
+    {
+        return hasGroundTruth() ? std::optional(groundTruth(i)) : std::nullopt;
+    }
     /** Ground-truth pose of frame `i` (T_first_left); throws if there is none. */
     const mrpt::poses::CPose3D& groundTruth(std::size_t i) const;
     std::string leftImageFile(std::size_t i) const;

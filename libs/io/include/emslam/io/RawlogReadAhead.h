@@ -1,6 +1,7 @@
 // SPDX-License-Identifier: BSD-3-Clause
 #pragma once
 
+#include <emslam/io/ObservationSource.h>
 #include <emslam/io/RawlogInput.h>
 
 #include <mrpt/obs/CObservation.h>
@@ -22,26 +23,26 @@ namespace emslam::io
  * it wanted does not fail its run). The RawlogInput must outlive this
  * object, and must not be used directly while it exists (the destructor
  * waits for the read in flight).
- * \ingroup emslam_io_grp \sa RawlogInput */
-class RawlogReadAhead
+ * \ingroup emslam_io_grp \sa RawlogInput, DatasetReadAhead */
+class RawlogReadAhead : public ObservationSource
 {
 public:
     explicit RawlogReadAhead(RawlogInput& in);
-    ~RawlogReadAhead();
+    ~RawlogReadAhead() override;
     RawlogReadAhead(const RawlogReadAhead&) = delete;
     RawlogReadAhead& operator=(const RawlogReadAhead&) = delete;
 
     /** As RawlogInput::next(), from the entry read ahead; starts reading the
      * one after it. */
-    bool next(std::vector<mrpt::obs::CObservation::Ptr>& batch);
+    bool next(std::vector<mrpt::obs::CObservation::Ptr>& batch) override;
 
     /** @name RawlogInput's state after the last entry handed out
      * @{ */
-    std::size_t recordsRead() const { return m_current.records; }
-    double fractionRead() const { return m_current.fraction; }
-    bool endedEarly() const { return m_current.ended_early; }
-    bool corrupt() const { return m_current.corrupt; }
-    const std::string& endReason() const { return m_current.end_reason; }
+    std::size_t recordsRead() const override { return m_current.records; }
+    double fractionRead() const override { return m_current.fraction; }
+    bool endedEarly() const override { return m_current.ended_early; }
+    bool corrupt() const override { return m_current.corrupt; }
+    const std::string& endReason() const override { return m_current.end_reason; }
     /** @} */
 
 private:

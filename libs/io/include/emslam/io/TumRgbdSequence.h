@@ -89,6 +89,10 @@ public:
     double depthTimestamp(std::size_t i) const;
     /** True if the folder has a groundtruth.txt. */
     bool hasGroundTruth() const override { return m_has_gt; }
+    std::optional<mrpt::poses::CPose3D> groundTruthAt(std::size_t i) const override
+    {
+        return groundTruth(i);
+    }
     /** Ground truth of frame `i` (T_world_rgb), if one was associated. */
     std::optional<mrpt::poses::CPose3D> groundTruth(std::size_t i) const;
     /** Number of frames with no ground truth within `gt_max_dt`. */

@@ -60,6 +60,15 @@ public:
      * if a frame has no pose. */
     IntensityCloud worldCloud(const std::vector<emslam::rectify::TimedPose>& poses) const;
 
+    /** A stored cloud in the camera frame of `frame_index` (an element's
+     * first frame once fused): what that camera saw, a scan from its pose. */
+    struct Scan
+    {
+        std::size_t frame_index{0};
+        IntensityCloud cloud;
+    };
+    /** Moves every stored cloud out (the elements are left empty). */
+    std::vector<Scan> takeScans();
     /** Throws std::logic_error unless the elements hold the same frames as
      * those of `t` (their number, and each one's first frame and count). */
     void requireSameElementsAs(const emslam::rectify::Trajectory& t) const;

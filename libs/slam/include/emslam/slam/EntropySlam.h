@@ -13,6 +13,7 @@
 #include <emslam/slam/IntensityCloud.h>
 #include <emslam/slam/LoopCloser.h>
 #include <emslam/slam/OccupancyGridBuilder.h>
+#include <emslam/slam/OctoMapBuilder.h>
 #include <emslam/slam/StereoOdometry.h>
 #include <emslam/stereo/StereoFrontEnd.h>
 
@@ -92,6 +93,7 @@ public:
         TOptions mapper;                                               //!< [Mapper]
         LoopCloser::TParameters loop_closer;                           //!< [LoopCloser]
         OccupancyGridBuilder::TParameters occupancy_grid;              //!< [OccupancyGrid]
+        OctoMapBuilder::TParameters octomap;                           //!< [OctoMap]
 
         /** Loads every section (missing keys keep their defaults) and
          * validates; throws std::invalid_argument naming the section and key
@@ -224,6 +226,10 @@ public:
      * trajectory element during the run (see ElementClouds): the points of
      * frames fused by compression were averaged in their element's frame. */
     const IntensityCloud& mapCloud() const { return m_map_cloud; }
+    /** The clouds mapCloud() was made of, each in the camera frame of its
+     * keyframe (an element's first frame when compression fused frames):
+     * scans to insert from keyframePoses() (map.bt, OctoMapBuilder). */
+    const std::vector<ElementClouds::Scan>& keyframeScans() const { return m_keyframe_scans; }
     /** Final energy (recomputed from scratch): the entropy plus the odometry
      * prior's cost, if `[Rectifier] prior_weight` > 0. */
     double finalEnergy() const { return m_energy; }
@@ -270,10 +276,10 @@ private:
     /** The front-end's step; false: no frame yet. Throws UnusableObservation
      * for what the front-end cannot use. */
     bool runOdometry(const mrpt::obs::CObservation& obs, StereoOdometry::Step& step);
-    /** The step's matches, success and sigmas go to `r`; returns the step's
-     * covariance (the prior's, a failed step's wide one, or the Dpp's). */
-    emslam::rectify::ActionCovariance recordStep(
-        const StereoOdometry::Step& step, FrameRecord& r) const;
+    /** The step's matches, success and sigmas go to `r` (a predicted step
+     * marks the keyframe interval); returns the step's covariance (the
+     * prior's, a failed step's wide one, or the Dpp's). */
+    emslam::rectify::ActionCovariance recordStep(const StereoOdometry::Step& step, FrameRecord& r);
     /** Frame `r` was accepted: to the loop closer, then to the map (now, or
      * when the front-end's map task ends). */
     void addKeyframe(
@@ -315,6 +321,8 @@ private:
     mrpt::poses::CPose3D m_T_keyframe_cur;
     /** The egomotion's covariance of m_T_keyframe_cur (zero at a keyframe). */
     emslam::rectify::ActionCovariance m_cov_keyframe_cur;
+    /** A step since the last keyframe was predicted (the egomotion failed). */
+    bool m_predicted_since_keyframe{false};
     std::size_t m_last_keyframe{0};
     std::vector<std::size_t> m_keyframes;
     std::vector<FrameRecord> m_records;
@@ -323,6 +331,7 @@ private:
     double m_entropy{0.0};
     /** The map cloud per trajectory element, fused as the trajectory compresses. */
     ElementClouds m_clouds;
+    std::vector<ElementClouds::Scan> m_keyframe_scans;
     IntensityCloud m_last_cloud;  //!< the last accepted frame's cloud, camera frame
     std::size_t m_last_cloud_frame{0};
     bool m_cloud_added{false};  //!< by the last process()

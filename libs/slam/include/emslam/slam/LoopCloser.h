@@ -4,6 +4,7 @@
 #include <emslam/egomotion/EgomotionEstimator.h>
 #include <emslam/rectify/ActionCovariance.h>
 #include <emslam/rectify/PoseGraph.h>
+#include <emslam/slam/PlaceRecognition.h>
 #include <emslam/stereo/StereoFrame.h>
 #include <emslam/stereo/VerticalFromPlanes.h>
 
@@ -51,40 +52,60 @@ namespace emslam::slam
  *    keyframes before it; an edge whose Mahalanobis distance to the
  *    egomotion's chain (its composed covariance plus the edge's own) is
  *    within the 99.73 % bulk of a χ²(6) joins the graph.
- * 3. Candidates: keyframes whose path to j is at least `min_path_length`,
- *    whose cameras look within `max_angle_deg` of j's, and whose estimated
- *    distance is within `max_distance` plus three standard deviations of the
- *    chain's drift between them (translations, and rotations times their
- *    lever arm, shortened by the loops already closed); a grid over the
- *    keyframe positions finds them.
- * 4. Registration: the `max_candidates` nearest, by
- *    EgomotionEstimator::estimate() against the kept compact descriptions
- *    (`kept_features`); kept if it succeeds and its correction of the chain
- *    is within three standard deviations.
+ * 3. Candidates, two ways. By their look (`place_candidates` > 0): the
+ *    keyframes PlaceRecognition finds most like j (an inverted index of the
+ *    kept descriptors), whatever the drift. By proximity: keyframes whose
+ *    cameras look within `max_angle_deg` plus three standard deviations of
+ *    the chain's rotation drift of j's, and whose estimated distance is
+ *    within `max_distance` plus three standard deviations of the chain's
+ *    drift between them (translations, and rotations times their lever
+ *    arm, shortened by the loops already closed); a grid over the keyframe
+ *    positions finds them. Both only at least `min_path_length` of path
+ *    before j.
+ *    The drift is the egomotion's covariances, except where they are known
+ *    to understate it: a step the egomotion predicted because it failed
+ *    counts as off by up to the largest step it measured (one missed turn
+ *    on the spot is tens of degrees), and the whole chain is scaled by the
+ *    median Mahalanobis² of the local registrations to it over that of a
+ *    χ²(6) when larger (Drift).
+ * 4. Registration: the look-alikes first, then the `max_candidates`
+ *    nearest, by EgomotionEstimator::estimate() against the kept compact
+ *    descriptions (`kept_features`); kept if it succeeds and its correction
+ *    of the chain is within three standard deviations of that drift.
  * 5. Consensus: a repetitive world registers look-alike places too, each
  *    with its own correction. The registrations of the last
  *    `consensus_window` keyframes are grouped by the world correction they
  *    ask for, two agreeing when their corrections differ by less than three
- *    standard deviations of the drift between them; the group of the
- *    smallest normalised correction wins if it has at least two members
- *    (loop edges accepted in the window count as members). A new loop (none
- *    accepted in the window) is decided only when its first registration
- *    leaves the window, so that a look-alike seen first competes with the
- *    place truly revisited.
+ *    standard deviations of the drift between them; of the groups with at
+ *    least two members (loop edges accepted in the window count as
+ *    members), the one of the largest support × exp(−n/2) wins, n the
+ *    normalised correction of its seed: the drift's prior on the correction
+ *    times the registrations that found it on their own. A new loop (none
+ *    accepted in the window) is decided only when the path has gone past
+ *    its oldest registration by that registration's correction, so that a
+ *    look-alike seen first competes with the place truly revisited.
  * 6. Solve: when a new loop edge disagrees with the graph beyond its χ²
  *    bulk, the graph is solved from where it is (a few Levenberg–Marquardt
- *    iterations); a loop edge the solved graph still disagrees with beyond
- *    that bulk is dropped and the graph solved again.
- * 7. Contradictions: a loop edge dropped, or a group refused, is the
- *    solved graph contradicting registrations the consensus let through.
- *    A true edge fails its χ² test by chance once in 370, and one
- *    look-alike place may fool the consensus twice (in and out); more
- *    contradictions than that (and than the 99.73 % bulk of the Poisson
- *    count of chance failures) mean a world of look-alikes the
- *    registrations cannot tell apart (a periodic texture, identical
- *    floors): the run's loop closing is unreliable (Stats::unreliable), its
- *    loop edges are withdrawn, no further loop closes and close() does not
- *    polish.
+ *    iterations). The χ² gates count the egomotion's covariances as the
+ *    data show them (times the drift scale: on real images registrations
+ *    of one true loop disagree beyond their stated noise). A group the
+ *    solved graph cannot agree with loses the member it disagrees with most
+ *    and is solved again, while the rest are still the group's majority;
+ *    else it is refused and the graph restored. A loop edge the solved
+ *    graph still disagrees with beyond that bulk is dropped and the graph
+ *    solved again.
+ * 7. Contradictions: a loop edge dropped, or a group refused while asking
+ *    for another correction than the loop edges accepted in the window (a
+ *    group agreeing with them is the same loop, beyond its noise), is the
+ *    solved graph contradicting registrations the consensus let through; a
+ *    group counts once per consensus window of keyframes it spans. A true
+ *    edge fails its χ² test by chance once in 370, and one look-alike place
+ *    may fool the consensus twice (in and out); more contradictions than
+ *    that (and than the 99.73 % bulk of the Poisson count of chance
+ *    failures) mean a world of look-alikes the registrations cannot tell
+ *    apart (a periodic texture, identical floors): the run's loop closing
+ *    is unreliable (Stats::unreliable), its loop edges are withdrawn, no
+ *    further loop closes and close() does not polish.
  *
  * Levelling (`vertical_prior`) is online too: the up each keyframe saw in
  * its dense cloud is gated once, at the first rectification after it came,
@@ -125,6 +146,11 @@ public:
          * metres the nearest by the estimate are often not the place seen
          * again. A registration costs a few ms at 320×240. (Default: 8) */
         int max_candidates{8};
+        /** Keyframes that look most like the new one (PlaceRecognition, an
+         * inverted index of the kept descriptors), registered before the
+         * nearest by the estimate: they are proposed whatever the drift. 0:
+         * proximity alone. (Default: 0) */
+        int place_candidates{0};
         /** Each keyframe is also registered directly against this many
          * keyframes before it, and those registrations join the pose graph:
          * one registration in place of a chain of frame-to-frame steps, so
@@ -160,7 +186,14 @@ public:
     /** What close() did. */
     struct Stats
     {
-        std::size_t candidates{0};           //!< pairs within the gates of step 1
+        std::size_t candidates{0};         //!< pairs within the gates of step 1
+        std::size_t place_candidates{0};   //!< proposed by their look (place_candidates)
+        std::size_t place_index_bytes{0};  //!< of the PlaceRecognition index
+        double place_ms{0};                //!< its queries and insertions, all keyframes
+        std::size_t place_visited_max{0};  //!< index entries a query visited, at most
+        /** The egomotion's variances times this are its drift (calibrated
+         * by the local registrations' misclosures; 1: as it says). */
+        double drift_scale{1};
         std::size_t registrations{0};        //!< egomotion registrations tried
         std::size_t registered{0};           //!< of them: succeeded and within the gate
         std::size_t loop_edges{0};           //!< accepted into the pose graph
@@ -182,12 +215,15 @@ public:
          * current poses [ms], over the keyframes that closed a loop. */
         double latency_ms_mean{0}, latency_ms_max{0};
         std::size_t latency_count{0};
-        std::size_t dropped_edges{0};           //!< loop edges the solved graph disagreed with
-        std::size_t refused_groups{0};          //!< consensus groups the solved graph refused
-        std::size_t kept_bytes{0};              //!< kept descriptions, all keyframes
-        double initial_cost{0}, final_cost{0};  //!< of the pose graph, first and last solve
-        double ms{0};                           //!< update() and close(), all of it
-        double polish_ms{0};                    //!< close() alone
+        std::size_t dropped_edges{0};   //!< loop edges the solved graph disagreed with
+        std::size_t refused_groups{0};  //!< consensus groups the solved graph refused
+        /** Of those, the groups asking for another correction than the loop
+         * followed, their registrations and the keyframes they registered. */
+        std::size_t contradicting_groups{0}, contradicting_edges{0}, contradicting_keyframes{0};
+        std::size_t kept_bytes{0};                      //!< kept descriptions, all keyframes
+        double initial_cost{0}, final_cost{0};          //!< of the pose graph, first and last solve
+        double ms{0};                                   //!< update() and close(), all of it
+        double polish_ms{0};                            //!< close() alone
         double polish_solve_ms{0}, polish_level_ms{0};  //!< of it: the solve, the levelling
         std::size_t refused_edges{0};                   //!< loop edges of the refused groups
         /** Empty, or why the loop closing is not to be trusted: the solved
@@ -228,13 +264,17 @@ public:
     /** Adds the next keyframe (producer thread): its frame index, its
      * description (may be null: never registered), the egomotion's
      * covariance of its motion since the previous keyframe and that motion
-     * (both ignored for the first). update() takes only keyframes with a
-     * motion; close() places the others by the poses it is given. */
+     * (both ignored for the first), and whether that motion holds a step
+     * the egomotion predicted because it failed (the drift then counts it
+     * as off by up to the largest step measured). update() takes only
+     * keyframes with a motion; close() places the others by the poses it is
+     * given. */
     void addKeyframe(
         std::size_t frame_index,
         emslam::egomotion::EgomotionEstimator::Description description,
         const emslam::rectify::ActionCovariance& step_covariance,
-        const std::optional<mrpt::poses::CPose3D>& step_motion = std::nullopt);
+        const std::optional<mrpt::poses::CPose3D>& step_motion = std::nullopt,
+        bool step_predicted = false);
     /** Measures the up that keyframe `frame_index` (already added) sees in
      * its dense cloud `frame`, near where `pose` (world, the egomotion's)
      * says it is; nothing unless `vertical_prior`. Producer thread. */
@@ -293,6 +333,7 @@ private:
         emslam::egomotion::EgomotionEstimator::CompactDescription kept;
         emslam::rectify::ActionCovariance covariance;
         std::optional<mrpt::poses::CPose3D> motion;
+        bool predicted{false};  //!< the motion holds a predicted step
         std::optional<emslam::stereo::VerticalMeasurement> vertical;
         std::chrono::steady_clock::time_point added;  //!< by addKeyframe()
     };
@@ -308,6 +349,9 @@ private:
         bool work);
     void addLocalEdges(std::size_t j, const emslam::egomotion::EgomotionEstimator& estimator);
     void registerCandidates(std::size_t j, const emslam::egomotion::EgomotionEstimator& estimator);
+    /** A local registration's Mahalanobis² to the chain: calibrates the
+     * drift (Drift::setScale()). */
+    void recordLocalMisclosure(double d2);
     /** Step 5 on the pool: the winning group, taken out of it (or none);
      * a new loop waits for the window to end unless `last_call`. */
     std::vector<std::unique_ptr<Registration>> takeConsensusGroup(std::size_t j, bool last_call);
@@ -316,6 +360,15 @@ private:
      * the window) is taken out again. Returns true if the graph was solved
      * and kept. */
     bool tryAccept(std::vector<std::unique_ptr<Registration>> group);
+    /** The χ² gate a loop edge's cost (times 2) must pass in the solved
+     * graph, scaled by the drift scale. */
+    double loopEdgeGate() const;
+    /** Whether two registrations' corrections (at the current poses) agree
+     * within the drift between them and their covariances (3σ). */
+    bool correctionsAgree(const Registration& a, const Registration& b) const;
+    /** Whether each member of a refused group agrees with most loop edges
+     * accepted in the window: the loop followed, not a contradiction. */
+    bool continuesAcceptedLoop(const std::vector<std::unique_ptr<Registration>>& group) const;
     /** Solve (the keyframes from `first_free` on), drop loop edges the
      * solution refuses, solve again. */
     void solve(int max_iterations, std::size_t first_free = 1);
@@ -351,7 +404,18 @@ private:
     emslam::rectify::PoseGraph m_graph;
     std::unique_ptr<Drift> m_drift;
     std::unique_ptr<Grid> m_grid;
+    PlaceRecognition m_places;              // with place_candidates
+    PlaceRecognition::Words m_place_words;  // of the keyframe being integrated
+    /** Mahalanobis² of the recent local registrations to the egomotion's
+     * chain (ring): how far the egomotion's covariance understates its error. */
+    std::vector<double> m_local_misclosures;
+    /** Contradicting groups, each counted once per consensus window of
+     * keyframes it spans. */
+    std::size_t m_contradicting_windows{0};
+    std::size_t m_local_misclosure_next{0};
     std::vector<double> m_path;  // along the chain, per keyframe
+    /** The largest keyframe motion measured so far [m, rad]. */
+    double m_largest_step_t{0}, m_largest_step_r{0};
     /** The first keyframe a local edge added since the last solve that
      * covered it reaches (max: none). */
     std::size_t m_unsolved_from{static_cast<std::size_t>(-1)};

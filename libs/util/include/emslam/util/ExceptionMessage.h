@@ -1,14 +1,17 @@
 // SPDX-License-Identifier: BSD-3-Clause
-#include <emslam/stereo/ExceptionMessage.h>
+#pragma once
 
+#include <exception>
 #include <sstream>
+#include <string>
 #include <vector>
 
-namespace emslam::stereo
+namespace emslam::util
 {
-namespace
+namespace detail
 {
-std::string trim(const std::string& s)
+/** `s` without leading and trailing white space. */
+inline std::string trim(const std::string& s)
 {
     const auto b = s.find_first_not_of(" \t\r\n");
     if (b == std::string::npos)
@@ -17,9 +20,16 @@ std::string trim(const std::string& s)
     }
     return s.substr(b, s.find_last_not_of(" \t\r\n") - b + 1);
 }
-}  // namespace
+}  // namespace detail
 
-std::string shortExceptionMessage(const std::exception& e)
+/** The human part of an exception's text. MRPT exceptions embed source
+ * locations and a call-stack backtrace in what(); this keeps only their
+ * "Message:" lines (outermost first, joined by ": "), which is what a user
+ * needs to see; a std::exception that MRPT_END wrapped gives its own text
+ * without MRPT's header and backtrace. Other exceptions return what()
+ * trimmed.
+ * \ingroup emslam_util_grp */
+inline std::string shortExceptionMessage(const std::exception& e)
 {
     const std::string text = e.what();
     std::vector<std::string> messages;
@@ -31,7 +41,8 @@ std::string shortExceptionMessage(const std::exception& e)
         const auto pos = line.find(TAG);
         if (pos != std::string::npos)
         {
-            const std::string m = trim(line.substr(pos + std::char_traits<char>::length(TAG)));
+            const std::string m =
+                detail::trim(line.substr(pos + std::char_traits<char>::length(TAG)));
             if (!m.empty())
             {
                 messages.push_back(m);
@@ -43,11 +54,11 @@ std::string shortExceptionMessage(const std::exception& e)
         // A std::exception that MRPT_END wrapped (ExceptionWithCallBack):
         // its text comes between MRPT's header and the backtrace, untagged.
         const std::string header = "==== MRPT exception ====";
-        const std::string t = trim(text);
+        const std::string t = detail::trim(text);
         const auto stack = t.find("Call stack backtrace:");
         if (t.compare(0, header.size(), header) == 0 && stack != std::string::npos)
         {
-            return trim(t.substr(header.size(), stack - header.size()));
+            return detail::trim(t.substr(header.size(), stack - header.size()));
         }
         return t;
     }
@@ -59,4 +70,4 @@ std::string shortExceptionMessage(const std::exception& e)
     return out;
 }
 
-}  // namespace emslam::stereo
+}  // namespace emslam::util

@@ -1,5 +1,5 @@
 // SPDX-License-Identifier: BSD-3-Clause
-#include <emslam/stereo/ExceptionMessage.h>
+#include <emslam/util/ExceptionMessage.h>
 
 #include <mrpt/core/exceptions.h>
 
@@ -7,7 +7,7 @@
 
 #include <stdexcept>
 
-using emslam::stereo::shortExceptionMessage;
+using emslam::util::shortExceptionMessage;
 
 TEST(ExceptionMessage, plainExceptionsKeepTheirText)
 {
