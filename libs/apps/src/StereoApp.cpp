@@ -37,6 +37,12 @@ namespace
 {
 constexpr const char* STEREO_SECTION = "Stereo";
 constexpr const char* PROGRAM = "emslam-stereo";
+using Clock = std::chrono::steady_clock;
+
+double msSince(Clock::time_point t0)
+{
+    return std::chrono::duration<double, std::milli>(Clock::now() - t0).count();
+}
 
 void requireFile(const std::string& f, const std::string& what)
 {
@@ -245,48 +251,7 @@ void StereoApp::execute()
             100.0 * f.density(), z.min, z.median, z.max, ms);
         if (frames_processed == 0)
         {
-            if (!m_ply.empty())
-            {
-                writePly(f, m_ply);
-            }
-            if (!m_disparity_png.empty())
-            {
-                writeDisparityPng(f, m_disparity_png);
-            }
-            if (!m_gt_disparity.empty())
-            {
-                cv::Mat gt = readImage(m_gt_disparity, "ground-truth disparity");
-                if (gt.channels() != 1)
-                {
-                    throw std::runtime_error("ground-truth disparity must be single-channel");
-                }
-                cv::Mat gtf;
-                // Disparities shrink with the image: scale values and size alike.
-                const double k = m_gt_scale * f.intensity.cols / static_cast<double>(gt.cols);
-                gt.convertTo(gtf, CV_32F, k);
-                cv::resize(gtf, gtf, f.intensity.size(), 0, 0, cv::INTER_NEAREST);
-                std::size_t n_gt = 0, n_both = 0, n_bad = 0;
-                for (int v = 0; v < gtf.rows; ++v)
-                {
-                    for (int u = 0; u < gtf.cols; ++u)
-                    {
-                        const float g = gtf.at<float>(v, u);
-                        const float d = f.disparity.at<float>(v, u);
-                        n_gt += g > 0;
-                        if (g > 0 && d > 0)
-                        {
-                            ++n_both;
-                            n_bad += std::abs(d - g) > 1.0f;
-                        }
-                    }
-                }
-                bad_pixel_rate = n_both ? static_cast<double>(n_bad) / n_both : 1.0;
-                gt_coverage = n_gt ? static_cast<double>(n_both) / n_gt : 0.0;
-                std::printf(
-                    "ground truth: bad pixels (|d - d_gt| > 1 px) %.2f %% of %zu matched "
-                    "pixels; %.1f %% of ground-truth pixels matched\n",
-                    100.0 * bad_pixel_rate, n_both, 100.0 * gt_coverage);
-            }
+            writeFirstFrameOutputs(f);
         }
         if (out)
         {
@@ -297,95 +262,16 @@ void StereoApp::execute()
         total_ms += ms;
         total_density += f.density();
     };
-    using clock = std::chrono::steady_clock;
-    auto msSince = [](clock::time_point t0)
-    { return std::chrono::duration<double, std::milli>(clock::now() - t0).count(); };
 
     try
     {
         if (m_rawlog.empty())
         {
-            const auto cam = io::loadStereoCameraFromIniFile(m_calib, m_calib_section);
-            const cv::Mat l = readImage(m_left, "left image"),
-                          r = readImage(m_right, "right image");
-            auto obs = mrpt::obs::CObservationStereoImages::Create();
-            obs->sensorLabel = "STEREO";
-            obs->timestamp = mrpt::Clock::now();
-            obs->imageLeft = mrpt::img::CImage(l, mrpt::img::SHALLOW_COPY);
-            obs->imageRight = mrpt::img::CImage(r, mrpt::img::SHALLOW_COPY);
-            obs->hasImageRight = true;
-            obs->setStereoCameraParams(cam);
-            const auto t0 = clock::now();
-            const auto f = front.process(*obs);
-            handle(f, msSince(t0));
+            processImagePair(front, handle);
         }
         else
         {
-            io::RawlogInput in(m_rawlog);
-            std::vector<mrpt::obs::CObservation::Ptr> batch;
-            std::size_t ignored = 0;
-            // The same frames as emslam-mapper and emslam-odometry use.
-            io::FrameStreamGuard guard;
-            const auto warn = [](const std::string& warning)
-            {
-                if (!warning.empty())
-                {
-                    std::fflush(stdout);
-                    std::fprintf(stderr, "%s: warning: %s\n", PROGRAM, warning.c_str());
-                }
-            };
-            // SIGINT / SIGTERM / SIGHUP end the loop after the current frame;
-            // the frames done are kept (exit 128 + signal).
-            StopSignal::clear();
-            const StopSignalGuard signals;
-            while ((maxFrames() == 0 || frames_processed < maxFrames()) &&
-                   !StopSignal::requested() && in.next(batch))
-            {
-                const std::size_t record = in.recordsRead() - 1;
-                for (const auto& o : batch)
-                {
-                    const auto decision = guard.check(*o, record);
-                    if (decision.verdict == io::FrameStreamGuard::Verdict::Skip)
-                    {
-                        warn(decision.warning);
-                        continue;
-                    }
-                    emslam::stereo::StereoFrame f;
-                    const auto t0 = clock::now();
-                    try
-                    {
-                        if (decision.verdict == io::FrameStreamGuard::Verdict::NotAFrame ||
-                            !front.process(*o, f))
-                        {
-                            ++ignored;
-                            continue;
-                        }
-                    }
-                    catch (const std::bad_alloc&)
-                    {
-                        throw;
-                    }
-                    catch (const std::exception& e)
-                    {
-                        warn(guard.skipUnusable(record, emslam::util::shortExceptionMessage(e)));
-                        continue;
-                    }
-                    guard.accept();
-                    handle(f, msSince(t0));
-                }
-            }
-            in.warnIfEndedEarly(PROGRAM);
-            if (ignored > 0)
-            {
-                std::printf("ignored %zu observations of other classes\n", ignored);
-            }
-            skipped = guard.counts();
-            skipped_reasons = guard.namedSkips();
-            camera_change = guard.cameraChangeWarning();
-            if (skipped.total() > 0)
-            {
-                std::printf("%s\n", guard.skippedText().c_str());
-            }
+            processRawlog(front, handle);
         }
     }
     catch (...)
@@ -422,6 +308,138 @@ void StereoApp::execute()
     {
         std::fflush(stdout);
         std::fprintf(stderr, "%s: warning: %s\n", PROGRAM, camera_change.c_str());
+    }
+}
+
+void StereoApp::writeFirstFrameOutputs(const emslam::stereo::StereoFrame& f)
+{
+    if (!m_ply.empty())
+    {
+        writePly(f, m_ply);
+    }
+    if (!m_disparity_png.empty())
+    {
+        writeDisparityPng(f, m_disparity_png);
+    }
+    if (!m_gt_disparity.empty())
+    {
+        cv::Mat gt = readImage(m_gt_disparity, "ground-truth disparity");
+        if (gt.channels() != 1)
+        {
+            throw std::runtime_error("ground-truth disparity must be single-channel");
+        }
+        cv::Mat gtf;
+        // Disparities shrink with the image: scale values and size alike.
+        const double k = m_gt_scale * f.intensity.cols / static_cast<double>(gt.cols);
+        gt.convertTo(gtf, CV_32F, k);
+        cv::resize(gtf, gtf, f.intensity.size(), 0, 0, cv::INTER_NEAREST);
+        std::size_t n_gt = 0, n_both = 0, n_bad = 0;
+        for (int v = 0; v < gtf.rows; ++v)
+        {
+            for (int u = 0; u < gtf.cols; ++u)
+            {
+                const float g = gtf.at<float>(v, u);
+                const float d = f.disparity.at<float>(v, u);
+                n_gt += g > 0;
+                if (g > 0 && d > 0)
+                {
+                    ++n_both;
+                    n_bad += std::abs(d - g) > 1.0f;
+                }
+            }
+        }
+        bad_pixel_rate = n_both ? static_cast<double>(n_bad) / n_both : 1.0;
+        gt_coverage = n_gt ? static_cast<double>(n_both) / n_gt : 0.0;
+        std::printf(
+            "ground truth: bad pixels (|d - d_gt| > 1 px) %.2f %% of %zu matched "
+            "pixels; %.1f %% of ground-truth pixels matched\n",
+            100.0 * bad_pixel_rate, n_both, 100.0 * gt_coverage);
+    }
+}
+
+void StereoApp::processImagePair(
+    emslam::stereo::StereoFrontEnd& front, const FrameHandler& handle) const
+{
+    const auto cam = io::loadStereoCameraFromIniFile(m_calib, m_calib_section);
+    const cv::Mat l = readImage(m_left, "left image"), r = readImage(m_right, "right image");
+    auto obs = mrpt::obs::CObservationStereoImages::Create();
+    obs->sensorLabel = "STEREO";
+    obs->timestamp = mrpt::Clock::now();
+    obs->imageLeft = mrpt::img::CImage(l, mrpt::img::SHALLOW_COPY);
+    obs->imageRight = mrpt::img::CImage(r, mrpt::img::SHALLOW_COPY);
+    obs->hasImageRight = true;
+    obs->setStereoCameraParams(cam);
+    const auto t0 = Clock::now();
+    const auto f = front.process(*obs);
+    handle(f, msSince(t0));
+}
+
+void StereoApp::processRawlog(emslam::stereo::StereoFrontEnd& front, const FrameHandler& handle)
+{
+    io::RawlogInput in(m_rawlog);
+    std::vector<mrpt::obs::CObservation::Ptr> batch;
+    std::size_t ignored = 0;
+    // The same frames as emslam-mapper and emslam-odometry use.
+    io::FrameStreamGuard guard;
+    const auto warn = [](const std::string& warning)
+    {
+        if (!warning.empty())
+        {
+            std::fflush(stdout);
+            std::fprintf(stderr, "%s: warning: %s\n", PROGRAM, warning.c_str());
+        }
+    };
+    // SIGINT / SIGTERM / SIGHUP end the loop after the current frame;
+    // the frames done are kept (exit 128 + signal).
+    StopSignal::clear();
+    const StopSignalGuard signals;
+    while ((maxFrames() == 0 || frames_processed < maxFrames()) && !StopSignal::requested() &&
+           in.next(batch))
+    {
+        const std::size_t record = in.recordsRead() - 1;
+        for (const auto& o : batch)
+        {
+            const auto decision = guard.check(*o, record);
+            if (decision.verdict == io::FrameStreamGuard::Verdict::Skip)
+            {
+                warn(decision.warning);
+                continue;
+            }
+            emslam::stereo::StereoFrame f;
+            const auto t0 = Clock::now();
+            try
+            {
+                if (decision.verdict == io::FrameStreamGuard::Verdict::NotAFrame ||
+                    !front.process(*o, f))
+                {
+                    ++ignored;
+                    continue;
+                }
+            }
+            catch (const std::bad_alloc&)
+            {
+                throw;
+            }
+            catch (const std::exception& e)
+            {
+                warn(guard.skipUnusable(record, emslam::util::shortExceptionMessage(e)));
+                continue;
+            }
+            guard.accept();
+            handle(f, msSince(t0));
+        }
+    }
+    in.warnIfEndedEarly(PROGRAM);
+    if (ignored > 0)
+    {
+        std::printf("ignored %zu observations of other classes\n", ignored);
+    }
+    skipped = guard.counts();
+    skipped_reasons = guard.namedSkips();
+    camera_change = guard.cameraChangeWarning();
+    if (skipped.total() > 0)
+    {
+        std::printf("%s\n", guard.skippedText().c_str());
     }
 }
 
