@@ -70,7 +70,7 @@ mrpt::maps::COccupancyGridMap2D loadGrid(const std::string& file, const std::str
     {
         throw std::runtime_error(
             "'" + file + "' is not an MRPT occupancy grid (" +
-            emslam::stereo::shortExceptionMessage(e) + ")");
+            emslam::util::shortExceptionMessage(e) + ")");
     }
     return grid;
 }

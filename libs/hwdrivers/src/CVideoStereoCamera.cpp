@@ -3,8 +3,8 @@
 #include <emslam/hwdrivers/SensorStatus.h>
 #include <emslam/io/CalibrationFiles.h>
 #include <emslam/io/OpenCvStereoCalibration.h>
-#include <emslam/stereo/ExceptionMessage.h>
 #include <emslam/stereo/StereoCalibration.h>
+#include <emslam/util/ExceptionMessage.h>
 
 #include <mrpt/config/CConfigFileBase.h>
 #include <mrpt/core/format.h>
@@ -132,7 +132,7 @@ void CVideoStereoCamera::TParameters::loadCalibration(
                                                                  calibration_extrinsics_file + "'");
         throw std::invalid_argument(
             "CVideoStereoCamera, section " + s + ": " + key + ": " +
-            emslam::stereo::shortExceptionMessage(e));
+            emslam::util::shortExceptionMessage(e));
     }
 }
 
@@ -297,7 +297,7 @@ void CVideoStereoCamera::initialize()
         m_source_right.reset();
         throw std::runtime_error(
             "CVideoStereoCamera, section " + m_section + ": " +
-            emslam::stereo::shortExceptionMessage(e));
+            emslam::util::shortExceptionMessage(e));
     }
     m_state = ssWorking;
 }

@@ -1,6 +1,6 @@
 // SPDX-License-Identifier: BSD-3-Clause
 #include <emslam/io/OpenCvStereoCalibration.h>
-#include <emslam/stereo/ExceptionMessage.h>
+#include <emslam/util/ExceptionMessage.h>
 
 #include <mrpt/core/format.h>
 #include <mrpt/math/CMatrixFixed.h>
@@ -171,7 +171,7 @@ public:
         }
         catch (const cv::Exception& e)
         {
-            fail(file, "does not parse: " + emslam::stereo::shortExceptionMessage(e));
+            fail(file, "does not parse: " + emslam::util::shortExceptionMessage(e));
         }
         if (!fs.isOpened())
         {
@@ -224,7 +224,7 @@ public:
         }
         catch (const cv::Exception& e)
         {
-            fail(file, name + ": " + emslam::stereo::shortExceptionMessage(e));
+            fail(file, name + ": " + emslam::util::shortExceptionMessage(e));
         }
         if (std::find(allowed_sizes.begin(), allowed_sizes.end(), v.size()) == allowed_sizes.end())
         {
@@ -436,7 +436,7 @@ void saveOpenCvStereoCalibration(const std::string& file, const mrpt::img::TSter
     }
     catch (const cv::Exception& e)
     {
-        fail(file, "cannot be written: " + emslam::stereo::shortExceptionMessage(e));
+        fail(file, "cannot be written: " + emslam::util::shortExceptionMessage(e));
     }
     if (!fs.isOpened())
     {
