@@ -278,6 +278,53 @@ std::string grabUntilStop(
     status.finish();
     return write_error;
 }
+/** The INI's values checked ([global] and emslam's sensor sections);
+ * returns its gz level. Errors name the file. */
+int checkedGzLevel(const mrpt::config::CConfigFileBase& cfg, const std::string& config_file)
+{
+    try
+    {
+        requireWellFormedValues(cfg);
+        return gzLevel(cfg);
+    }
+    catch (const std::invalid_argument& e)
+    {
+        throw std::invalid_argument("'" + config_file + "': " + e.what());
+    }
+}
+
+/** What is grabbed into what, until when. */
+void announce(const GrabberApp& app, std::size_t sensors, const std::string& out_file)
+{
+    std::cerr << PROGRAM << ": grabbing " << sensors << " sensor(s) into '" << out_file << "'";
+    if (app.max_frames)
+    {
+        std::cerr << " until " << *app.max_frames << " stereo frames";
+    }
+    if (app.max_seconds)
+    {
+        std::cerr << " for " << *app.max_seconds << " s";
+    }
+    std::cerr << " (Ctrl+C stops)\n";
+}
+/** Commits the rawlog; if the last compressed block does not fit (a full
+ * disk), keeps the rest and sets the first write error. */
+void commitOutput(io::RawlogOutput& out, std::string& write_error, std::string& stop_reason)
+{
+    try
+    {
+        out.commit();
+    }
+    catch (const std::exception& e)
+    {
+        if (write_error.empty())
+        {
+            write_error = errorText(e);
+            stop_reason = "writing failed";
+        }
+        out.keepWhatWasWritten();
+    }
+}
 }  // namespace
 
 void GrabberApp::execute()
@@ -302,16 +349,7 @@ void GrabberApp::execute()
     // Re-parse the text (a CConfigFileMemory written to reads back defaults otherwise).
     const mrpt::config::CConfigFileMemory cfg(params.getContent());
     const std::string prefix = cfg.read_string("global", "rawlog_prefix", "dataset");
-    int gz_level = 1;
-    try
-    {
-        requireWellFormedValues(cfg);
-        gz_level = gzLevel(cfg);
-    }
-    catch (const std::invalid_argument& e)
-    {
-        throw std::invalid_argument("'" + config_file + "': " + e.what());
-    }
+    const int gz_level = checkedGzLevel(cfg, config_file);
     const std::string out_file = output_file.empty() ? prefix + ".rawlog" : output_file;
 
     io::requireOutputsAreNotInputs(
@@ -324,17 +362,7 @@ void GrabberApp::execute()
     io::RawlogOutput out(out_file, gz_level);
     if (!quiet)
     {
-        std::cerr << PROGRAM << ": grabbing " << slots.size() << " sensor(s) into '" << out_file
-                  << "'";
-        if (max_frames)
-        {
-            std::cerr << " until " << *max_frames << " stereo frames";
-        }
-        if (max_seconds)
-        {
-            std::cerr << " for " << *max_seconds << " s";
-        }
-        std::cerr << " (Ctrl+C stops)\n";
+        announce(*this, slots.size(), out_file);
     }
     StopSignal::clear();
     const StopSignalGuard signals;
@@ -344,20 +372,7 @@ void GrabberApp::execute()
         live = std::make_unique<LiveViewer>(LiveViewer::Options{PROGRAM});
     }
     std::string write_error = grabUntilStop(*this, slots, out, live.get(), t_start);
-    try
-    {
-        out.commit();
-    }
-    catch (const std::exception& e)
-    {
-        // The last compressed block did not fit (a full disk): keep the rest.
-        if (write_error.empty())
-        {
-            write_error = errorText(e);
-            stop_reason = "writing failed";
-        }
-        out.keepWhatWasWritten();
-    }
+    commitOutput(out, write_error, stop_reason);
 
     std::error_code ec;
     output_bytes = fs::file_size(out_file, ec);
