@@ -150,6 +150,31 @@ std::size_t feedFrames(
     }
     return ignored;
 }
+/** The means per frame (per step for what only steps have) into the app's results. */
+void storeMeans(OdometryApp& app, const OdometrySums& sums)
+{
+    const double n = static_cast<double>(app.frames_processed);
+    app.mean_ms_stereo = sums.stereo / n;
+    app.mean_ms_features = sums.features / n;
+    app.mean_ms_descriptors = sums.descriptors / n;
+    app.mean_ms_egomotion = sums.egomotion / n;
+    const double ns = sums.steps > 0 ? static_cast<double>(sums.steps) : 1.0;
+    app.mean_ms_matching = sums.matching / ns;
+    app.mean_ms_lwo = sums.lwo / ns;
+    app.mean_ms_pose = sums.pose / ns;
+    app.mean_initial_matches = sums.initial_matches / ns;
+    app.mean_final_matches = sums.final_matches / ns;
+}
+void warnDegenerate(const std::string& degenerate)
+{
+    std::fflush(stdout);
+    std::fprintf(
+        stderr,
+        "emslam-odometry: warning: degenerate result: %s; the trajectory is written but "
+        "is not usable (check the images, the calibration and [Stereo] / [Egomotion]); "
+        "exit status %d\n",
+        degenerate.c_str(), EXIT_DEGENERATE);
+}
 }  // namespace
 
 OdometryApp::OdometryApp() : App(PROGRAM) {}
@@ -289,17 +314,7 @@ void OdometryApp::execute()
             quotedList(written).c_str());
     }
 
-    const double n = static_cast<double>(frames_processed);
-    mean_ms_stereo = sums.stereo / n;
-    mean_ms_features = sums.features / n;
-    mean_ms_descriptors = sums.descriptors / n;
-    mean_ms_egomotion = sums.egomotion / n;
-    const double ns = sums.steps > 0 ? static_cast<double>(sums.steps) : 1.0;
-    mean_ms_matching = sums.matching / ns;
-    mean_ms_lwo = sums.lwo / ns;
-    mean_ms_pose = sums.pose / ns;
-    mean_initial_matches = sums.initial_matches / ns;
-    mean_final_matches = sums.final_matches / ns;
+    storeMeans(*this, sums);
     if (ignored > 0)
     {
         std::printf("ignored %zu observations of other classes\n", ignored);
@@ -312,13 +327,7 @@ void OdometryApp::execute()
     degenerate = degenerateRunWarning(sums.steps, failures, std::nullopt);
     if (!degenerate.empty())
     {
-        std::fflush(stdout);
-        std::fprintf(
-            stderr,
-            "emslam-odometry: warning: degenerate result: %s; the trajectory is written but "
-            "is not usable (check the images, the calibration and [Stereo] / [Egomotion]); "
-            "exit status %d\n",
-            degenerate.c_str(), EXIT_DEGENERATE);
+        warnDegenerate(degenerate);
     }
 }
 
