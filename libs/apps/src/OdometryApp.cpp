@@ -175,6 +175,16 @@ void warnDegenerate(const std::string& degenerate)
         "exit status %d\n",
         degenerate.c_str(), EXIT_DEGENERATE);
 }
+void printParameters(
+    const emslam::stereo::StereoMatcher::TParameters& sp,
+    const emslam::egomotion::EgomotionEstimator::TParameters& ep)
+{
+    std::printf(
+        "[Stereo] num_disparities=%d range=[%g, %g] m  [Egomotion] |W|=%d S_min=%g sigma_min=%g "
+        "min_final_matches=%d\n",
+        sp.num_disparities, sp.min_range, sp.max_range, ep.window_size, ep.similarity_min,
+        ep.lwo_sigma_min, ep.min_final_matches);
+}
 }  // namespace
 
 OdometryApp::OdometryApp() : App(PROGRAM) {}
@@ -257,11 +267,7 @@ void OdometryApp::execute()
     emslam::egomotion::EgomotionEstimator::TParameters ep;
     ep.loadFromConfigFile(params, EGOMOTION_SECTION);
     slam::StereoOdometry odometry(sp, ep);
-    std::printf(
-        "[Stereo] num_disparities=%d range=[%g, %g] m  [Egomotion] |W|=%d S_min=%g sigma_min=%g "
-        "min_final_matches=%d\n",
-        sp.num_disparities, sp.min_range, sp.max_range, ep.window_size, ep.similarity_min,
-        ep.lwo_sigma_min, ep.min_final_matches);
+    printParameters(sp, ep);
 
     io::RawlogInput in(m_rawlog);
     // SIGINT / SIGTERM / SIGHUP end the loop after the current frame; the
