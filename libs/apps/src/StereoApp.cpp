@@ -115,6 +115,28 @@ DepthStats depthStats(const emslam::stereo::StereoFrame& f)
     s.max = *mx;
     return s;
 }
+void printFrame(std::size_t index, const emslam::stereo::StereoFrame& f, double ms)
+{
+    const auto z = depthStats(f);
+    std::printf(
+        "frame %zu: %dx%d, %zu points (density %.1f %%), depth %.2f / %.2f / %.2f m "
+        "(min/median/max), %.1f ms\n",
+        index, f.intensity.cols, f.intensity.rows, f.points.size(), 100.0 * f.density(), z.min,
+        z.median, z.max, ms);
+}
+/** The means over the run, and a camera change warned about. */
+void printSummary(const StereoApp& app)
+{
+    std::printf(
+        "%zu frame(s), %.0f points per frame on average (density %.1f %%), %.1f ms per frame\n",
+        app.frames_processed, static_cast<double>(app.total_points) / app.frames_processed,
+        100.0 * app.mean_density, app.mean_ms_per_frame);
+    if (!app.camera_change.empty())
+    {
+        std::fflush(stdout);
+        std::fprintf(stderr, "%s: warning: %s\n", PROGRAM, app.camera_change.c_str());
+    }
+}
 }  // namespace
 
 StereoApp::StereoApp() : App(PROGRAM) {}
@@ -243,12 +265,7 @@ void StereoApp::execute()
     double total_ms = 0, total_density = 0;
     auto handle = [&](const emslam::stereo::StereoFrame& f, double ms)
     {
-        const auto z = depthStats(f);
-        std::printf(
-            "frame %zu: %dx%d, %zu points (density %.1f %%), depth %.2f / %.2f / %.2f m "
-            "(min/median/max), %.1f ms\n",
-            frames_processed, f.intensity.cols, f.intensity.rows, f.points.size(),
-            100.0 * f.density(), z.min, z.median, z.max, ms);
+        printFrame(frames_processed, f, ms);
         if (frames_processed == 0)
         {
             writeFirstFrameOutputs(f);
@@ -300,15 +317,7 @@ void StereoApp::execute()
     }
     mean_density = total_density / frames_processed;
     mean_ms_per_frame = total_ms / frames_processed;
-    std::printf(
-        "%zu frame(s), %.0f points per frame on average (density %.1f %%), %.1f ms per frame\n",
-        frames_processed, static_cast<double>(total_points) / frames_processed,
-        100.0 * mean_density, mean_ms_per_frame);
-    if (!camera_change.empty())
-    {
-        std::fflush(stdout);
-        std::fprintf(stderr, "%s: warning: %s\n", PROGRAM, camera_change.c_str());
-    }
+    printSummary(*this);
 }
 
 void StereoApp::writeFirstFrameOutputs(const emslam::stereo::StereoFrame& f)
