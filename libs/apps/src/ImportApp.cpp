@@ -334,6 +334,37 @@ void printImportSummary(const ImportApp& app)
         1e3 * app.elapsed_seconds / static_cast<double>(app.frames_written));
     std::cout.flush();
 }
+/** No output may replace a file of the dataset or the ground truth. */
+void requireOutputsAreNotDatasetFiles(const ImportApp& app, const FrameSource& src)
+{
+    std::vector<io::RolePath> inputs{
+        {"the ground truth (--gt)",
+         app.dataset == "kitti" ? app.kitti_poses_file : app.euroc_gt_file}};
+    for (const auto& f : src.sequence->inputFiles())
+    {
+        inputs.push_back({"a file of the dataset", f});
+    }
+    io::requireOutputsAreNotInputs(
+        {{"output rawlog", app.output_file}, {"ground-truth output (--gt-out)", app.gt_out_file}},
+        inputs);
+}
+
+void warnRetimed(double t0, double period, std::size_t first_listed)
+{
+    std::cerr << PROGRAM
+              << mrpt::format(
+                     ": the frame list is not increasing: written frame k gets time "
+                     "%.6f + k * %.6f s (t of frame %zu + k * median frame period)\n",
+                     t0, period, first_listed);
+}
+void resetResults(ImportApp& app)
+{
+    app.frames_written = 0;
+    app.poses_written = 0;
+    app.frames_without_gt = 0;
+    app.output_bytes = 0;
+    app.retimed = false;
+}
 }  // namespace
 
 ImportApp::ImportApp() : App(PROGRAM) {}
@@ -546,25 +577,13 @@ void ImportApp::execute()
     ASSERTMSG_(!output_file.empty(), "ImportApp: no output file");
     ASSERTMSG_(step >= 1, "ImportApp: step must be >= 1");
     const auto t_start = std::chrono::steady_clock::now();
-    frames_written = 0;
-    poses_written = 0;
-    frames_without_gt = 0;
-    output_bytes = 0;
-    retimed = false;
+    resetResults(*this);
     // A bad output path must not cost a whole import.
     io::RawlogOutput::checkOutputFolders(output_file, gt_out_file);
 
     const FrameSource src = openDataset(*this);
 
-    // No output may replace a file of the dataset or the ground truth.
-    std::vector<io::RolePath> inputs{
-        {"the ground truth (--gt)", dataset == "kitti" ? kitti_poses_file : euroc_gt_file}};
-    for (const auto& f : src.sequence->inputFiles())
-    {
-        inputs.push_back({"a file of the dataset", f});
-    }
-    io::requireOutputsAreNotInputs(
-        {{"output rawlog", output_file}, {"ground-truth output (--gt-out)", gt_out_file}}, inputs);
+    requireOutputsAreNotDatasetFiles(*this, src);
 
     // Frame selection, and new times if the list goes back in time.
     checkFrameList(src, frames);
@@ -583,11 +602,7 @@ void ImportApp::execute()
                   << " into '" << output_file << "'\n";
         if (retimed)
         {
-            std::cerr << PROGRAM
-                      << mrpt::format(
-                             ": the frame list is not increasing: written frame k gets time "
-                             "%.6f + k * %.6f s (t of frame %zu + k * median frame period)\n",
-                             t0, period, indices.front());
+            warnRetimed(t0, period, indices.front());
         }
     }
 
