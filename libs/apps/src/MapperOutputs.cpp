@@ -285,6 +285,26 @@ void writeLoopClosingJson(std::ostream& j, const slam::EntropySlam& m)
       << ", \"polish_level_ms\": " << io::jsonNumber(lc.polish_level_ms)
       << ", \"ms\": " << io::jsonNumber(lc.ms) << "}";
 }
+/** The members only a run with ground truth has (each after a comma). */
+void writeGroundTruthMeasuresJson(std::ostream& j, const MapperRunInfo& info)
+{
+    if (info.egomotion_vs_gt)
+    {
+        j << ",\n  \"egomotion_vs_gt\": " << nestedJson(info.egomotion_vs_gt->toJson());
+    }
+    if (info.online_vs_gt)
+    {
+        j << ",\n  \"online_vs_gt\": " << nestedJson(info.online_vs_gt->toJson());
+    }
+    if (info.slam_vs_gt)
+    {
+        j << ",\n  \"slam_vs_gt\": " << nestedJson(info.slam_vs_gt->toJson());
+    }
+    if (info.energy_scan)
+    {
+        j << ",\n  \"energy_scan\": " << energyScanJson(*info.energy_scan);
+    }
+}
 }  // namespace
 
 void writeSummaryJson(
@@ -348,22 +368,7 @@ void writeSummaryJson(
       << "  \"wall_ms_per_frame\": "
       << io::jsonNumber(
              m.frameCount() > 0 ? 1e3 * info.seconds / static_cast<double>(m.frameCount()) : 0.0);
-    if (info.egomotion_vs_gt)
-    {
-        j << ",\n  \"egomotion_vs_gt\": " << nestedJson(info.egomotion_vs_gt->toJson());
-    }
-    if (info.online_vs_gt)
-    {
-        j << ",\n  \"online_vs_gt\": " << nestedJson(info.online_vs_gt->toJson());
-    }
-    if (info.slam_vs_gt)
-    {
-        j << ",\n  \"slam_vs_gt\": " << nestedJson(info.slam_vs_gt->toJson());
-    }
-    if (info.energy_scan)
-    {
-        j << ",\n  \"energy_scan\": " << energyScanJson(*info.energy_scan);
-    }
+    writeGroundTruthMeasuresJson(j, info);
     j << "\n}\n";
     io::AtomicTextFile f(file);
     f.stream() << j.str();
