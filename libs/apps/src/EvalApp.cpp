@@ -84,94 +84,167 @@ std::vector<mrpt::math::TPoint3Df> loadMapCloud(const std::string& file)
 
 EvalApp::EvalApp() : App(PROGRAM) {}
 
-bool EvalApp::parseArguments(int argc, const char** argv)
+/** The command line of emslam-eval, each argument added to `cmd` in the
+ * order of its help; defaults from the app's settings. */
+struct EvalApp::Arguments
 {
-    TCLAP::CmdLine cmd(
+    explicit Arguments(const EvalApp& app_defaults) : app(app_defaults) {}
+
+    const EvalApp& app;
+    TCLAP::CmdLine cmd{
         "emslam-eval: an estimated trajectory against ground truth (each TUM, KITTI poses + "
         "times or EuRoC ground-truth CSV, told from the content): ATE RMSE after alignment, "
         "KITTI drift, end-point error, loop gap, path length.",
-        ' ', "0.1");
+        ' ', "0.1"};
     // One optional multi-argument: TCLAP allows no unlabeled argument after an
     // optional one, and both are optional when only a map is measured.
-    TCLAP::UnlabeledMultiArg<std::string> trajectories(
+    TCLAP::UnlabeledMultiArg<std::string> trajectories{
         "trajectories",
         "GT EST: the ground-truth trajectory, then the estimate (each TUM, KITTI poses or EuRoC "
         "CSV)",
-        false, "GT EST", cmd);
-    TCLAP::ValueArg<std::string> map_arg(
-        "", "map", "A map cloud (PLY, e.g. the mapper's map.ply) to measure against --map-gt",
-        false, "", "MAP.ply", cmd);
-    TCLAP::ValueArg<std::string> map_gt_arg(
-        "", "map-gt", "The true surfaces (PLY of 'emslam-sim --map-gt-out')", false, "", "REF.ply",
-        cmd);
-    TCLAP::ValueArg<double> completeness_arg(
-        "", "completeness-distance",
+        false, "GT EST", cmd};
+    TCLAP::ValueArg<std::string> map_arg{
+        "",    "map", "A map cloud (PLY, e.g. the mapper's map.ply) to measure against --map-gt",
+        false, "",    "MAP.ply",
+        cmd};
+    TCLAP::ValueArg<std::string> map_gt_arg{
+        "",        "map-gt", "The true surfaces (PLY of 'emslam-sim --map-gt-out')", false, "",
+        "REF.ply", cmd};
+    TCLAP::ValueArg<double> completeness_arg{
+        "",
+        "completeness-distance",
         withDefault(
             "A true surface sample is covered if a map point is this close [m]",
-            mrpt::format("%g", map_options.completeness_distance)),
-        false, map_options.completeness_distance, "M", cmd);
-    TCLAP::ValueArg<double> near_arg(
-        "", "near-range",
+            mrpt::format("%g", app.map_options.completeness_distance)),
+        false,
+        app.map_options.completeness_distance,
+        "M",
+        cmd};
+    TCLAP::ValueArg<double> near_arg{
+        "",
+        "near-range",
         withDefault(
             "Completeness is also given over the samples seen within this depth [m]",
-            mrpt::format("%g", map_options.near_range)),
-        false, map_options.near_range, "M", cmd);
-    TCLAP::ValueArg<std::string> grid_arg(
-        "", "grid", "An occupancy grid (the mapper's map_grid.gridmap) to compare with --grid-gt",
-        false, "", "MAP.gridmap", cmd);
-    TCLAP::ValueArg<std::string> grid_gt_arg(
-        "", "grid-gt", "The true floor plan ('emslam-sim --grid-gt-out')", false, "",
-        "PLAN.gridmap", cmd);
-    TCLAP::ValueArg<long long> grid_tolerance_arg(
-        "", "grid-tolerance",
+            mrpt::format("%g", app.map_options.near_range)),
+        false,
+        app.map_options.near_range,
+        "M",
+        cmd};
+    TCLAP::ValueArg<std::string> grid_arg{
+        "",
+        "grid",
+        "An occupancy grid (the mapper's map_grid.gridmap) to compare with --grid-gt",
+        false,
+        "",
+        "MAP.gridmap",
+        cmd};
+    TCLAP::ValueArg<std::string> grid_gt_arg{
+        "",    "grid-gt", "The true floor plan ('emslam-sim --grid-gt-out')",
+        false, "",        "PLAN.gridmap",
+        cmd};
+    TCLAP::ValueArg<long long> grid_tolerance_arg{
+        "",
+        "grid-tolerance",
         withDefault(
             "An occupied cell matches one of the other grid this many cells away",
-            std::to_string(grid_tolerance)),
-        false, grid_tolerance, "CELLS", cmd);
-    TCLAP::ValueArg<std::string> gt_format_arg(
-        "", "gt-format",
-        withDefault("Format of GT: auto (from the content), tum, kitti or euroc", "auto"), false,
-        "auto", "auto|tum|kitti|euroc", cmd);
-    TCLAP::ValueArg<std::string> est_format_arg(
-        "", "est-format",
-        withDefault("Format of EST: auto (from the content), tum, kitti or euroc", "auto"), false,
-        "auto", "auto|tum|kitti|euroc", cmd);
-    TCLAP::ValueArg<std::string> gt_times(
-        "", "gt-times",
+            std::to_string(app.grid_tolerance)),
+        false,
+        app.grid_tolerance,
+        "CELLS",
+        cmd};
+    TCLAP::ValueArg<std::string> gt_format_arg{
+        "",
+        "gt-format",
+        withDefault("Format of GT: auto (from the content), tum, kitti or euroc", "auto"),
+        false,
+        "auto",
+        "auto|tum|kitti|euroc",
+        cmd};
+    TCLAP::ValueArg<std::string> est_format_arg{
+        "",
+        "est-format",
+        withDefault("Format of EST: auto (from the content), tum, kitti or euroc", "auto"),
+        false,
+        "auto",
+        "auto|tum|kitti|euroc",
+        cmd};
+    TCLAP::ValueArg<std::string> gt_times{
+        "",
+        "gt-times",
         "Times file of a KITTI GT (default: found beside it, e.g. sequences/NN/times.txt for "
         "poses/NN.txt)",
-        false, "", "FILE", cmd);
-    TCLAP::ValueArg<std::string> est_times(
-        "", "est-times", "Times file of a KITTI EST (default: found beside it)", false, "", "FILE",
-        cmd);
-    TCLAP::ValueArg<double> kitti_time_offset(
-        "", "kitti-time-offset",
+        false,
+        "",
+        "FILE",
+        cmd};
+    TCLAP::ValueArg<std::string> est_times{
+        "",     "est-times", "Times file of a KITTI EST (default: found beside it)", false, "",
+        "FILE", cmd};
+    TCLAP::ValueArg<double> kitti_time_offset{
+        "",
+        "kitti-time-offset",
         "UNIX time [s] added to KITTI sequence times (times.txt values below 1e9), as "
         "emslam-import kitti does",
-        false, emslam::io::KittiSequence::DEFAULT_TIME_OFFSET, "SECONDS", cmd);
-    TCLAP::ValueArg<std::string> align(
-        "", "align",
+        false,
+        emslam::io::KittiSequence::DEFAULT_TIME_OFFSET,
+        "SECONDS",
+        cmd};
+    TCLAP::ValueArg<std::string> align{
+        "",
+        "align",
         withDefault("Alignment before the ATE: se3 (rigid), sim3 (with scale) or none", "se3"),
-        false, "se3", "se3|sim3|none", cmd);
-    TCLAP::ValueArg<std::string> json(
-        "", "json", "Also write the metrics to this JSON file", false, "", "FILE", cmd);
-    TCLAP::ValueArg<double> max_dt(
-        "", "max-dt",
+        false,
+        "se3",
+        "se3|sim3|none",
+        cmd};
+    TCLAP::ValueArg<std::string> json{
+        "", "json", "Also write the metrics to this JSON file", false, "", "FILE", cmd};
+    TCLAP::ValueArg<double> max_dt{
+        "",
+        "max-dt",
         withDefault(
             "Largest time difference of an associated pose pair [s]",
-            mrpt::format("%g", options.max_dt)),
-        false, options.max_dt, "SECONDS", cmd);
-    TCLAP::ValueArg<long long> step(
-        "", "segment-step",
+            mrpt::format("%g", app.options.max_dt)),
+        false,
+        app.options.max_dt,
+        "SECONDS",
+        cmd};
+    TCLAP::ValueArg<long long> step{
+        "",
+        "segment-step",
         withDefault(
-            "Drift segments start every N matched poses", std::to_string(options.segment_step)),
-        false, static_cast<long long>(options.segment_step), "N", cmd);
+            "Drift segments start every N matched poses", std::to_string(app.options.segment_step)),
+        false,
+        static_cast<long long>(app.options.segment_step),
+        "N",
+        cmd};
+};
 
-    if (!parseCommandLine(cmd, argc, argv, {{"--gt", "", 0, "GT"}, {"--est", "", 1, "EST"}}))
+bool EvalApp::parseArguments(int argc, const char** argv)
+{
+    Arguments args(*this);
+    if (!parseCommandLine(args.cmd, argc, argv, {{"--gt", "", 0, "GT"}, {"--est", "", 1, "EST"}}))
     {
         return false;
     }
-    const auto& files = trajectories.getValue();
+    takeInputs(args);
+    takeOptions(args);
+    io::requireOutputsAreNotInputs(
+        {{"the JSON output (--json)", m_json}},
+        {{"the ground truth", m_gt},
+         {"the estimate", m_est},
+         {"the map cloud (--map)", m_map},
+         {"the true surfaces (--map-gt)", m_map_gt},
+         {"the grid (--grid)", m_grid},
+         {"the true floor plan (--grid-gt)", m_grid_gt},
+         {"the ground-truth times (--gt-times)", m_gt_options.times_file},
+         {"the estimate's times (--est-times)", m_est_options.times_file}});
+    return true;
+}
+
+void EvalApp::takeInputs(Arguments& args)
+{
+    const auto& files = args.trajectories.getValue();
     if (files.size() != 0 && files.size() != 2)
     {
         usageError(
@@ -180,10 +253,10 @@ bool EvalApp::parseArguments(int argc, const char** argv)
     }
     m_gt = files.empty() ? "" : files[0];
     m_est = files.empty() ? "" : files[1];
-    m_map = map_arg.getValue();
-    m_map_gt = map_gt_arg.getValue();
-    m_grid = grid_arg.getValue();
-    m_grid_gt = grid_gt_arg.getValue();
+    m_map = args.map_arg.getValue();
+    m_map_gt = args.map_gt_arg.getValue();
+    m_grid = args.grid_arg.getValue();
+    m_grid_gt = args.grid_gt_arg.getValue();
     for (const auto& [a, b, what] :
          {std::tuple{&m_gt, &m_est, "GT and EST"},
           {&m_map, &m_map_gt, "--map and --map-gt"},
@@ -200,17 +273,21 @@ bool EvalApp::parseArguments(int argc, const char** argv)
             "missing required arguments <GT>, <EST> (or --map and --map-gt, or --grid and "
             "--grid-gt)");
     }
-    map_options.completeness_distance = completeness_arg.getValue();
-    map_options.near_range = near_arg.getValue();
+}
+
+void EvalApp::takeOptions(Arguments& args)
+{
+    map_options.completeness_distance = args.completeness_arg.getValue();
+    map_options.near_range = args.near_arg.getValue();
     if (!(map_options.completeness_distance > 0) ||
         !std::isfinite(map_options.completeness_distance) || !(map_options.near_range > 0))
     {
         usageError("--completeness-distance and --near-range must be positive distances [m]");
     }
     grid_tolerance = static_cast<int>(
-        countOption(grid_tolerance_arg.getValue(), "--grid-tolerance", 0, PROGRAM));
+        countOption(args.grid_tolerance_arg.getValue(), "--grid-tolerance", 0, PROGRAM));
     for (auto [arg, o] :
-         {std::pair{&gt_format_arg, &m_gt_options}, {&est_format_arg, &m_est_options}})
+         {std::pair{&args.gt_format_arg, &m_gt_options}, {&args.est_format_arg, &m_est_options}})
     {
         try
         {
@@ -221,40 +298,30 @@ bool EvalApp::parseArguments(int argc, const char** argv)
             throw std::invalid_argument("--" + arg->getName() + ": " + e.what());
         }
     }
-    m_gt_options.times_file = gt_times.getValue();
-    m_est_options.times_file = est_times.getValue();
-    if (!std::isfinite(kitti_time_offset.getValue()))
+    m_gt_options.times_file = args.gt_times.getValue();
+    m_est_options.times_file = args.est_times.getValue();
+    if (!std::isfinite(args.kitti_time_offset.getValue()))
     {
         throw std::invalid_argument("--kitti-time-offset must be a finite number of seconds");
     }
-    m_gt_options.kitti_time_offset = m_est_options.kitti_time_offset = kitti_time_offset.getValue();
-    m_json = json.getValue();
+    m_gt_options.kitti_time_offset = m_est_options.kitti_time_offset =
+        args.kitti_time_offset.getValue();
+    m_json = args.json.getValue();
     try
     {
-        options.alignment = eval::parseAlignment(align.getValue());
+        options.alignment = eval::parseAlignment(args.align.getValue());
     }
     catch (const std::invalid_argument&)
     {
         throw std::invalid_argument(
-            "bad --align value '" + align.getValue() + "': expected se3, sim3 or none");
+            "bad --align value '" + args.align.getValue() + "': expected se3, sim3 or none");
     }
-    options.max_dt = max_dt.getValue();
+    options.max_dt = args.max_dt.getValue();
     if (!(options.max_dt > 0) || !std::isfinite(options.max_dt))
     {
         throw std::invalid_argument("--max-dt must be a positive number of seconds");
     }
-    options.segment_step = countOption(step.getValue(), "--segment-step", 1, PROGRAM);
-    io::requireOutputsAreNotInputs(
-        {{"the JSON output (--json)", m_json}},
-        {{"the ground truth", m_gt},
-         {"the estimate", m_est},
-         {"the map cloud (--map)", m_map},
-         {"the true surfaces (--map-gt)", m_map_gt},
-         {"the grid (--grid)", m_grid},
-         {"the true floor plan (--grid-gt)", m_grid_gt},
-         {"the ground-truth times (--gt-times)", m_gt_options.times_file},
-         {"the estimate's times (--est-times)", m_est_options.times_file}});
-    return true;
+    options.segment_step = countOption(args.step.getValue(), "--segment-step", 1, PROGRAM);
 }
 
 void EvalApp::execute()

@@ -171,6 +171,138 @@ void writeRunOutputs(
     writeSummaryJson(m, info, dir + "/summary.json");
     writeMapperReport(dir + "/report.html", makeReportData(m, info, ground_truth));
 }
+/** The run's description: experiment, mapper, seed and the paper's figures. */
+ExperimentResult describeRun(
+    const ExperimentSpec& spec,
+    std::size_t mapper_index,
+    int seed,
+    const ExperimentRunOptions& options,
+    const slam::EntropySlam::TParameters& p)
+{
+    const std::string& mapper_file = spec.mappers[mapper_index];
+    ExperimentResult r;
+    r.experiment = spec.name;
+    r.title = spec.title;
+    r.figure = spec.figure;
+    r.mapper = std::filesystem::path(mapper_file).filename().string();
+    r.energy = emslam::maps::toString(p.map.energy);
+    r.label = paperEnergyLabel(r.energy);
+    r.variant = options.variant;
+    r.seed = seed;
+    r.loop = spec.loop;
+    r.paper_path_m = spec.paper_path_m;
+    r.paper_observations = spec.paper_observations;
+    r.paper_egomotion_gap_m = spec.paper_egomotion_gap_m;
+    r.paper_slam_gap_m = spec.paper_slam_gap_m.at(mapper_index);
+    return r;
+}
+
+/** Renders and maps the frames (all, or options.max_frames) until
+ * options.on_frame says stop; returns the true poses of the frames rendered
+ * and fills r's ground truth. */
+std::vector<mrpt::poses::CPose3D> mapSimulatedFrames(
+    const emslam::sim::StereoSimulator& sim,
+    slam::EntropySlam& mapper,
+    const slam::EntropySlam::TParameters& p,
+    const ExperimentRunOptions& options,
+    ExperimentResult& r)
+{
+    const std::size_t n =
+        options.max_frames == 0 ? sim.frameCount() : std::min(options.max_frames, sim.frameCount());
+    std::vector<mrpt::poses::CPose3D> truth;
+    for (std::size_t i = 0; i < n; ++i)
+    {
+        const auto f = sim.renderFrame(i, options.exact_depth);
+        r.ground_truth.add(f.t, f.T_first_left);
+        truth.push_back(f.T_first_left);
+        if (options.exact_depth)
+        {
+            mapper.process(*emslam::stereo::toRangeScan(
+                emslam::sim::exactDepthFrame(f, p.stereo.min_range, p.stereo.max_range)));
+        }
+        else
+        {
+            mapper.process(*f.obs);
+        }
+        if (options.on_frame && !options.on_frame(i + 1, n))
+        {
+            r.interrupted = i + 1 < n;
+            break;
+        }
+    }
+    return truth;
+}
+
+/** The trajectories against the ground truth (into r and the run info). */
+MapperRunInfo measureTrajectories(
+    const ExperimentSpec& spec,
+    std::size_t mapper_index,
+    int seed,
+    const ExperimentRunOptions& options,
+    ExperimentResult& r)
+{
+    const std::string& mapper_file = spec.mappers[mapper_index];
+    const eval::TrajectoryMetrics::Options metric_options;
+    MapperRunInfo info;
+    info.rawlog = "simulated: " + spec.world + " (seed " + std::to_string(seed) +
+                  (options.exact_depth ? ", exact depth" : "") + ")";
+    info.config = mapper_file;
+    info.interrupted = r.interrupted;
+    info.egomotion_vs_gt =
+        eval::TrajectoryMetrics::compute(r.ground_truth, r.egomotion, metric_options);
+    info.slam_vs_gt = eval::TrajectoryMetrics::compute(r.ground_truth, r.slam, metric_options);
+    std::vector<mrpt::poses::CPose3D> gt_poses;
+    for (const auto& tp : r.ground_truth.poses)
+    {
+        gt_poses.push_back(tp.pose);
+    }
+    r.path_m = eval::pathLength(gt_poses);
+    r.egomotion_gap_m = info.egomotion_vs_gt->end_error_m;
+    r.slam_gap_m = info.slam_vs_gt->end_error_m;
+    r.egomotion_ate_m = info.egomotion_vs_gt->ate_rmse_m;
+    r.slam_ate_m = info.slam_vs_gt->ate_rmse_m;
+    return info;
+}
+
+/** Mean stage times and the rectifications' totals. */
+void recordTimes(const slam::EntropySlam& mapper, ExperimentResult& r)
+{
+    const StageMeans ms = stageMeans(mapper.frames());
+    r.ms_stereo = ms.stereo;
+    r.ms_egomotion = ms.egomotion;
+    const RectificationTotals rt = rectificationTotals(mapper.rectifications());
+    r.rectifications = mapper.rectifications().size();
+    r.attempts = rt.attempts;
+    r.successes = rt.successes;
+    r.rect_median_ms = rt.median_ms;
+    r.rect_max_ms = rt.max_ms;
+}
+
+/** The entropy of the final trajectory's elements at the true, egomotion,
+ * SLAM and rectified poses. */
+void measureEntropies(
+    const emslam::rectify::Trajectory& traj,
+    const std::vector<mrpt::poses::CPose3D>& truth,
+    double cell_size,
+    ExperimentResult& r)
+{
+    const auto& ego = r.egomotion.poses;
+    const auto& out = r.slam.poses;
+    const auto at_truth =
+        emslam::rectify::elementPosesAt(traj, [&](std::size_t i) { return truth.at(i); });
+    r.entropy_truth = emslam::rectify::entropyAtElementPoses(traj, at_truth);
+    r.entropy_phase_spread = gridPhaseSpread(traj, at_truth, cell_size);
+    r.entropy_egomotion = emslam::rectify::entropyAtElementPoses(
+        traj, emslam::rectify::elementPosesAt(traj, [&](std::size_t i) { return ego.at(i).pose; }));
+    r.entropy_slam = emslam::rectify::entropyAtElementPoses(
+        traj, emslam::rectify::elementPosesAt(traj, [&](std::size_t i) { return out.at(i).pose; }));
+    std::vector<mrpt::poses::CPose3D> rectified_elements;
+    for (std::size_t i = 0; i < traj.size(); ++i)
+    {
+        rectified_elements.push_back(traj.pose(i));
+    }
+    r.entropy_rectified = emslam::rectify::entropyAtElementPoses(traj, rectified_elements);
+}
 }  // namespace
 
 std::string paperEnergyLabel(const std::string& energy)
@@ -200,48 +332,11 @@ ExperimentResult runExperiment(
     const auto t_start = std::chrono::steady_clock::now();
     const slam::EntropySlam::TParameters p =
         experimentMapperParameters(spec, mapper_index, options.sets);
-    const std::string& mapper_file = spec.mappers[mapper_index];
     const emslam::sim::StereoSimulator sim = loadWorld(spec.world, seed);
-
-    ExperimentResult r;
-    r.experiment = spec.name;
-    r.title = spec.title;
-    r.figure = spec.figure;
-    r.mapper = std::filesystem::path(mapper_file).filename().string();
-    r.energy = emslam::maps::toString(p.map.energy);
-    r.label = paperEnergyLabel(r.energy);
-    r.variant = options.variant;
-    r.seed = seed;
-    r.loop = spec.loop;
-    r.paper_path_m = spec.paper_path_m;
-    r.paper_observations = spec.paper_observations;
-    r.paper_egomotion_gap_m = spec.paper_egomotion_gap_m;
-    r.paper_slam_gap_m = spec.paper_slam_gap_m.at(mapper_index);
+    ExperimentResult r = describeRun(spec, mapper_index, seed, options, p);
 
     slam::EntropySlam mapper(p);
-    const std::size_t n =
-        options.max_frames == 0 ? sim.frameCount() : std::min(options.max_frames, sim.frameCount());
-    std::vector<mrpt::poses::CPose3D> truth;
-    for (std::size_t i = 0; i < n; ++i)
-    {
-        const auto f = sim.renderFrame(i, options.exact_depth);
-        r.ground_truth.add(f.t, f.T_first_left);
-        truth.push_back(f.T_first_left);
-        if (options.exact_depth)
-        {
-            mapper.process(*emslam::stereo::toRangeScan(
-                emslam::sim::exactDepthFrame(f, p.stereo.min_range, p.stereo.max_range)));
-        }
-        else
-        {
-            mapper.process(*f.obs);
-        }
-        if (options.on_frame && !options.on_frame(i + 1, n))
-        {
-            r.interrupted = i + 1 < n;
-            break;
-        }
-    }
+    const std::vector<mrpt::poses::CPose3D> truth = mapSimulatedFrames(sim, mapper, p, options, r);
     mapper.finish();
 
     r.frames = mapper.frameCount();
@@ -249,58 +344,12 @@ ExperimentResult runExperiment(
     r.egomotion_failures = mapper.egomotionFailures();
     r.egomotion = tumTrajectoryOf(mapper.egomotionPoses());
     r.slam = tumTrajectoryOf(mapper.slamPoses());
-
-    const eval::TrajectoryMetrics::Options metric_options;
-    MapperRunInfo info;
-    info.rawlog = "simulated: " + spec.world + " (seed " + std::to_string(seed) +
-                  (options.exact_depth ? ", exact depth" : "") + ")";
-    info.config = mapper_file;
-    info.interrupted = r.interrupted;
-    info.egomotion_vs_gt =
-        eval::TrajectoryMetrics::compute(r.ground_truth, r.egomotion, metric_options);
-    info.slam_vs_gt = eval::TrajectoryMetrics::compute(r.ground_truth, r.slam, metric_options);
-    std::vector<mrpt::poses::CPose3D> gt_poses;
-    for (const auto& tp : r.ground_truth.poses)
-    {
-        gt_poses.push_back(tp.pose);
-    }
-    r.path_m = eval::pathLength(gt_poses);
-    r.egomotion_gap_m = info.egomotion_vs_gt->end_error_m;
-    r.slam_gap_m = info.slam_vs_gt->end_error_m;
-    r.egomotion_ate_m = info.egomotion_vs_gt->ate_rmse_m;
-    r.slam_ate_m = info.slam_vs_gt->ate_rmse_m;
-
-    const StageMeans ms = stageMeans(mapper.frames());
-    r.ms_stereo = ms.stereo;
-    r.ms_egomotion = ms.egomotion;
-    const RectificationTotals rt = rectificationTotals(mapper.rectifications());
-    r.rectifications = mapper.rectifications().size();
-    r.attempts = rt.attempts;
-    r.successes = rt.successes;
-    r.rect_median_ms = rt.median_ms;
-    r.rect_max_ms = rt.max_ms;
-
+    MapperRunInfo info = measureTrajectories(spec, mapper_index, seed, options, r);
+    recordTimes(mapper, r);
     const auto& traj = mapper.trajectory();
     if (!traj.empty())
     {
-        const auto& ego = r.egomotion.poses;
-        const auto& out = r.slam.poses;
-        const auto at_truth =
-            emslam::rectify::elementPosesAt(traj, [&](std::size_t i) { return truth.at(i); });
-        r.entropy_truth = emslam::rectify::entropyAtElementPoses(traj, at_truth);
-        r.entropy_phase_spread = gridPhaseSpread(traj, at_truth, p.map.cell_size);
-        r.entropy_egomotion = emslam::rectify::entropyAtElementPoses(
-            traj,
-            emslam::rectify::elementPosesAt(traj, [&](std::size_t i) { return ego.at(i).pose; }));
-        r.entropy_slam = emslam::rectify::entropyAtElementPoses(
-            traj,
-            emslam::rectify::elementPosesAt(traj, [&](std::size_t i) { return out.at(i).pose; }));
-        std::vector<mrpt::poses::CPose3D> rectified_elements;
-        for (std::size_t i = 0; i < traj.size(); ++i)
-        {
-            rectified_elements.push_back(traj.pose(i));
-        }
-        r.entropy_rectified = emslam::rectify::entropyAtElementPoses(traj, rectified_elements);
+        measureEntropies(traj, truth, p.map.cell_size, r);
     }
     if (options.map_accuracy)
     {

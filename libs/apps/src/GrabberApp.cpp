@@ -48,10 +48,6 @@ namespace emslam::apps
 {
 using namespace grabber;
 
-namespace
-{
-}  // namespace
-
 void GrabberApp::requestStop()
 {
     StopSignal::request();
@@ -142,10 +138,198 @@ bool GrabberApp::parseArguments(int argc, const char** argv)
     return true;
 }
 
+namespace
+{
+using Slots = std::vector<std::unique_ptr<Slot>>;
+
+double secondsSince(Clock::time_point t0)
+{
+    return std::chrono::duration<double>(Clock::now() - t0).count();
+}
+
+/** Stops the sensor threads and waits for them. */
+void joinAll(Slots& slots, std::atomic<bool>& stop_threads)
+{
+    stop_threads.store(true);
+    for (auto& s : slots)
+    {
+        if (s->thread.joinable())
+        {
+            s->thread.join();
+        }
+    }
+}
+
+/** Tells once about each sensor that stopped (a failure even when quiet). */
+void reportEnds(Slots& slots, StatusLine& status, bool quiet)
+{
+    for (auto& s : slots)
+    {
+        const int st = s->state.load();
+        if (st == RUNNING || s->reported)
+        {
+            continue;
+        }
+        s->reported = true;
+        if (st == FAILED)
+        {
+            status.finish();
+            std::cerr << PROGRAM << ": sensor [" << s->section << "] '" << s->label
+                      << "' failed and was stopped (the others go on): " << s->error << "\n";
+        }
+        else if (!quiet)
+        {
+            status.finish();
+            std::cerr << PROGRAM << ": sensor [" << s->section << "] '" << s->label
+                      << "' reached the end of its stream\n";
+        }
+    }
+}
+
+/** The results of each sensor; returns how many failed. */
+std::size_t sensorResults(const Slots& slots, std::vector<GrabberApp::SensorResult>& sensors)
+{
+    std::size_t failed = 0;
+    for (const auto& s : slots)
+    {
+        GrabberApp::SensorResult r;
+        r.section = s->section;
+        r.driver = s->driver;
+        r.written = s->written;
+        if (const auto* st = dynamic_cast<const emslam::hwdrivers::SensorStatus*>(s->sensor.get()))
+        {
+            r.dropped = st->droppedFrames();
+        }
+        r.ended = s->state.load() == ENDED;
+        r.failed = s->state.load() == FAILED;
+        r.error = s->error;
+        failed += r.failed ? 1 : 0;
+        sensors.push_back(r);
+    }
+    return failed;
+}
+
+/** Runs the sensor threads and writes their observations in time order
+ * until a stop condition (app.stop_reason); returns the write error, if
+ * writing failed. Shows the stereo frames in `live`, if any. */
+std::string grabUntilStop(
+    GrabberApp& app,
+    Slots& slots,
+    io::RawlogOutput& out,
+    LiveViewer* live,
+    Clock::time_point t_start)
+{
+    const std::string partial = out.partialFile();
+    std::atomic<bool> stop_threads{false};
+    for (auto& s : slots)
+    {
+        Slot& slot = *s;
+        slot.thread = std::thread([&slot, &stop_threads] { sensorThread(slot, stop_threads); });
+    }
+    Session session(app, slots, out);
+    if (live != nullptr)
+    {
+        session.setViewer(live);
+    }
+    StatusLine status(!app.quiet);
+    std::string write_error;
+    try
+    {
+        while (true)
+        {
+            const auto states = session.collect();
+            session.write(states, false);
+            reportEnds(slots, status, app.quiet);
+            if (session.frameLimitReached())
+            {
+                app.stop_reason = std::to_string(*app.max_frames) + " stereo frames written";
+                break;
+            }
+            if (StopSignal::requested())
+            {
+                app.stop_reason = "interrupted by a signal";
+                break;
+            }
+            if (app.max_seconds && secondsSince(t_start) >= *app.max_seconds)
+            {
+                app.stop_reason = mrpt::format("%g s elapsed", *app.max_seconds);
+                break;
+            }
+            if (std::all_of(states.begin(), states.end(), [](int st) { return st != RUNNING; }))
+            {
+                app.stop_reason = "every sensor stopped";
+                break;
+            }
+            status.update(slots, secondsSince(t_start), partial);
+            std::this_thread::sleep_for(std::chrono::milliseconds(20));
+        }
+        joinAll(slots, stop_threads);
+        const auto states = session.collect();
+        session.write(states, true);
+        reportEnds(slots, status, app.quiet);
+    }
+    catch (const std::exception& e)
+    {
+        write_error = errorText(e);
+        app.stop_reason = "writing failed";
+        joinAll(slots, stop_threads);
+    }
+    status.update(slots, secondsSince(t_start), partial, true);
+    status.finish();
+    return write_error;
+}
+/** The INI's values checked ([global] and emslam's sensor sections);
+ * returns its gz level. Errors name the file. */
+int checkedGzLevel(const mrpt::config::CConfigFileBase& cfg, const std::string& config_file)
+{
+    try
+    {
+        requireWellFormedValues(cfg);
+        return gzLevel(cfg);
+    }
+    catch (const std::invalid_argument& e)
+    {
+        throw std::invalid_argument("'" + config_file + "': " + e.what());
+    }
+}
+
+/** What is grabbed into what, until when. */
+void announce(const GrabberApp& app, std::size_t sensors, const std::string& out_file)
+{
+    std::cerr << PROGRAM << ": grabbing " << sensors << " sensor(s) into '" << out_file << "'";
+    if (app.max_frames)
+    {
+        std::cerr << " until " << *app.max_frames << " stereo frames";
+    }
+    if (app.max_seconds)
+    {
+        std::cerr << " for " << *app.max_seconds << " s";
+    }
+    std::cerr << " (Ctrl+C stops)\n";
+}
+/** Commits the rawlog; if the last compressed block does not fit (a full
+ * disk), keeps the rest and sets the first write error. */
+void commitOutput(io::RawlogOutput& out, std::string& write_error, std::string& stop_reason)
+{
+    try
+    {
+        out.commit();
+    }
+    catch (const std::exception& e)
+    {
+        if (write_error.empty())
+        {
+            write_error = errorText(e);
+            stop_reason = "writing failed";
+        }
+        out.keepWhatWasWritten();
+    }
+}
+}  // namespace
+
 void GrabberApp::execute()
 {
     const auto t_start = Clock::now();
-    auto elapsed = [&] { return std::chrono::duration<double>(Clock::now() - t_start).count(); };
     if (list_devices)
     {
         device_listing = emslam::hwdrivers::listDevices().toText();
@@ -165,16 +349,7 @@ void GrabberApp::execute()
     // Re-parse the text (a CConfigFileMemory written to reads back defaults otherwise).
     const mrpt::config::CConfigFileMemory cfg(params.getContent());
     const std::string prefix = cfg.read_string("global", "rawlog_prefix", "dataset");
-    int gz_level = 1;
-    try
-    {
-        requireWellFormedValues(cfg);
-        gz_level = gzLevel(cfg);
-    }
-    catch (const std::invalid_argument& e)
-    {
-        throw std::invalid_argument("'" + config_file + "': " + e.what());
-    }
+    const int gz_level = checkedGzLevel(cfg, config_file);
     const std::string out_file = output_file.empty() ? prefix + ".rawlog" : output_file;
 
     io::requireOutputsAreNotInputs(
@@ -185,154 +360,24 @@ void GrabberApp::execute()
 
     io::RawlogOutput::checkOutputFolders(out_file, {});
     io::RawlogOutput out(out_file, gz_level);
-    const std::string partial = out.partialFile();
     if (!quiet)
     {
-        std::cerr << PROGRAM << ": grabbing " << slots.size() << " sensor(s) into '" << out_file
-                  << "'";
-        if (max_frames)
-        {
-            std::cerr << " until " << *max_frames << " stereo frames";
-        }
-        if (max_seconds)
-        {
-            std::cerr << " for " << *max_seconds << " s";
-        }
-        std::cerr << " (Ctrl+C stops)\n";
+        announce(*this, slots.size(), out_file);
     }
-
     StopSignal::clear();
     const StopSignalGuard signals;
-    std::atomic<bool> stop_threads{false};
-    for (auto& s : slots)
-    {
-        Slot& slot = *s;
-        slot.thread = std::thread([&slot, &stop_threads] { sensorThread(slot, stop_threads); });
-    }
-    auto joinAll = [&]
-    {
-        stop_threads.store(true);
-        for (auto& s : slots)
-        {
-            if (s->thread.joinable())
-            {
-                s->thread.join();
-            }
-        }
-    };
-
-    Session session(*this, slots, out);
     std::unique_ptr<LiveViewer> live;
     if (viewer)
     {
         live = std::make_unique<LiveViewer>(LiveViewer::Options{PROGRAM});
-        session.setViewer(live.get());
     }
-    StatusLine status(!quiet);
-    auto reportEnds = [&]
-    {
-        for (auto& s : slots)
-        {
-            const int st = s->state.load();
-            if (st == RUNNING || s->reported)
-            {
-                continue;
-            }
-            s->reported = true;
-            if (st == FAILED)
-            {
-                status.finish();
-                std::cerr << PROGRAM << ": sensor [" << s->section << "] '" << s->label
-                          << "' failed and was stopped (the others go on): " << s->error << "\n";
-            }
-            else if (!quiet)
-            {
-                status.finish();
-                std::cerr << PROGRAM << ": sensor [" << s->section << "] '" << s->label
-                          << "' reached the end of its stream\n";
-            }
-        }
-    };
-
-    std::string write_error;
-    try
-    {
-        while (true)
-        {
-            const auto states = session.collect();
-            session.write(states, false);
-            reportEnds();
-            if (session.frameLimitReached())
-            {
-                stop_reason = std::to_string(*max_frames) + " stereo frames written";
-                break;
-            }
-            if (StopSignal::requested())
-            {
-                stop_reason = "interrupted by a signal";
-                break;
-            }
-            if (max_seconds && elapsed() >= *max_seconds)
-            {
-                stop_reason = mrpt::format("%g s elapsed", *max_seconds);
-                break;
-            }
-            if (std::all_of(states.begin(), states.end(), [](int st) { return st != RUNNING; }))
-            {
-                stop_reason = "every sensor stopped";
-                break;
-            }
-            status.update(slots, elapsed(), partial);
-            std::this_thread::sleep_for(std::chrono::milliseconds(20));
-        }
-        joinAll();
-        const auto states = session.collect();
-        session.write(states, true);
-        reportEnds();
-    }
-    catch (const std::exception& e)
-    {
-        write_error = errorText(e);
-        stop_reason = "writing failed";
-        joinAll();
-    }
-    status.update(slots, elapsed(), partial, true);
-    status.finish();
-    try
-    {
-        out.commit();
-    }
-    catch (const std::exception& e)
-    {
-        // The last compressed block did not fit (a full disk): keep the rest.
-        if (write_error.empty())
-        {
-            write_error = errorText(e);
-            stop_reason = "writing failed";
-        }
-        out.keepWhatWasWritten();
-    }
+    std::string write_error = grabUntilStop(*this, slots, out, live.get(), t_start);
+    commitOutput(out, write_error, stop_reason);
 
     std::error_code ec;
     output_bytes = fs::file_size(out_file, ec);
-    elapsed_seconds = elapsed();
-    std::size_t failed = 0;
-    for (const auto& s : slots)
-    {
-        SensorResult r;
-        r.section = s->section;
-        r.driver = s->driver;
-        r.written = s->written;
-        if (const auto* st = dynamic_cast<const emslam::hwdrivers::SensorStatus*>(s->sensor.get()))
-        {
-            r.dropped = st->droppedFrames();
-        }
-        r.ended = s->state.load() == ENDED;
-        r.failed = s->state.load() == FAILED;
-        r.error = s->error;
-        failed += r.failed ? 1 : 0;
-        sensors.push_back(r);
-    }
+    elapsed_seconds = secondsSince(t_start);
+    const std::size_t failed = sensorResults(slots, sensors);
     if (!write_error.empty())
     {
         throw std::runtime_error(

@@ -261,13 +261,119 @@ std::string humanBytes(std::uintmax_t n)
     return buf;
 }
 
+/** Opens and checks the dataset the settings name. */
+FrameSource openDataset(const ImportApp& app)
+{
+    if (app.dataset == "kitti")
+    {
+        auto r = std::make_shared<emslam::io::KittiSequence>();
+        r->sensor_label = app.sensor_label.empty() ? "STEREO" : app.sensor_label;
+        if (app.kitti_time_offset)
+        {
+            r->time_offset = *app.kitti_time_offset;
+        }
+        r->open(app.input_dir, app.kitti_poses_file);
+        return makeSource(
+            r, mrpt::format(
+                   "KITTI sequence '%s' (%zu frames, %ux%u)", app.input_dir.c_str(), r->size(),
+                   r->imageWidth(), r->imageHeight()));
+    }
+    if (app.dataset == "euroc")
+    {
+        auto r = std::make_shared<emslam::io::EurocSequence>();
+        r->sensor_label = app.sensor_label.empty() ? "STEREO" : app.sensor_label;
+        r->open(app.input_dir, app.euroc_gt_file);
+        return makeSource(
+            r, mrpt::format(
+                   "EuRoC sequence '%s' (%zu stereo pairs, %ux%u, %zu unpaired)",
+                   r->directory().c_str(), r->size(), r->imageWidth(), r->imageHeight(),
+                   r->unpairedCount()));
+    }
+    if (app.dataset == "tum")
+    {
+        auto r = std::make_shared<emslam::io::TumRgbdSequence>();
+        r->sensor_label = app.sensor_label.empty() ? "RGBD" : app.sensor_label;
+        if (!app.tum_intrinsics.empty())
+        {
+            const auto v = parseIntrinsics(app.tum_intrinsics);
+            r->intrinsics.setIntrinsicParamsFromValues(v[0], v[1], v[2], v[3]);
+        }
+        r->open(app.input_dir);
+        FrameSource src = makeSource(
+            r,
+            mrpt::format(
+                "TUM RGB-D sequence '%s' (%zu colour/depth pairs, %ux%u, %zu colour images without "
+                "depth)",
+                app.input_dir.c_str(), r->size(), r->imageWidth(), r->imageHeight(),
+                r->unassociatedCount()));
+        if (!app.gt_out_file.empty() && !r->hasGroundTruth())
+        {
+            THROW_EXCEPTION_FMT(
+                "--gt-out given but '%s/groundtruth.txt' does not exist", app.input_dir.c_str());
+        }
+        return src;
+    }
+    THROW_EXCEPTION_FMT("Unknown dataset format '%s'", app.dataset.c_str());
+}
+/** What the import wrote, in one line on stdout. */
+void printImportSummary(const ImportApp& app)
+{
+    std::cout << PROGRAM << ": wrote " << app.frames_written << " frames to '" << app.output_file
+              << "' (" << humanBytes(app.output_bytes) << ")";
+    if (!app.gt_out_file.empty())
+    {
+        std::cout << ", " << app.poses_written << " ground-truth poses to '" << app.gt_out_file
+                  << "'";
+    }
+    if (app.frames_without_gt > 0)
+    {
+        std::cout << ", " << app.frames_without_gt << " frames without ground truth skipped";
+    }
+    std::cout << mrpt::format(
+        ", in %.2f s (%.1f ms/frame)\n", app.elapsed_seconds,
+        1e3 * app.elapsed_seconds / static_cast<double>(app.frames_written));
+    std::cout.flush();
+}
+/** No output may replace a file of the dataset or the ground truth. */
+void requireOutputsAreNotDatasetFiles(const ImportApp& app, const FrameSource& src)
+{
+    std::vector<io::RolePath> inputs{
+        {"the ground truth (--gt)",
+         app.dataset == "kitti" ? app.kitti_poses_file : app.euroc_gt_file}};
+    for (const auto& f : src.sequence->inputFiles())
+    {
+        inputs.push_back({"a file of the dataset", f});
+    }
+    io::requireOutputsAreNotInputs(
+        {{"output rawlog", app.output_file}, {"ground-truth output (--gt-out)", app.gt_out_file}},
+        inputs);
+}
+
+void warnRetimed(double t0, double period, std::size_t first_listed)
+{
+    std::cerr << PROGRAM
+              << mrpt::format(
+                     ": the frame list is not increasing: written frame k gets time "
+                     "%.6f + k * %.6f s (t of frame %zu + k * median frame period)\n",
+                     t0, period, first_listed);
+}
+void resetResults(ImportApp& app)
+{
+    app.frames_written = 0;
+    app.poses_written = 0;
+    app.frames_without_gt = 0;
+    app.output_bytes = 0;
+    app.retimed = false;
+}
 }  // namespace
 
 ImportApp::ImportApp() : App(PROGRAM) {}
 
-bool ImportApp::parseArguments(int argc, const char** argv)
+/** The command line of emslam-import, each argument added to `cmd` in the
+ * order of its help. */
+struct ImportApp::Arguments
 {
-    TCLAP::CmdLine cmd(
+    TCLAP::CmdLine cmd{
         "Imports a KITTI odometry, EuRoC MAV or TUM RGB-D sequence into a gz-compressed rawlog of "
         "stock MRPT observations (CObservationStereoImages / CObservation3DRangeScan), and its "
         "ground truth into a TUM trajectory file. Outputs are written as <name>.partial and "
@@ -278,115 +384,151 @@ bool ImportApp::parseArguments(int argc, const char** argv)
             " euroc V1_01_easy/mav0 --gt groundtruth_left_cam.csv -o v101.rawlog --gt-out "
             "v101.tum', '" +
             PROGRAM + " tum rgbd_dataset_freiburg1_xyz -o fr1xyz.rawlog --gt-out fr1xyz.tum'.",
-        ' ', std::string("emslam-import (") + mrpt::system::MRPT_getVersion() + ")");
-
-    TCLAP::UnlabeledValueArg<std::string> arg_dataset(
-        "dataset", "Dataset format: kitti, euroc or tum.", true, "", "kitti|euroc|tum", cmd);
-    TCLAP::UnlabeledValueArg<std::string> arg_dir(
+        ' ', std::string("emslam-import (") + mrpt::system::MRPT_getVersion() + ")"};
+    TCLAP::UnlabeledValueArg<std::string> arg_dataset{
+        "dataset", "Dataset format: kitti, euroc or tum.", true, "", "kitti|euroc|tum", cmd};
+    TCLAP::UnlabeledValueArg<std::string> arg_dir{
         "input_dir",
         "Sequence folder: KITTI 'sequences/NN', EuRoC 'mav0' (or its parent), TUM RGB-D folder "
         "with rgb.txt and depth.txt.",
-        true, "", "DIR", cmd);
-    TCLAP::ValueArg<std::string> arg_out(
-        "o", "output", "Output rawlog file (gz-compressed, observations only).", true, "",
-        "OUT.rawlog", cmd);
-    TCLAP::ValueArg<std::string> arg_gt(
-        "", "gt",
+        true,
+        "",
+        "DIR",
+        cmd};
+    TCLAP::ValueArg<std::string> arg_out{
+        "o",          "output", "Output rawlog file (gz-compressed, observations only).", true, "",
+        "OUT.rawlog", cmd};
+    TCLAP::ValueArg<std::string> arg_gt{
+        "",
+        "gt",
         "Ground truth in the dataset's own format: kitti 'poses/NN.txt' (3x4 per frame), euroc "
         "left-camera CSV 'timestamp_ns,x,y,z,qx,qy,qz,qw' (tum: groundtruth.txt is read from the "
         "folder). --poses is its old kitti spelling.",
-        false, "", "GT", cmd);
-    TCLAP::ValueArg<std::string> arg_gt_out(
-        "", "gt-out",
+        false,
+        "",
+        "GT",
+        cmd};
+    TCLAP::ValueArg<std::string> arg_gt_out{
+        "",
+        "gt-out",
         "Write the ground truth of the imported frames here (TUM format, left/colour camera "
         "relative to the first imported frame).",
-        false, "", "GT.tum", cmd);
-    TCLAP::ValueArg<std::string> arg_intr(
-        "", "intrinsics", "tum: camera intrinsics (default 525,525,319.5,239.5).", false, "",
-        "fx,fy,cx,cy", cmd);
-    TCLAP::ValueArg<double> arg_time_offset(
-        "", "time-offset",
+        false,
+        "",
+        "GT.tum",
+        cmd};
+    TCLAP::ValueArg<std::string> arg_intr{
+        "",    "intrinsics", "tum: camera intrinsics (default 525,525,319.5,239.5).",
+        false, "",           "fx,fy,cx,cy",
+        cmd};
+    TCLAP::ValueArg<double> arg_time_offset{
+        "",
+        "time-offset",
         "kitti: UNIX time [s] given to times.txt's zero (default 1317340800 = "
         "2011-09-30 00:00:00 UTC).",
-        false, 0.0, "SECONDS", cmd);
-    TCLAP::ValueArg<long long> arg_first(
-        "", "first", "First frame index to import (0-based, default 0).", false, 0, "N", cmd);
-    TCLAP::ValueArg<long long> arg_last(
-        "", "last", "Last frame index to import (inclusive, default: the last frame).", false, -1,
-        "N", cmd);
-    TCLAP::ValueArg<long long> arg_step(
-        "", "step", "Import every K-th frame (default 1).", false, 1, "K", cmd);
-    TCLAP::ValueArg<std::string> arg_frames(
-        "", "frames",
+        false,
+        0.0,
+        "SECONDS",
+        cmd};
+    TCLAP::ValueArg<long long> arg_first{
+        "", "first", "First frame index to import (0-based, default 0).", false, 0, "N", cmd};
+    TCLAP::ValueArg<long long> arg_last{
+        "",  "last", "Last frame index to import (inclusive, default: the last frame).", false, -1,
+        "N", cmd};
+    TCLAP::ValueArg<long long> arg_step{
+        "", "step", "Import every K-th frame (default 1).", false, 1, "K", cmd};
+    TCLAP::ValueArg<std::string> arg_frames{
+        "",
+        "frames",
         "Import exactly these frames, in this order (not with --first/--last/--step): "
         "comma-separated N, A:B or A:B:STEP (B included when reached, STEP may be negative). "
         "E.g. '0:50:2,49:1:-2': forward on even frames, back on odd ones. A list that is not "
         "increasing re-times the frames: t(first listed) + k * median frame period.",
-        false, "", "LIST", cmd);
-    TCLAP::ValueArg<std::string> arg_label(
-        "", "label", "Sensor label of the observations (default STEREO, or RGBD for tum).", false,
-        "", "LABEL", cmd);
-    TCLAP::ValueArg<int> arg_gz(
-        "", "gz-level", "gzip compression level of the rawlog, 0..9 (default 1).", false, 1, "0..9",
-        cmd);
-    TCLAP::SwitchArg arg_quiet("q", "quiet", "No progress or summary output.", cmd, false);
+        false,
+        "",
+        "LIST",
+        cmd};
+    TCLAP::ValueArg<std::string> arg_label{
+        "",    "label", "Sensor label of the observations (default STEREO, or RGBD for tum).",
+        false, "",      "LABEL",
+        cmd};
+    TCLAP::ValueArg<int> arg_gz{
+        "",     "gz-level", "gzip compression level of the rawlog, 0..9 (default 1).", false, 1,
+        "0..9", cmd};
+    TCLAP::SwitchArg arg_quiet{"q", "quiet", "No progress or summary output.", cmd, false};
+};
 
+bool ImportApp::parseArguments(int argc, const char** argv)
+{
+    Arguments args;
     m_initialized = false;
     // Usage shows the program name, not the path it was started from.
-    if (!parseCommandLine(cmd, argc, argv, {{"--poses", "--gt", 0, "POSES.txt"}}))
+    if (!parseCommandLine(args.cmd, argc, argv, {{"--poses", "--gt", 0, "POSES.txt"}}))
     {
         return false;
     }
 
-    dataset = arg_dataset.getValue();
+    takeDataset(args);
+    takeSelection(args);
+    m_initialized = true;
+    return true;
+}
+
+void ImportApp::takeDataset(Arguments& args)
+{
+    dataset = args.arg_dataset.getValue();
     if (dataset != "kitti" && dataset != "euroc" && dataset != "tum")
     {
         usageError("unknown dataset format '" + dataset + "' (expected kitti, euroc or tum)");
     }
-    input_dir = arg_dir.getValue();
-    output_file = arg_out.getValue();
-    kitti_poses_file = dataset == "kitti" ? arg_gt.getValue() : std::string{};
-    euroc_gt_file = dataset == "euroc" ? arg_gt.getValue() : std::string{};
-    gt_out_file = arg_gt_out.getValue();
-    tum_intrinsics = arg_intr.getValue();
-    sensor_label = arg_label.getValue();
-    quiet = arg_quiet.getValue();
-    gz_level = arg_gz.getValue();
+    input_dir = args.arg_dir.getValue();
+    output_file = args.arg_out.getValue();
+    kitti_poses_file = dataset == "kitti" ? args.arg_gt.getValue() : std::string{};
+    euroc_gt_file = dataset == "euroc" ? args.arg_gt.getValue() : std::string{};
+    gt_out_file = args.arg_gt_out.getValue();
+    tum_intrinsics = args.arg_intr.getValue();
+    sensor_label = args.arg_label.getValue();
+    quiet = args.arg_quiet.getValue();
+    gz_level = args.arg_gz.getValue();
 
-    if (arg_gt.isSet() && dataset == "tum")
+    if (args.arg_gt.isSet() && dataset == "tum")
     {
         usageError("--gt is for kitti and euroc (tum: groundtruth.txt in the folder is read)");
     }
-    if (arg_intr.isSet() && dataset != "tum")
+    if (args.arg_intr.isSet() && dataset != "tum")
     {
         usageError("--intrinsics is for tum only (kitti/euroc read their calibration files)");
     }
-    if (arg_time_offset.isSet() && dataset != "kitti")
+    if (args.arg_time_offset.isSet() && dataset != "kitti")
     {
         usageError("--time-offset is for kitti only (euroc and tum carry UNIX times)");
     }
     kitti_time_offset.reset();
-    if (arg_time_offset.isSet())
+    if (args.arg_time_offset.isSet())
     {
-        kitti_time_offset = arg_time_offset.getValue();
+        kitti_time_offset = args.arg_time_offset.getValue();
     }
     if (!tum_intrinsics.empty())
     {
         parseIntrinsics(tum_intrinsics);
     }
-    if (arg_first.getValue() < 0)
+}
+
+void ImportApp::takeSelection(Arguments& args)
+{
+    if (args.arg_first.getValue() < 0)
     {
         usageError("--first must be >= 0");
     }
-    if (arg_last.isSet() && arg_last.getValue() < 0)
+    if (args.arg_last.isSet() && args.arg_last.getValue() < 0)
     {
         usageError("--last must be >= 0");
     }
-    if (arg_step.getValue() < 1)
+    if (args.arg_step.getValue() < 1)
     {
         usageError("--step must be >= 1");
     }
-    if (arg_last.isSet() && arg_last.getValue() < arg_first.getValue())
+    if (args.arg_last.isSet() && args.arg_last.getValue() < args.arg_first.getValue())
     {
         usageError("--last must not be smaller than --first");
     }
@@ -394,21 +536,21 @@ bool ImportApp::parseArguments(int argc, const char** argv)
     {
         usageError("--gz-level must be in 0..9");
     }
-    first = static_cast<std::size_t>(arg_first.getValue());
+    first = static_cast<std::size_t>(args.arg_first.getValue());
     last.reset();
-    if (arg_last.isSet())
+    if (args.arg_last.isSet())
     {
-        last = static_cast<std::size_t>(arg_last.getValue());
+        last = static_cast<std::size_t>(args.arg_last.getValue());
     }
-    step = static_cast<std::size_t>(arg_step.getValue());
+    step = static_cast<std::size_t>(args.arg_step.getValue());
     frames.clear();
-    if (arg_frames.isSet())
+    if (args.arg_frames.isSet())
     {
-        if (arg_first.isSet() || arg_last.isSet() || arg_step.isSet())
+        if (args.arg_first.isSet() || args.arg_last.isSet() || args.arg_step.isSet())
         {
             usageError("--frames cannot be combined with --first, --last or --step");
         }
-        frames = parseFrameList(arg_frames.getValue());
+        frames = parseFrameList(args.arg_frames.getValue());
     }
     if (!gt_out_file.empty())
     {
@@ -425,8 +567,6 @@ bool ImportApp::parseArguments(int argc, const char** argv)
             usageError("--gt-out and --output name the same file");
         }
     }
-    m_initialized = true;
-    return true;
 }
 
 void ImportApp::execute()
@@ -437,78 +577,13 @@ void ImportApp::execute()
     ASSERTMSG_(!output_file.empty(), "ImportApp: no output file");
     ASSERTMSG_(step >= 1, "ImportApp: step must be >= 1");
     const auto t_start = std::chrono::steady_clock::now();
-    frames_written = 0;
-    poses_written = 0;
-    frames_without_gt = 0;
-    output_bytes = 0;
-    retimed = false;
+    resetResults(*this);
     // A bad output path must not cost a whole import.
     io::RawlogOutput::checkOutputFolders(output_file, gt_out_file);
 
-    // Open and validate the dataset.
-    FrameSource src;
-    if (dataset == "kitti")
-    {
-        auto r = std::make_shared<emslam::io::KittiSequence>();
-        r->sensor_label = sensor_label.empty() ? "STEREO" : sensor_label;
-        if (kitti_time_offset)
-        {
-            r->time_offset = *kitti_time_offset;
-        }
-        r->open(input_dir, kitti_poses_file);
-        src = makeSource(
-            r, mrpt::format(
-                   "KITTI sequence '%s' (%zu frames, %ux%u)", input_dir.c_str(), r->size(),
-                   r->imageWidth(), r->imageHeight()));
-    }
-    else if (dataset == "euroc")
-    {
-        auto r = std::make_shared<emslam::io::EurocSequence>();
-        r->sensor_label = sensor_label.empty() ? "STEREO" : sensor_label;
-        r->open(input_dir, euroc_gt_file);
-        src = makeSource(
-            r, mrpt::format(
-                   "EuRoC sequence '%s' (%zu stereo pairs, %ux%u, %zu unpaired)",
-                   r->directory().c_str(), r->size(), r->imageWidth(), r->imageHeight(),
-                   r->unpairedCount()));
-    }
-    else if (dataset == "tum")
-    {
-        auto r = std::make_shared<emslam::io::TumRgbdSequence>();
-        r->sensor_label = sensor_label.empty() ? "RGBD" : sensor_label;
-        if (!tum_intrinsics.empty())
-        {
-            const auto v = parseIntrinsics(tum_intrinsics);
-            r->intrinsics.setIntrinsicParamsFromValues(v[0], v[1], v[2], v[3]);
-        }
-        r->open(input_dir);
-        src = makeSource(
-            r,
-            mrpt::format(
-                "TUM RGB-D sequence '%s' (%zu colour/depth pairs, %ux%u, %zu colour images without "
-                "depth)",
-                input_dir.c_str(), r->size(), r->imageWidth(), r->imageHeight(),
-                r->unassociatedCount()));
-        if (!gt_out_file.empty() && !r->hasGroundTruth())
-        {
-            THROW_EXCEPTION_FMT(
-                "--gt-out given but '%s/groundtruth.txt' does not exist", input_dir.c_str());
-        }
-    }
-    else
-    {
-        THROW_EXCEPTION_FMT("Unknown dataset format '%s'", dataset.c_str());
-    }
+    const FrameSource src = openDataset(*this);
 
-    // No output may replace a file of the dataset or the ground truth.
-    std::vector<io::RolePath> inputs{
-        {"the ground truth (--gt)", dataset == "kitti" ? kitti_poses_file : euroc_gt_file}};
-    for (const auto& f : src.sequence->inputFiles())
-    {
-        inputs.push_back({"a file of the dataset", f});
-    }
-    io::requireOutputsAreNotInputs(
-        {{"output rawlog", output_file}, {"ground-truth output (--gt-out)", gt_out_file}}, inputs);
+    requireOutputsAreNotDatasetFiles(*this, src);
 
     // Frame selection, and new times if the list goes back in time.
     checkFrameList(src, frames);
@@ -527,11 +602,7 @@ void ImportApp::execute()
                   << " into '" << output_file << "'\n";
         if (retimed)
         {
-            std::cerr << PROGRAM
-                      << mrpt::format(
-                             ": the frame list is not increasing: written frame k gets time "
-                             "%.6f + k * %.6f s (t of frame %zu + k * median frame period)\n",
-                             t0, period, indices.front());
+            warnRetimed(t0, period, indices.front());
         }
     }
 
@@ -573,20 +644,7 @@ void ImportApp::execute()
         std::chrono::duration<double>(std::chrono::steady_clock::now() - t_start).count();
     if (!quiet)
     {
-        std::cout << PROGRAM << ": wrote " << frames_written << " frames to '" << output_file
-                  << "' (" << humanBytes(output_bytes) << ")";
-        if (!gt_out_file.empty())
-        {
-            std::cout << ", " << poses_written << " ground-truth poses to '" << gt_out_file << "'";
-        }
-        if (frames_without_gt > 0)
-        {
-            std::cout << ", " << frames_without_gt << " frames without ground truth skipped";
-        }
-        std::cout << mrpt::format(
-            ", in %.2f s (%.1f ms/frame)\n", elapsed_seconds,
-            1e3 * elapsed_seconds / static_cast<double>(frames_written));
-        std::cout.flush();
+        printImportSummary(*this);
     }
 }
 

@@ -142,6 +142,50 @@ void appendPoints(
     cloud.clear();
     pushGrey(cloud, drawn, 0);
 }
+/** The legend's lines, top left. */
+void addLegend(mrpt::gui::CDisplayWindow3D& win)
+{
+    std::size_t line = LEGEND_FIRST;
+    using Legend = std::pair<TrajectoryStyle, const char*>;
+    for (const auto& [style, suffix] :
+         {Legend{EGOMOTION_STYLE, " trajectory"}, Legend{SLAM_STYLE, " trajectory"},
+          Legend{LOOP_STYLE, ""}})
+    {
+        win.addTextMessage(
+            0.01, 0.97 - 0.035 * static_cast<double>(line), style.label + std::string(suffix), line,
+            font(style.r, style.g, style.b));
+        ++line;
+    }
+    win.addTextMessage(
+        0.01, 0.97 - 0.035 * static_cast<double>(line), "map points (grey), camera (yellow)", line,
+        font(0.85f, 0.85f, 0.85f));
+}
+
+/** The snapshot's trajectories, loops, camera and image into the scene
+ * (locked); returns where the camera is, to follow it. */
+std::optional<mrpt::math::TPoint3D> showSnapshot(
+    const SceneObjects& objects, LiveViewSnapshot& snap)
+{
+    std::optional<mrpt::math::TPoint3D> follow;
+    setPolyline(*objects.egomotion, snap.egomotion);
+    setPolyline(*objects.slam, snap.slam);
+    objects.loops->clear();
+    for (const auto& [a, b] : snap.loops)
+    {
+        objects.loops->appendLine(a.x, a.y, a.z, b.x, b.y, b.z);
+    }
+    if (snap.camera)
+    {
+        objects.camera->setPose(*snap.camera);
+        objects.camera->setVisibility(true);
+        follow = (viewerFromCamera() + *snap.camera).asTPose().translation();
+    }
+    if (!snap.image.isEmpty())
+    {
+        objects.image->setImageView(std::move(snap.image));
+    }
+    return follow;
+}
 }  // namespace
 
 std::string LiveViewer::displayProblem()
@@ -245,20 +289,7 @@ void LiveViewer::run()
         win->setCameraZoom(25.0f);
         win->setCameraElevationDeg(55.0f);
         win->setCameraAzimuthDeg(-120.0f);
-        std::size_t line = LEGEND_FIRST;
-        using Legend = std::pair<TrajectoryStyle, const char*>;
-        for (const auto& [style, suffix] :
-             {Legend{EGOMOTION_STYLE, " trajectory"}, Legend{SLAM_STYLE, " trajectory"},
-              Legend{LOOP_STYLE, ""}})
-        {
-            win->addTextMessage(
-                0.01, 0.97 - 0.035 * static_cast<double>(line), style.label + std::string(suffix),
-                line, font(style.r, style.g, style.b));
-            ++line;
-        }
-        win->addTextMessage(
-            0.01, 0.97 - 0.035 * static_cast<double>(line), "map points (grey), camera (yellow)",
-            line, font(0.85f, 0.85f, 0.85f));
+        addLegend(*win);
         win->forceRepaint();
     }
     catch (const std::exception& e)
@@ -310,23 +341,7 @@ void LiveViewer::run()
             appendPoints(*objects.cloud, drawn_points, points, m_options.max_points);
             if (snap)
             {
-                setPolyline(*objects.egomotion, snap->egomotion);
-                setPolyline(*objects.slam, snap->slam);
-                objects.loops->clear();
-                for (const auto& [a, b] : snap->loops)
-                {
-                    objects.loops->appendLine(a.x, a.y, a.z, b.x, b.y, b.z);
-                }
-                if (snap->camera)
-                {
-                    objects.camera->setPose(*snap->camera);
-                    objects.camera->setVisibility(true);
-                    follow = (viewerFromCamera() + *snap->camera).asTPose().translation();
-                }
-                if (!snap->image.isEmpty())
-                {
-                    objects.image->setImageView(std::move(snap->image));
-                }
+                follow = showSnapshot(objects, *snap);
             }
             win->unlockAccess3DScene();
         }

@@ -98,16 +98,16 @@ void addLegendLine(
     label->setLocation(x, y, z);
     legend.insert(label);
 }
-}  // namespace
-
-mrpt::opengl::COpenGLScene::Ptr buildMapScene(const MapDrawingContent& c)
+/** The map cloud (coloured by height, its range in `range`), trajectories,
+ * loop closures, entropy voxels and axes, in the viewer frame. */
+mrpt::opengl::CSetOfObjects::Ptr mapObjects(
+    const MapDrawingContent& c, std::pair<double, double>& range)
 {
     auto world = mrpt::opengl::CSetOfObjects::Create();
     world->setName("map frame (first camera)");
     world->setPose(viewerFromCamera());
 
     slam::IntensityCloud kept;
-    std::pair<double, double> range{0.0, 1.0};
     if (c.cloud)
     {
         kept = cutAboveHeight(*c.cloud, c.max_height);
@@ -152,21 +152,18 @@ mrpt::opengl::COpenGLScene::Ptr buildMapScene(const MapDrawingContent& c)
         world->insert(entropyVoxelObject(*c.entropy_map, c.max_voxels));
     }
     world->insert(mrpt::opengl::stock_objects::CornerXYZ(0.5f));
+    return world;
+}
 
-    auto scene = mrpt::opengl::COpenGLScene::Create();
-    scene->insert(mrpt::opengl::CGridPlaneXY::Create(-50, 50, -50, 50, 0, 5));
-    scene->insert(world);
-
-    // The legend, in the viewer frame: a column of labels beside the map.
-    mrpt::math::TPoint3D lo, hi;
-    trajectoryBox(c, lo, hi);
-    if (lo.x > hi.x)
-    {
-        lo = {-5, -5, 0};
-        hi = {5, 5, 0};
-    }
-    const double extent = std::max({hi.x - lo.x, hi.y - lo.y, 5.0});
-    const double step = extent / 15.0;
+/** The legend, in the viewer frame: a column of labels beside the map
+ * (lines `step` apart, above the top-left corner of lo..hi). */
+mrpt::opengl::CSetOfObjects::Ptr legendObjects(
+    const MapDrawingContent& c,
+    const std::pair<double, double>& range,
+    const mrpt::math::TPoint3D& lo,
+    const mrpt::math::TPoint3D& hi,
+    double step)
+{
     auto legend = mrpt::opengl::CSetOfObjects::Create();
     legend->setName(LEGEND_NAME);
     // Seen from above with the scene's camera, viewer +Y is the screen's up:
@@ -218,7 +215,27 @@ mrpt::opengl::COpenGLScene::Ptr buildMapScene(const MapDrawingContent& c)
     addLegendLine(
         *legend, "axes: first camera (X forward, Y left, Z up), grid 5 m",
         mrpt::img::TColorf(0.9f, 0.9f, 0.9f), x, y, z);
-    scene->insert(legend);
+    return legend;
+}
+}  // namespace
+
+mrpt::opengl::COpenGLScene::Ptr buildMapScene(const MapDrawingContent& c)
+{
+    std::pair<double, double> range{0.0, 1.0};
+    auto world = mapObjects(c, range);
+    auto scene = mrpt::opengl::COpenGLScene::Create();
+    scene->insert(mrpt::opengl::CGridPlaneXY::Create(-50, 50, -50, 50, 0, 5));
+    scene->insert(world);
+
+    mrpt::math::TPoint3D lo, hi;
+    trajectoryBox(c, lo, hi);
+    if (lo.x > hi.x)
+    {
+        lo = {-5, -5, 0};
+        hi = {5, 5, 0};
+    }
+    const double extent = std::max({hi.x - lo.x, hi.y - lo.y, 5.0});
+    scene->insert(legendObjects(c, range, lo, hi, extent / 15.0));
 
     auto& cam = scene->getViewport()->getCamera();
     cam.setPointingAt(

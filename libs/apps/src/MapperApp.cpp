@@ -417,7 +417,6 @@ void MapperApp::execute()
     slam::EntropySlam::TParameters p;
     p.loadFromConfigFile(params);
     p.mapper.egomotion_only = p.mapper.egomotion_only || m_egomotion_only;
-    const emslam::io::TumTrajectory& ground_truth = m_ground_truth.trajectory;
     m_mapper = std::make_unique<slam::EntropySlam>(p);
     // A signal during the loop closer's catching up or polish ends them.
     m_mapper->setStopCheck([] { return StopSignal::requested(); });
@@ -427,90 +426,9 @@ void MapperApp::execute()
 
     StopSignal::clear();
     const StopSignalGuard signals;
-    ProgressLine progress(PROGRAM, 1, !quiet());
-    const auto live = m_viewer ? std::make_unique<MapperLiveFeed>(PROGRAM) : nullptr;
-    std::vector<mrpt::obs::CObservation::Ptr> batch;
-    bool done = false;
     // Frames with a bad timestamp or another camera never reach the mapper.
     io::FrameStreamGuard guard;
-    // The next record (or frame) is read while this one is mapped.
-    const InputReader input(m_sequence, m_rawlog);
-    io::ObservationSource& reader = *input.source;
-    while (!done && reader.next(batch))
-    {
-        for (const auto& o : batch)
-        {
-            if (StopSignal::requested() ||
-                (maxFrames() != 0 && m_mapper->frameCount() >= maxFrames()))
-            {
-                done = true;
-                break;
-            }
-            const std::size_t record = reader.recordsRead() - 1;
-            const auto decision = guard.check(*o, record);
-            if (decision.verdict == io::FrameStreamGuard::Verdict::Skip)
-            {
-                warnSkipped(decision.warning, progress);
-                continue;
-            }
-            try
-            {
-                if (decision.verdict == io::FrameStreamGuard::Verdict::NotAFrame ||
-                    !m_mapper->process(*o))
-                {
-                    ++m_info.ignored_observations;
-                    continue;
-                }
-            }
-            catch (const slam::EntropySlam::UnusableObservation& e)
-            {
-                warnSkipped(guard.skipUnusable(record, e.what()), progress);
-                continue;
-            }
-            catch (const std::exception& e)
-            {
-                // The mapper cannot go on, but what it has is still worth writing.
-                m_info.stopped_by_error = "record " + std::to_string(record) + ": " +
-                                          emslam::util::shortExceptionMessage(e);
-                done = true;
-                break;
-            }
-            guard.accept();
-            if (live)
-            {
-                live->update(*m_mapper);
-            }
-            progress.updateFraction(
-                m_mapper->frameCount(), reader.fractionRead(), energyText(*m_mapper));
-        }
-        done = done || StopSignal::requested();
-    }
-    progress.finish();
-    recordSkips(guard);
-    m_info.interrupted = StopSignal::requested();
-    if (reader.endedEarly())
-    {
-        m_info.input_ended_early = reader.endReason();
-        if (reader.recordsRead() == 0)
-        {
-            throw std::runtime_error(
-                m_sequence ? m_input_name + ": " + reader.endReason()
-                           : "'" + m_rawlog + "' is not a readable rawlog: " + reader.endReason());
-        }
-        if (reader.corrupt() && m_info.stopped_by_error.empty())
-        {
-            // Not a cut file: some frames read may hold damaged pixels, so the
-            // run fails after writing its outputs (exit 1), as after an error.
-            m_info.stopped_by_error = reader.endReason();
-        }
-        else
-        {
-            std::fprintf(
-                stderr,
-                "%s: warning: rawlog '%s' ended early at %s; mapping the %zu frames before it\n",
-                PROGRAM, m_rawlog.c_str(), reader.endReason().c_str(), m_mapper->frameCount());
-        }
-    }
+    mapInput(guard);
     if (m_info.interrupted)
     {
         std::fprintf(
@@ -519,38 +437,11 @@ void MapperApp::execute()
     }
     if (m_mapper->frameCount() == 0)
     {
-        if (!m_info.stopped_by_error.empty())
-        {
-            throw std::runtime_error(
-                m_input_name + ", " + m_info.stopped_by_error + " (no output written)");
-        }
-        std::string skipped;
-        if (m_info.skipped_observations > 0)
-        {
-            skipped = "; " + guard.skippedText() + ", first: " + m_info.skipped_reasons.front();
-        }
-        throw std::runtime_error(
-            "no usable stereo or RGB-D observation in " + m_input_name + " (" +
-            std::to_string(m_info.ignored_observations) + " observations of other classes" +
-            skipped + ")");
+        failWithoutFrames(guard);
     }
-    const auto finishAndWrite = [&]
-    {
-        const auto t_finish = std::chrono::steady_clock::now();
-        m_mapper->finish();
-        m_info.seconds_after_last_frame =
-            std::chrono::duration<double>(std::chrono::steady_clock::now() - t_finish).count();
-        m_info.interrupted = m_info.interrupted || StopSignal::requested();
-        m_info.seconds =
-            std::chrono::duration<double>(std::chrono::steady_clock::now() - t_start).count();
-        const slam::EntropySlam& m = *m_mapper;
-        m_info.degenerate =
-            degenerateRunWarning(m.frameCount() - 1, m.egomotionFailures(), m.mapCloud().size());
-        writeOutputs(ground_truth);
-    };
     if (m_info.stopped_by_error.empty())
     {
-        finishAndWrite();
+        finishAndWrite(t_start);
         m_degenerate = m_info.degenerate;
         if (!m_degenerate.empty())
         {
@@ -572,7 +463,7 @@ void MapperApp::execute()
         m_mapper->frameCount());
     try
     {
-        finishAndWrite();
+        finishAndWrite(t_start);
     }
     catch (const std::exception& e)
     {
@@ -583,6 +474,147 @@ void MapperApp::execute()
     throw std::runtime_error(
         what + "; the outputs of the " + std::to_string(m_mapper->frameCount()) +
         " frames before it are in '" + m_out + "'");
+}
+
+void MapperApp::mapInput(io::FrameStreamGuard& guard)
+{
+    ProgressLine progress(PROGRAM, 1, !quiet());
+    const auto live = m_viewer ? std::make_unique<MapperLiveFeed>(PROGRAM) : nullptr;
+    std::vector<mrpt::obs::CObservation::Ptr> batch;
+    bool done = false;
+    // The next record (or frame) is read while this one is mapped.
+    const InputReader input(m_sequence, m_rawlog);
+    io::ObservationSource& reader = *input.source;
+    while (!done && reader.next(batch))
+    {
+        for (const auto& o : batch)
+        {
+            if (StopSignal::requested() ||
+                (maxFrames() != 0 && m_mapper->frameCount() >= maxFrames()))
+            {
+                done = true;
+                break;
+            }
+            if (!mapObservation(*o, reader.recordsRead() - 1, guard, progress, done))
+            {
+                if (done)
+                {
+                    break;
+                }
+                continue;
+            }
+            if (live)
+            {
+                live->update(*m_mapper);
+            }
+            progress.updateFraction(
+                m_mapper->frameCount(), reader.fractionRead(), energyText(*m_mapper));
+        }
+        done = done || StopSignal::requested();
+    }
+    progress.finish();
+    recordSkips(guard);
+    m_info.interrupted = StopSignal::requested();
+    checkInputEnd(reader);
+}
+
+bool MapperApp::mapObservation(
+    const mrpt::obs::CObservation& o,
+    std::size_t record,
+    io::FrameStreamGuard& guard,
+    ProgressLine& progress,
+    bool& stop)
+{
+    const auto decision = guard.check(o, record);
+    if (decision.verdict == io::FrameStreamGuard::Verdict::Skip)
+    {
+        warnSkipped(decision.warning, progress);
+        return false;
+    }
+    try
+    {
+        if (decision.verdict == io::FrameStreamGuard::Verdict::NotAFrame || !m_mapper->process(o))
+        {
+            ++m_info.ignored_observations;
+            return false;
+        }
+    }
+    catch (const slam::EntropySlam::UnusableObservation& e)
+    {
+        warnSkipped(guard.skipUnusable(record, e.what()), progress);
+        return false;
+    }
+    catch (const std::exception& e)
+    {
+        // The mapper cannot go on, but what it has is still worth writing.
+        m_info.stopped_by_error =
+            "record " + std::to_string(record) + ": " + emslam::util::shortExceptionMessage(e);
+        stop = true;
+        return false;
+    }
+    guard.accept();
+    return true;
+}
+
+void MapperApp::checkInputEnd(const io::ObservationSource& reader)
+{
+    if (!reader.endedEarly())
+    {
+        return;
+    }
+    m_info.input_ended_early = reader.endReason();
+    if (reader.recordsRead() == 0)
+    {
+        throw std::runtime_error(
+            m_sequence ? m_input_name + ": " + reader.endReason()
+                       : "'" + m_rawlog + "' is not a readable rawlog: " + reader.endReason());
+    }
+    if (reader.corrupt() && m_info.stopped_by_error.empty())
+    {
+        // Not a cut file: some frames read may hold damaged pixels, so the
+        // run fails after writing its outputs (exit 1), as after an error.
+        m_info.stopped_by_error = reader.endReason();
+    }
+    else
+    {
+        std::fprintf(
+            stderr,
+            "%s: warning: rawlog '%s' ended early at %s; mapping the %zu frames before it\n",
+            PROGRAM, m_rawlog.c_str(), reader.endReason().c_str(), m_mapper->frameCount());
+    }
+}
+
+void MapperApp::failWithoutFrames(const io::FrameStreamGuard& guard) const
+{
+    if (!m_info.stopped_by_error.empty())
+    {
+        throw std::runtime_error(
+            m_input_name + ", " + m_info.stopped_by_error + " (no output written)");
+    }
+    std::string skipped;
+    if (m_info.skipped_observations > 0)
+    {
+        skipped = "; " + guard.skippedText() + ", first: " + m_info.skipped_reasons.front();
+    }
+    throw std::runtime_error(
+        "no usable stereo or RGB-D observation in " + m_input_name + " (" +
+        std::to_string(m_info.ignored_observations) + " observations of other classes" + skipped +
+        ")");
+}
+
+void MapperApp::finishAndWrite(std::chrono::steady_clock::time_point t_start)
+{
+    const auto t_finish = std::chrono::steady_clock::now();
+    m_mapper->finish();
+    m_info.seconds_after_last_frame =
+        std::chrono::duration<double>(std::chrono::steady_clock::now() - t_finish).count();
+    m_info.interrupted = m_info.interrupted || StopSignal::requested();
+    m_info.seconds =
+        std::chrono::duration<double>(std::chrono::steady_clock::now() - t_start).count();
+    const slam::EntropySlam& m = *m_mapper;
+    m_info.degenerate =
+        degenerateRunWarning(m.frameCount() - 1, m.egomotionFailures(), m.mapCloud().size());
+    writeOutputs(m_ground_truth.trajectory);
 }
 
 void MapperApp::warnSkipped(const std::string& warning, ProgressLine& progress)
@@ -671,6 +703,23 @@ void MapperApp::writeOutputs(const emslam::io::TumTrajectory& ground_truth)
     writeEntropyMapView(m, joinPath(m_out, "entropy_map.3Dscene"));
     writeMapperReport(joinPath(m_out, "report.html"), makeReportData(m, m_info, ground_truth));
 
+    printSummary(ground_truth);
+    std::printf(
+        "outputs in '%s' (report: %s)\n", m_out.c_str(), joinPath(m_out, "report.html").c_str());
+    if (!m_info.camera_change_warning.empty())
+    {
+        std::fflush(stdout);  // the summary first
+        std::fprintf(stderr, "%s: warning: %s\n", PROGRAM, m_info.camera_change_warning.c_str());
+    }
+    if (!scan_error.empty())
+    {
+        throw std::runtime_error(scan_error + " (the other outputs are in '" + m_out + "')");
+    }
+}
+
+void MapperApp::printSummary(const emslam::io::TumTrajectory& ground_truth) const
+{
+    const slam::EntropySlam& m = *m_mapper;
     std::printf(
         "%s: %zu frames (%zu accepted, %zu egomotion failures", PROGRAM, m.frameCount(),
         m.acceptedCount(), m.egomotionFailures());
@@ -736,17 +785,6 @@ void MapperApp::writeOutputs(const emslam::io::TumTrajectory& ground_truth)
             m_info.energy_scan->entropy_egomotion, m_info.energy_scan->entropy_slam,
             m_info.energy_scan->prior_truth, m_info.energy_scan->prior_egomotion,
             m_info.energy_scan->prior_slam);
-    }
-    std::printf(
-        "outputs in '%s' (report: %s)\n", m_out.c_str(), joinPath(m_out, "report.html").c_str());
-    if (!m_info.camera_change_warning.empty())
-    {
-        std::fflush(stdout);  // the summary first
-        std::fprintf(stderr, "%s: warning: %s\n", PROGRAM, m_info.camera_change_warning.c_str());
-    }
-    if (!scan_error.empty())
-    {
-        throw std::runtime_error(scan_error + " (the other outputs are in '" + m_out + "')");
     }
 }
 

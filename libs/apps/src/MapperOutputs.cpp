@@ -218,12 +218,100 @@ void writeStatsCsv(const slam::EntropySlam& m, const std::string& file)
     f.commit();
 }
 
+namespace
+{
+/** The mean milliseconds per frame of each stage, a JSON object. */
+void writeStageTimesJson(std::ostream& j, const StageMeans& ms)
+{
+    j << "{\"stereo\": " << io::jsonNumber(ms.stereo)
+      << ", \"egomotion\": " << io::jsonNumber(ms.egomotion)
+      << ", \"stereo_plus_egomotion\": " << io::jsonNumber(ms.stereo + ms.egomotion)
+      << ", \"rectification\": " << io::jsonNumber(ms.rectification)
+      << ", \"total\": " << io::jsonNumber(ms.total)
+      << ", \"max_total\": " << io::jsonNumber(ms.max_total) << "}";
+}
+
+/** The rectifier's calls, attempts and times, a JSON object. */
+void writeRectificationJson(
+    std::ostream& j, const slam::EntropySlam& m, const RectificationTotals& rt)
+{
+    j << "{\"calls\": " << m.rectifications().size() << ", \"attempts\": " << rt.attempts
+      << ", \"successes\": " << rt.successes << ", \"failures\": " << rt.failures
+      << ", \"accepted_worse\": " << rt.accepted_worse
+      << ", \"rejected_by_validation\": " << rt.rejected_by_validation
+      << ", \"unconfirmed\": " << rt.unconfirmed
+      << ", \"held_before_revisit\": " << rt.held_before_revisit
+      << ", \"seconds\": " << io::jsonNumber(rt.seconds)
+      << ", \"median_ms_per_call\": " << io::jsonNumber(rt.median_ms)
+      << ", \"max_ms_per_call\": " << io::jsonNumber(rt.max_ms) << "}";
+}
+
+/** The loop closer's counts, costs and times, a JSON object. */
+void writeLoopClosingJson(std::ostream& j, const slam::EntropySlam& m)
+{
+    const auto& lc = m.loopCloser().stats();
+    j << "{\"enabled\": " << (m.parameters().loop_closer.enabled ? "true" : "false")
+      << ", \"candidates\": " << lc.candidates << ", \"registrations\": " << lc.registrations
+      << ", \"registered\": " << lc.registered << ", \"loop_edges\": " << lc.loop_edges
+      << ", \"local_registrations\": " << lc.local_registrations
+      << ", \"local_edges\": " << lc.local_edges
+      << ", \"verticals_measured\": " << lc.verticals_measured
+      << ", \"verticals_used\": " << lc.verticals_used
+      << ", \"vertical_drift_deg\": " << io::jsonNumber(lc.vertical_drift_deg)
+      << ", \"vertical_bias_deg\": " << io::jsonNumber(lc.vertical_bias_deg)
+      << ", \"vertical_correlation_time\": " << io::jsonNumber(lc.vertical_correlation_time)
+      << ", \"level_resolves\": " << lc.level_resolves << ", \"rounds\": " << lc.rounds
+      << ", \"initial_cost\": " << io::jsonNumber(lc.initial_cost)
+      << ", \"final_cost\": " << io::jsonNumber(lc.final_cost)
+      << ", \"dropped_edges\": " << lc.dropped_edges
+      << ", \"refused_groups\": " << lc.refused_groups
+      << ", \"contradicting_groups\": " << lc.contradicting_groups
+      << ", \"contradicting_edges\": " << lc.contradicting_edges
+      << ", \"contradicting_keyframes\": " << lc.contradicting_keyframes
+      << ", \"refused_edges\": " << lc.refused_edges
+      << ", \"withdrawn_edges\": " << lc.withdrawn_edges
+      << ", \"local_solves\": " << lc.local_solves
+      << ", \"latency_ms_mean\": " << io::jsonNumber(lc.latency_ms_mean)
+      << ", \"latency_ms_max\": " << io::jsonNumber(lc.latency_ms_max)
+      << ", \"place_candidates\": " << lc.place_candidates
+      << ", \"place_index_bytes\": " << lc.place_index_bytes
+      << ", \"place_ms\": " << io::jsonNumber(lc.place_ms)
+      << ", \"place_visited_max\": " << lc.place_visited_max
+      << ", \"drift_scale\": " << io::jsonNumber(lc.drift_scale)
+      << ", \"kept_bytes\": " << lc.kept_bytes << ", \"unreliable\": "
+      << (lc.unreliable.empty() ? std::string("null") : io::jsonString(lc.unreliable))
+      << ", \"polish_ms\": " << io::jsonNumber(lc.polish_ms)
+      << ", \"polish_solve_ms\": " << io::jsonNumber(lc.polish_solve_ms)
+      << ", \"polish_level_ms\": " << io::jsonNumber(lc.polish_level_ms)
+      << ", \"ms\": " << io::jsonNumber(lc.ms) << "}";
+}
+/** The members only a run with ground truth has (each after a comma). */
+void writeGroundTruthMeasuresJson(std::ostream& j, const MapperRunInfo& info)
+{
+    if (info.egomotion_vs_gt)
+    {
+        j << ",\n  \"egomotion_vs_gt\": " << nestedJson(info.egomotion_vs_gt->toJson());
+    }
+    if (info.online_vs_gt)
+    {
+        j << ",\n  \"online_vs_gt\": " << nestedJson(info.online_vs_gt->toJson());
+    }
+    if (info.slam_vs_gt)
+    {
+        j << ",\n  \"slam_vs_gt\": " << nestedJson(info.slam_vs_gt->toJson());
+    }
+    if (info.energy_scan)
+    {
+        j << ",\n  \"energy_scan\": " << energyScanJson(*info.energy_scan);
+    }
+}
+}  // namespace
+
 void writeSummaryJson(
     const slam::EntropySlam& m, const MapperRunInfo& info, const std::string& file)
 {
     const StageMeans ms = stageMeans(m.frames());
     const RectificationTotals rt = rectificationTotals(m.rectifications());
-    const auto& lc = m.loopCloser().stats();
     const auto& p = m.parameters();
     std::ostringstream j;
     j << "{\n"
@@ -257,56 +345,15 @@ void writeSummaryJson(
       << (info.degenerate.empty() ? "null" : io::jsonString(info.degenerate)) << ",\n"
       << "  \"image_width\": " << m.imageWidth() << ",\n"
       << "  \"image_height\": " << m.imageHeight() << ",\n"
-      << "  \"ms_per_frame\": {\"stereo\": " << io::jsonNumber(ms.stereo)
-      << ", \"egomotion\": " << io::jsonNumber(ms.egomotion)
-      << ", \"stereo_plus_egomotion\": " << io::jsonNumber(ms.stereo + ms.egomotion)
-      << ", \"rectification\": " << io::jsonNumber(ms.rectification)
-      << ", \"total\": " << io::jsonNumber(ms.total)
-      << ", \"max_total\": " << io::jsonNumber(ms.max_total) << "},\n"
-      << "  \"rectification\": {\"calls\": " << m.rectifications().size()
-      << ", \"attempts\": " << rt.attempts << ", \"successes\": " << rt.successes
-      << ", \"failures\": " << rt.failures << ", \"accepted_worse\": " << rt.accepted_worse
-      << ", \"rejected_by_validation\": " << rt.rejected_by_validation
-      << ", \"unconfirmed\": " << rt.unconfirmed
-      << ", \"held_before_revisit\": " << rt.held_before_revisit
-      << ", \"seconds\": " << io::jsonNumber(rt.seconds)
-      << ", \"median_ms_per_call\": " << io::jsonNumber(rt.median_ms)
-      << ", \"max_ms_per_call\": " << io::jsonNumber(rt.max_ms) << "},\n"
-      << "  \"loop_closing\": {\"enabled\": "
-      << (m.parameters().loop_closer.enabled ? "true" : "false")
-      << ", \"candidates\": " << lc.candidates << ", \"registrations\": " << lc.registrations
-      << ", \"registered\": " << lc.registered << ", \"loop_edges\": " << lc.loop_edges
-      << ", \"local_registrations\": " << lc.local_registrations
-      << ", \"local_edges\": " << lc.local_edges
-      << ", \"verticals_measured\": " << lc.verticals_measured
-      << ", \"verticals_used\": " << lc.verticals_used
-      << ", \"vertical_drift_deg\": " << io::jsonNumber(lc.vertical_drift_deg)
-      << ", \"vertical_bias_deg\": " << io::jsonNumber(lc.vertical_bias_deg)
-      << ", \"vertical_correlation_time\": " << io::jsonNumber(lc.vertical_correlation_time)
-      << ", \"level_resolves\": " << lc.level_resolves << ", \"rounds\": " << lc.rounds
-      << ", \"initial_cost\": " << io::jsonNumber(lc.initial_cost)
-      << ", \"final_cost\": " << io::jsonNumber(lc.final_cost)
-      << ", \"dropped_edges\": " << lc.dropped_edges
-      << ", \"refused_groups\": " << lc.refused_groups
-      << ", \"contradicting_groups\": " << lc.contradicting_groups
-      << ", \"contradicting_edges\": " << lc.contradicting_edges
-      << ", \"contradicting_keyframes\": " << lc.contradicting_keyframes
-      << ", \"refused_edges\": " << lc.refused_edges
-      << ", \"withdrawn_edges\": " << lc.withdrawn_edges
-      << ", \"local_solves\": " << lc.local_solves
-      << ", \"latency_ms_mean\": " << io::jsonNumber(lc.latency_ms_mean)
-      << ", \"latency_ms_max\": " << io::jsonNumber(lc.latency_ms_max)
-      << ", \"place_candidates\": " << lc.place_candidates
-      << ", \"place_index_bytes\": " << lc.place_index_bytes
-      << ", \"place_ms\": " << io::jsonNumber(lc.place_ms)
-      << ", \"place_visited_max\": " << lc.place_visited_max
-      << ", \"drift_scale\": " << io::jsonNumber(lc.drift_scale)
-      << ", \"kept_bytes\": " << lc.kept_bytes << ", \"unreliable\": "
-      << (lc.unreliable.empty() ? std::string("null") : io::jsonString(lc.unreliable))
-      << ", \"polish_ms\": " << io::jsonNumber(lc.polish_ms)
-      << ", \"polish_solve_ms\": " << io::jsonNumber(lc.polish_solve_ms)
-      << ", \"polish_level_ms\": " << io::jsonNumber(lc.polish_level_ms)
-      << ", \"ms\": " << io::jsonNumber(lc.ms) << "},\n"
+      << "  \"ms_per_frame\": ";
+    writeStageTimesJson(j, ms);
+    j << ",\n"
+      << "  \"rectification\": ";
+    writeRectificationJson(j, m, rt);
+    j << ",\n"
+      << "  \"loop_closing\": ";
+    writeLoopClosingJson(j, m);
+    j << ",\n"
       << "  \"unreliable\": " << unreliableJson(m.unreliableReasons()) << ",\n"
       << "  \"trajectory_elements\": " << m.trajectoryElements() << ",\n"
       << "  \"compressions\": " << m.compressions() << ",\n"
@@ -321,22 +368,7 @@ void writeSummaryJson(
       << "  \"wall_ms_per_frame\": "
       << io::jsonNumber(
              m.frameCount() > 0 ? 1e3 * info.seconds / static_cast<double>(m.frameCount()) : 0.0);
-    if (info.egomotion_vs_gt)
-    {
-        j << ",\n  \"egomotion_vs_gt\": " << nestedJson(info.egomotion_vs_gt->toJson());
-    }
-    if (info.online_vs_gt)
-    {
-        j << ",\n  \"online_vs_gt\": " << nestedJson(info.online_vs_gt->toJson());
-    }
-    if (info.slam_vs_gt)
-    {
-        j << ",\n  \"slam_vs_gt\": " << nestedJson(info.slam_vs_gt->toJson());
-    }
-    if (info.energy_scan)
-    {
-        j << ",\n  \"energy_scan\": " << energyScanJson(*info.energy_scan);
-    }
+    writeGroundTruthMeasuresJson(j, info);
     j << "\n}\n";
     io::AtomicTextFile f(file);
     f.stream() << j.str();

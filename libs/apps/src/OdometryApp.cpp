@@ -48,6 +48,143 @@ std::string quotedList(const std::vector<std::string>& files)
     }
     return s;
 }
+/** Sums of the per-frame times and match counts (steps: after the first frame). */
+struct OdometrySums
+{
+    double stereo{0}, features{0}, descriptors{0}, matching{0}, lwo{0}, pose{0}, egomotion{0};
+    double initial_matches{0}, final_matches{0};
+    std::size_t steps{0};
+
+    void add(const slam::StereoOdometry::Step& step)
+    {
+        const auto& r = step.egomotion;
+        if (!step.first)
+        {
+            ++steps;
+            initial_matches += static_cast<double>(r.initial_matches);
+            final_matches += static_cast<double>(r.final_matches);
+            matching += r.ms_matching;
+            lwo += r.ms_lwo;
+            pose += r.ms_pose;
+        }
+        stereo += step.ms_stereo;
+        features += r.ms_features;
+        descriptors += r.ms_descriptors;
+        egomotion += r.ms_total;
+    }
+};
+
+void printFrame(std::size_t index, const slam::StereoOdometry::Step& step)
+{
+    const auto& f = step.frame;
+    const auto& r = step.egomotion;
+    std::printf(
+        "frame %zu: %zu points, %zu features, matches %zu -> %zu (LWO %d it), %s | ms: "
+        "stereo %.1f features %.1f descr %.1f match %.1f lwo %.1f pose %.1f egomotion "
+        "%.1f\n",
+        index, f.size(), r.features_cur, r.initial_matches, r.final_matches, r.lwo_iterations,
+        r.ok ? (r.guided ? "ok, guided" : "ok") : r.failure_reason.c_str(), step.ms_stereo,
+        r.ms_features, r.ms_descriptors, r.ms_matching, r.ms_lwo, r.ms_pose, r.ms_total);
+}
+
+void warn(const std::string& warning)
+{
+    if (!warning.empty())
+    {
+        std::fflush(stdout);
+        std::fprintf(stderr, "%s: warning: %s\n", PROGRAM, warning.c_str());
+    }
+}
+
+/** Feeds the rawlog's observations to handle() until max_frames (0: all)
+ * were taken or a signal came. Frames with a bad timestamp or another
+ * camera, or that the front-end refuses, are skipped: the trajectory stays
+ * strictly increasing in time. Returns the observations handle() did not
+ * take (other classes). */
+template <typename Handle>
+std::size_t feedFrames(
+    io::RawlogInput& in,
+    io::FrameStreamGuard& guard,
+    std::size_t max_frames,
+    const std::size_t& frames_processed,
+    const Handle& handle)
+{
+    std::vector<mrpt::obs::CObservation::Ptr> batch;
+    std::size_t ignored = 0;
+    while ((max_frames == 0 || frames_processed < max_frames) && !StopSignal::requested() &&
+           in.next(batch))
+    {
+        const std::size_t record = in.recordsRead() - 1;
+        for (const auto& o : batch)
+        {
+            if (max_frames != 0 && frames_processed >= max_frames)
+            {
+                break;
+            }
+            const auto decision = guard.check(*o, record);
+            if (decision.verdict == io::FrameStreamGuard::Verdict::Skip)
+            {
+                warn(decision.warning);
+                continue;
+            }
+            try
+            {
+                if (decision.verdict == io::FrameStreamGuard::Verdict::NotAFrame || !handle(*o))
+                {
+                    ++ignored;
+                    continue;
+                }
+            }
+            catch (const std::bad_alloc&)
+            {
+                throw;  // not the observation's fault
+            }
+            catch (const std::exception& e)
+            {
+                // StereoOdometry changed nothing: the frame is skipped.
+                warn(guard.skipUnusable(record, emslam::util::shortExceptionMessage(e)));
+                continue;
+            }
+            guard.accept();
+        }
+    }
+    return ignored;
+}
+/** The means per frame (per step for what only steps have) into the app's results. */
+void storeMeans(OdometryApp& app, const OdometrySums& sums)
+{
+    const double n = static_cast<double>(app.frames_processed);
+    app.mean_ms_stereo = sums.stereo / n;
+    app.mean_ms_features = sums.features / n;
+    app.mean_ms_descriptors = sums.descriptors / n;
+    app.mean_ms_egomotion = sums.egomotion / n;
+    const double ns = sums.steps > 0 ? static_cast<double>(sums.steps) : 1.0;
+    app.mean_ms_matching = sums.matching / ns;
+    app.mean_ms_lwo = sums.lwo / ns;
+    app.mean_ms_pose = sums.pose / ns;
+    app.mean_initial_matches = sums.initial_matches / ns;
+    app.mean_final_matches = sums.final_matches / ns;
+}
+void warnDegenerate(const std::string& degenerate)
+{
+    std::fflush(stdout);
+    std::fprintf(
+        stderr,
+        "emslam-odometry: warning: degenerate result: %s; the trajectory is written but "
+        "is not usable (check the images, the calibration and [Stereo] / [Egomotion]); "
+        "exit status %d\n",
+        degenerate.c_str(), EXIT_DEGENERATE);
+}
+void printParameters(
+    const emslam::stereo::StereoMatcher::TParameters& sp,
+    const emslam::egomotion::EgomotionEstimator::TParameters& ep)
+{
+    std::printf(
+        "[Stereo] num_disparities=%d range=[%g, %g] m  [Egomotion] |W|=%d S_min=%g sigma_min=%g "
+        "min_final_matches=%d\n",
+        sp.num_disparities, sp.min_range, sp.max_range, ep.window_size, ep.similarity_min,
+        ep.lwo_sigma_min, ep.min_final_matches);
+}
 }  // namespace
 
 OdometryApp::OdometryApp() : App(PROGRAM) {}
@@ -130,11 +267,7 @@ void OdometryApp::execute()
     emslam::egomotion::EgomotionEstimator::TParameters ep;
     ep.loadFromConfigFile(params, EGOMOTION_SECTION);
     slam::StereoOdometry odometry(sp, ep);
-    std::printf(
-        "[Stereo] num_disparities=%d range=[%g, %g] m  [Egomotion] |W|=%d S_min=%g sigma_min=%g "
-        "min_final_matches=%d\n",
-        sp.num_disparities, sp.min_range, sp.max_range, ep.window_size, ep.similarity_min,
-        ep.lwo_sigma_min, ep.min_final_matches);
+    printParameters(sp, ep);
 
     io::RawlogInput in(m_rawlog);
     // SIGINT / SIGTERM / SIGHUP end the loop after the current frame; the
@@ -147,100 +280,26 @@ void OdometryApp::execute()
     camera_change.clear();
     skipped_reasons.clear();
     frames_processed = failures = 0;
-    double sum_stereo = 0, sum_feat = 0, sum_desc = 0, sum_match = 0, sum_lwo = 0, sum_pose = 0,
-           sum_ego = 0, sum_init = 0, sum_final = 0;
-    std::size_t steps = 0;
-
+    OdometrySums sums;
     slam::StereoOdometry::Step step;
-    auto handle = [&](const mrpt::obs::CObservation& o)
+    const auto handle = [&](const mrpt::obs::CObservation& o)
     {
         if (!odometry.process(o, step))
         {
             return false;
         }
-        const auto& f = step.frame;
-        const auto& r = step.egomotion;
-        const double ms_stereo = step.ms_stereo;
-        if (!step.first)
-        {
-            ++steps;
-            sum_init += static_cast<double>(r.initial_matches);
-            sum_final += static_cast<double>(r.final_matches);
-            sum_match += r.ms_matching;
-            sum_lwo += r.ms_lwo;
-            sum_pose += r.ms_pose;
-        }
+        sums.add(step);
         failures = odometry.failures();
-        trajectory.add(mrpt::Clock::toDouble(f.timestamp), odometry.pose());
-        sum_stereo += ms_stereo;
-        sum_feat += r.ms_features;
-        sum_desc += r.ms_descriptors;
-        sum_ego += r.ms_total;
+        trajectory.add(mrpt::Clock::toDouble(step.frame.timestamp), odometry.pose());
         if (!quiet())
         {
-            std::printf(
-                "frame %zu: %zu points, %zu features, matches %zu -> %zu (LWO %d it), %s | ms: "
-                "stereo %.1f features %.1f descr %.1f match %.1f lwo %.1f pose %.1f egomotion "
-                "%.1f\n",
-                frames_processed, f.size(), r.features_cur, r.initial_matches, r.final_matches,
-                r.lwo_iterations,
-                r.ok ? (r.guided ? "ok, guided" : "ok") : r.failure_reason.c_str(), ms_stereo,
-                r.ms_features, r.ms_descriptors, r.ms_matching, r.ms_lwo, r.ms_pose, r.ms_total);
+            printFrame(frames_processed, step);
         }
         ++frames_processed;
         return true;
     };
-
-    std::vector<mrpt::obs::CObservation::Ptr> batch;
-    std::size_t ignored = 0;
-    // Frames with a bad timestamp or another camera, or that the front-end
-    // refuses, are skipped: the trajectory stays strictly increasing in time.
     io::FrameStreamGuard guard;
-    const auto warn = [](const std::string& warning)
-    {
-        if (!warning.empty())
-        {
-            std::fflush(stdout);
-            std::fprintf(stderr, "%s: warning: %s\n", PROGRAM, warning.c_str());
-        }
-    };
-    while ((maxFrames() == 0 || frames_processed < maxFrames()) && !StopSignal::requested() &&
-           in.next(batch))
-    {
-        const std::size_t record = in.recordsRead() - 1;
-        for (const auto& o : batch)
-        {
-            if (maxFrames() != 0 && frames_processed >= maxFrames())
-            {
-                break;
-            }
-            const auto decision = guard.check(*o, record);
-            if (decision.verdict == io::FrameStreamGuard::Verdict::Skip)
-            {
-                warn(decision.warning);
-                continue;
-            }
-            try
-            {
-                if (decision.verdict == io::FrameStreamGuard::Verdict::NotAFrame || !handle(*o))
-                {
-                    ++ignored;
-                    continue;
-                }
-            }
-            catch (const std::bad_alloc&)
-            {
-                throw;  // not the observation's fault
-            }
-            catch (const std::exception& e)
-            {
-                // StereoOdometry changed nothing: the frame is skipped.
-                warn(guard.skipUnusable(record, emslam::util::shortExceptionMessage(e)));
-                continue;
-            }
-            guard.accept();
-        }
-    }
+    const std::size_t ignored = feedFrames(in, guard, maxFrames(), frames_processed, handle);
     in.warnIfEndedEarly(PROGRAM);
     skipped = guard.counts();
     skipped_reasons = guard.namedSkips();
@@ -261,17 +320,7 @@ void OdometryApp::execute()
             quotedList(written).c_str());
     }
 
-    const double n = static_cast<double>(frames_processed);
-    mean_ms_stereo = sum_stereo / n;
-    mean_ms_features = sum_feat / n;
-    mean_ms_descriptors = sum_desc / n;
-    mean_ms_egomotion = sum_ego / n;
-    const double ns = steps > 0 ? static_cast<double>(steps) : 1.0;
-    mean_ms_matching = sum_match / ns;
-    mean_ms_lwo = sum_lwo / ns;
-    mean_ms_pose = sum_pose / ns;
-    mean_initial_matches = sum_init / ns;
-    mean_final_matches = sum_final / ns;
+    storeMeans(*this, sums);
     if (ignored > 0)
     {
         std::printf("ignored %zu observations of other classes\n", ignored);
@@ -280,6 +329,17 @@ void OdometryApp::execute()
     {
         std::printf("%s\n", guard.skippedText().c_str());
     }
+    printSummary(odometry, quotedList(written));
+    degenerate = degenerateRunWarning(sums.steps, failures, std::nullopt);
+    if (!degenerate.empty())
+    {
+        warnDegenerate(degenerate);
+    }
+}
+
+void OdometryApp::printSummary(
+    const slam::StereoOdometry& odometry, const std::string& written) const
+{
     if (odometry.estimator().parameters().guided_matching)
     {
         std::printf(
@@ -295,22 +355,11 @@ void OdometryApp::execute()
         "%s\n",
         frames_processed, failures, mean_initial_matches, mean_final_matches, mean_ms_stereo,
         mean_ms_features, mean_ms_descriptors, mean_ms_matching, mean_ms_lwo, mean_ms_pose,
-        mean_ms_egomotion, T.x(), T.y(), T.z(), T.norm(), quotedList(written).c_str());
+        mean_ms_egomotion, T.x(), T.y(), T.z(), T.norm(), written.c_str());
     if (!camera_change.empty())
     {
         std::fflush(stdout);
         std::fprintf(stderr, "%s: warning: %s\n", PROGRAM, camera_change.c_str());
-    }
-    degenerate = degenerateRunWarning(steps, failures, std::nullopt);
-    if (!degenerate.empty())
-    {
-        std::fflush(stdout);
-        std::fprintf(
-            stderr,
-            "emslam-odometry: warning: degenerate result: %s; the trajectory is written but "
-            "is not usable (check the images, the calibration and [Stereo] / [Egomotion]); "
-            "exit status %d\n",
-            degenerate.c_str(), EXIT_DEGENERATE);
     }
 }
 

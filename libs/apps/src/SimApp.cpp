@@ -48,90 +48,171 @@ constexpr const char* PROGRAM = "emslam-sim";
 
 SimApp::SimApp() : App(PROGRAM) {}
 
-bool SimApp::parseArguments(int argc, const char** argv)
+/** The command line of emslam-sim, each argument added to `cmd` in the
+ * order of its help; defaults from the app's settings. */
+struct SimApp::Arguments
 {
-    TCLAP::CmdLine cmd(
+    explicit Arguments(const SimApp& app_defaults) : app(app_defaults) {}
+
+    const SimApp& app;
+    TCLAP::CmdLine cmd{
         "Renders a synthetic stereo world (config/sim/*.ini) into a gz-compressed rawlog of "
         "CObservationStereoImages and its exact ground truth (left camera in the first left "
         "camera's frame) into a TUM file; Ctrl-C keeps the frames rendered so far (exit 130). "
         "Example: '" +
             std::string(PROGRAM) +
             " hall_double_loop -o hall.rawlog --gt-out hall.tum' (a shipped world by name).",
-        ' ', std::string("emslam-sim (") + mrpt::system::MRPT_getVersion() + ")");
-    TCLAP::UnlabeledValueArg<std::string> arg_world(
+        ' ', std::string("emslam-sim (") + mrpt::system::MRPT_getVersion() + ")"};
+    TCLAP::UnlabeledValueArg<std::string> arg_world{
         "world",
         "World INI file, or the name of a shipped one (hall_double_loop, ...: "
         "share/emslam/config/sim).",
-        true, "", "WORLD.ini", cmd);
-    TCLAP::ValueArg<std::string> arg_out(
-        "o", "output", "Output rawlog (gz-compressed, observations only).", true, "", "OUT.rawlog",
-        cmd);
-    TCLAP::ValueArg<std::string> arg_gt(
-        "", "gt-out", "Write the ground truth here (TUM format).", false, "", "GT.tum", cmd);
-    TCLAP::ValueArg<long long> arg_frames(
-        "", "max-frames", "Render only the first N frames (default 0: the whole trajectory).",
-        false, 0, "N", cmd);
-    TCLAP::ValueArg<long long> arg_seed(
-        "", "seed", "World seed (overrides [World] seed).", false, 1, "S", cmd);
-    TCLAP::ValueArg<std::string> arg_png(
-        "", "png", "Also write the images as PNG files into this folder (created).", false, "",
-        "DIR", cmd);
-    TCLAP::ValueArg<int> arg_gz(
-        "", "gz-level", "gzip level of the rawlog, 0..9 (default 1).", false, 1, "0..9", cmd);
-    TCLAP::ValueArg<std::string> arg_video(
-        "", "video",
+        true,
+        "",
+        "WORLD.ini",
+        cmd};
+    TCLAP::ValueArg<std::string> arg_out{
+        "o",          "output", "Output rawlog (gz-compressed, observations only).", true, "",
+        "OUT.rawlog", cmd};
+    TCLAP::ValueArg<std::string> arg_gt{
+        "", "gt-out", "Write the ground truth here (TUM format).", false, "", "GT.tum", cmd};
+    TCLAP::ValueArg<long long> arg_frames{
+        "",
+        "max-frames",
+        "Render only the first N frames (default 0: the whole trajectory).",
+        false,
+        0,
+        "N",
+        cmd};
+    TCLAP::ValueArg<long long> arg_seed{
+        "", "seed", "World seed (overrides [World] seed).", false, 1, "S", cmd};
+    TCLAP::ValueArg<std::string> arg_png{
+        "",    "png", "Also write the images as PNG files into this folder (created).", false, "",
+        "DIR", cmd};
+    TCLAP::ValueArg<int> arg_gz{
+        "", "gz-level", "gzip level of the rawlog, 0..9 (default 1).", false, 1, "0..9", cmd};
+    TCLAP::ValueArg<std::string> arg_video{
+        "",
+        "video",
         "Also write the frames as one side-by-side video (left | right), e.g. hall.avi or "
         "hall.mkv, for CVideoStereoCamera.",
-        false, "", "VIDEO", cmd);
-    TCLAP::ValueArg<std::string> arg_codec(
-        "", "video-codec",
+        false,
+        "",
+        "VIDEO",
+        cmd};
+    TCLAP::ValueArg<std::string> arg_codec{
+        "",
+        "video-codec",
         "Four-character codec of --video: FFV1 (lossless, default), PNG, MJPG (lossy), H264 "
         "(lossy), ...",
-        false, "FFV1", "FOURCC", cmd);
-    TCLAP::ValueArg<std::string> arg_video_calib(
-        "", "video-calibration",
+        false,
+        "FFV1",
+        "FOURCC",
+        cmd};
+    TCLAP::ValueArg<std::string> arg_video_calib{
+        "",
+        "video-calibration",
         "Write the stereo calibration of --video as an OpenCV file (M1 D1 M2 D2 R T, metres; "
         ".yml, .xml or .json).",
-        false, "", "CALIB.yml", cmd);
-    TCLAP::ValueArg<std::string> arg_map_gt(
-        "", "map-gt-out",
+        false,
+        "",
+        "CALIB.yml",
+        cmd};
+    TCLAP::ValueArg<std::string> arg_map_gt{
+        "",
+        "map-gt-out",
         "Write the true surfaces the camera saw (samples with normals and the nearest depth "
         "they were seen at, first camera's frame) to this PLY file: the reference of "
         "'emslam-eval --map-gt'.",
-        false, "", "REF.ply", cmd);
-    TCLAP::ValueArg<double> arg_map_gt_spacing(
-        "", "map-gt-spacing",
+        false,
+        "",
+        "REF.ply",
+        cmd};
+    TCLAP::ValueArg<double> arg_map_gt_spacing{
+        "",
+        "map-gt-spacing",
         "Distance between the samples of --map-gt-out [m] (default " +
-            mrpt::format("%g", map_gt.spacing) + ").",
-        false, map_gt.spacing, "M", cmd);
-    TCLAP::ValueArg<double> arg_map_gt_range(
-        "", "map-gt-range",
+            mrpt::format("%g", app.map_gt.spacing) + ").",
+        false,
+        app.map_gt.spacing,
+        "M",
+        cmd};
+    TCLAP::ValueArg<double> arg_map_gt_range{
+        "",
+        "map-gt-range",
         "Farthest depth a surface of --map-gt-out is seen at [m] (default " +
-            mrpt::format("%g", map_gt.max_range) + ", the mapper's [Stereo] max_range).",
-        false, map_gt.max_range, "M", cmd);
-    TCLAP::ValueArg<std::string> arg_grid_gt(
-        "", "grid-gt-out",
+            mrpt::format("%g", app.map_gt.max_range) + ", the mapper's [Stereo] max_range).",
+        false,
+        app.map_gt.max_range,
+        "M",
+        cmd};
+    TCLAP::ValueArg<std::string> arg_grid_gt{
+        "",
+        "grid-gt-out",
         "Write the true floor plan (the walls and obstacles the camera saw in the height band "
         "of [OccupancyGrid]) as an MRPT occupancy grid, the reference of 'emslam-eval "
         "--grid-gt'.",
-        false, "", "PLAN.gridmap", cmd);
-    TCLAP::ValueArg<std::string> arg_grid_config(
-        "", "grid-config",
+        false,
+        "",
+        "PLAN.gridmap",
+        cmd};
+    TCLAP::ValueArg<std::string> arg_grid_config{
+        "",
+        "grid-config",
         "Mapper INI whose [OccupancyGrid] cell_size, min_height, max_height and max_range "
         "--grid-gt-out uses (default: the mapper's defaults).",
-        false, "", "MAPPER.ini", cmd);
-    TCLAP::SwitchArg arg_quiet("q", "quiet", "No progress or summary output.", cmd, false);
-    if (!parseCommandLine(cmd, argc, argv, {{"--frames", "--max-frames", 0, "N"}}))
+        false,
+        "",
+        "MAPPER.ini",
+        cmd};
+    TCLAP::SwitchArg arg_quiet{"q", "quiet", "No progress or summary output.", cmd, false};
+};
+
+bool SimApp::parseArguments(int argc, const char** argv)
+{
+    Arguments args(*this);
+    if (!parseCommandLine(args.cmd, argc, argv, {{"--frames", "--max-frames", 0, "N"}}))
     {
         return false;
     }
-    world_file = findConfigFile(arg_world.getValue(), "sim");
-    output_file = arg_out.getValue();
-    gt_out_file = arg_gt.getValue();
-    png_dir = arg_png.getValue();
-    video_file = arg_video.getValue();
-    video_codec = arg_codec.getValue();
-    video_calibration_file = arg_video_calib.getValue();
+    takeOutputs(args);
+    takeReferences(args);
+    if (gz_level < 0 || gz_level > 9)
+    {
+        usageError("--gz-level must be in 0..9");
+    }
+    max_frames.reset();
+    if (countOption(args.arg_frames.getValue(), "--max-frames", 0, PROGRAM) > 0)
+    {
+        max_frames = static_cast<std::size_t>(args.arg_frames.getValue());
+    }
+    requireDistinctOutputs();
+    io::requireOutputsAreNotInputs(
+        {{"output rawlog", output_file},
+         {"ground-truth output (--gt-out)", gt_out_file},
+         {"video (--video)", video_file},
+         {"video calibration (--video-calibration)", video_calibration_file},
+         {"true surfaces (--map-gt-out)", map_gt_out_file},
+         {"true floor plan (--grid-gt-out)", grid_gt_out_file}},
+        {{"the world file", world_file},
+         {"the mapper INI (--grid-config)", args.arg_grid_config.getValue()}});
+    params.setContent(io::readIniFile(world_file, "world file"));
+    if (args.arg_seed.isSet())
+    {
+        params.write("World", "seed", static_cast<int>(args.arg_seed.getValue()));
+    }
+    return true;
+}
+
+void SimApp::takeOutputs(Arguments& args)
+{
+    world_file = findConfigFile(args.arg_world.getValue(), "sim");
+    output_file = args.arg_out.getValue();
+    gt_out_file = args.arg_gt.getValue();
+    png_dir = args.arg_png.getValue();
+    video_file = args.arg_video.getValue();
+    video_codec = args.arg_codec.getValue();
+    video_calibration_file = args.arg_video_calib.getValue();
     if (video_codec.size() != 4)
     {
         usageError("--video-codec must be four characters (FFV1, MJPG, 'PNG ', ...)");
@@ -140,12 +221,16 @@ bool SimApp::parseArguments(int argc, const char** argv)
     {
         usageError("--video-calibration must end in .yml, .yaml, .xml or .json");
     }
-    gz_level = arg_gz.getValue();
-    quiet = arg_quiet.getValue();
-    map_gt_out_file = arg_map_gt.getValue();
-    grid_gt_out_file = arg_grid_gt.getValue();
-    map_gt.spacing = arg_map_gt_spacing.getValue();
-    map_gt.max_range = arg_map_gt_range.getValue();
+    gz_level = args.arg_gz.getValue();
+    quiet = args.arg_quiet.getValue();
+}
+
+void SimApp::takeReferences(Arguments& args)
+{
+    map_gt_out_file = args.arg_map_gt.getValue();
+    grid_gt_out_file = args.arg_grid_gt.getValue();
+    map_gt.spacing = args.arg_map_gt_spacing.getValue();
+    map_gt.max_range = args.arg_map_gt_range.getValue();
     try
     {
         map_gt.validate();
@@ -156,22 +241,17 @@ bool SimApp::parseArguments(int argc, const char** argv)
             "--map-gt-spacing must be in [0.001, 10] m and --map-gt-range above " +
             mrpt::format("%g", map_gt.min_range) + " m");
     }
-    if (arg_grid_config.isSet())
+    if (args.arg_grid_config.isSet())
     {
         mrpt::config::CConfigFileMemory mapper(
-            io::readIniFile(arg_grid_config.getValue(), "mapper INI (--grid-config)"));
+            io::readIniFile(args.arg_grid_config.getValue(), "mapper INI (--grid-config)"));
         grid_gt.loadFromConfigFile(mapper, "OccupancyGrid");
         grid_gt.validate();
     }
-    if (gz_level < 0 || gz_level > 9)
-    {
-        usageError("--gz-level must be in 0..9");
-    }
-    max_frames.reset();
-    if (countOption(arg_frames.getValue(), "--max-frames", 0, PROGRAM) > 0)
-    {
-        max_frames = static_cast<std::size_t>(arg_frames.getValue());
-    }
+}
+
+void SimApp::requireDistinctOutputs() const
+{
     const std::vector<std::pair<std::string, std::string>> outputs = {
         {"--output", output_file},         {"--gt-out", gt_out_file},
         {"--video", video_file},           {"--video-calibration", video_calibration_file},
@@ -187,21 +267,6 @@ bool SimApp::parseArguments(int argc, const char** argv)
             }
         }
     }
-    io::requireOutputsAreNotInputs(
-        {{"output rawlog", output_file},
-         {"ground-truth output (--gt-out)", gt_out_file},
-         {"video (--video)", video_file},
-         {"video calibration (--video-calibration)", video_calibration_file},
-         {"true surfaces (--map-gt-out)", map_gt_out_file},
-         {"true floor plan (--grid-gt-out)", grid_gt_out_file}},
-        {{"the world file", world_file},
-         {"the mapper INI (--grid-config)", arg_grid_config.getValue()}});
-    params.setContent(io::readIniFile(world_file, "world file"));
-    if (arg_seed.isSet())
-    {
-        params.write("World", "seed", static_cast<int>(arg_seed.getValue()));
-    }
-    return true;
 }
 
 namespace

@@ -37,6 +37,12 @@ namespace
 {
 constexpr const char* STEREO_SECTION = "Stereo";
 constexpr const char* PROGRAM = "emslam-stereo";
+using Clock = std::chrono::steady_clock;
+
+double msSince(Clock::time_point t0)
+{
+    return std::chrono::duration<double, std::milli>(Clock::now() - t0).count();
+}
 
 void requireFile(const std::string& f, const std::string& what)
 {
@@ -108,6 +114,28 @@ DepthStats depthStats(const emslam::stereo::StereoFrame& f)
     s.min = *mn;
     s.max = *mx;
     return s;
+}
+void printFrame(std::size_t index, const emslam::stereo::StereoFrame& f, double ms)
+{
+    const auto z = depthStats(f);
+    std::printf(
+        "frame %zu: %dx%d, %zu points (density %.1f %%), depth %.2f / %.2f / %.2f m "
+        "(min/median/max), %.1f ms\n",
+        index, f.intensity.cols, f.intensity.rows, f.points.size(), 100.0 * f.density(), z.min,
+        z.median, z.max, ms);
+}
+/** The means over the run, and a camera change warned about. */
+void printSummary(const StereoApp& app)
+{
+    std::printf(
+        "%zu frame(s), %.0f points per frame on average (density %.1f %%), %.1f ms per frame\n",
+        app.frames_processed, static_cast<double>(app.total_points) / app.frames_processed,
+        100.0 * app.mean_density, app.mean_ms_per_frame);
+    if (!app.camera_change.empty())
+    {
+        std::fflush(stdout);
+        std::fprintf(stderr, "%s: warning: %s\n", PROGRAM, app.camera_change.c_str());
+    }
 }
 }  // namespace
 
@@ -237,56 +265,10 @@ void StereoApp::execute()
     double total_ms = 0, total_density = 0;
     auto handle = [&](const emslam::stereo::StereoFrame& f, double ms)
     {
-        const auto z = depthStats(f);
-        std::printf(
-            "frame %zu: %dx%d, %zu points (density %.1f %%), depth %.2f / %.2f / %.2f m "
-            "(min/median/max), %.1f ms\n",
-            frames_processed, f.intensity.cols, f.intensity.rows, f.points.size(),
-            100.0 * f.density(), z.min, z.median, z.max, ms);
+        printFrame(frames_processed, f, ms);
         if (frames_processed == 0)
         {
-            if (!m_ply.empty())
-            {
-                writePly(f, m_ply);
-            }
-            if (!m_disparity_png.empty())
-            {
-                writeDisparityPng(f, m_disparity_png);
-            }
-            if (!m_gt_disparity.empty())
-            {
-                cv::Mat gt = readImage(m_gt_disparity, "ground-truth disparity");
-                if (gt.channels() != 1)
-                {
-                    throw std::runtime_error("ground-truth disparity must be single-channel");
-                }
-                cv::Mat gtf;
-                // Disparities shrink with the image: scale values and size alike.
-                const double k = m_gt_scale * f.intensity.cols / static_cast<double>(gt.cols);
-                gt.convertTo(gtf, CV_32F, k);
-                cv::resize(gtf, gtf, f.intensity.size(), 0, 0, cv::INTER_NEAREST);
-                std::size_t n_gt = 0, n_both = 0, n_bad = 0;
-                for (int v = 0; v < gtf.rows; ++v)
-                {
-                    for (int u = 0; u < gtf.cols; ++u)
-                    {
-                        const float g = gtf.at<float>(v, u);
-                        const float d = f.disparity.at<float>(v, u);
-                        n_gt += g > 0;
-                        if (g > 0 && d > 0)
-                        {
-                            ++n_both;
-                            n_bad += std::abs(d - g) > 1.0f;
-                        }
-                    }
-                }
-                bad_pixel_rate = n_both ? static_cast<double>(n_bad) / n_both : 1.0;
-                gt_coverage = n_gt ? static_cast<double>(n_both) / n_gt : 0.0;
-                std::printf(
-                    "ground truth: bad pixels (|d - d_gt| > 1 px) %.2f %% of %zu matched "
-                    "pixels; %.1f %% of ground-truth pixels matched\n",
-                    100.0 * bad_pixel_rate, n_both, 100.0 * gt_coverage);
-            }
+            writeFirstFrameOutputs(f);
         }
         if (out)
         {
@@ -297,95 +279,16 @@ void StereoApp::execute()
         total_ms += ms;
         total_density += f.density();
     };
-    using clock = std::chrono::steady_clock;
-    auto msSince = [](clock::time_point t0)
-    { return std::chrono::duration<double, std::milli>(clock::now() - t0).count(); };
 
     try
     {
         if (m_rawlog.empty())
         {
-            const auto cam = io::loadStereoCameraFromIniFile(m_calib, m_calib_section);
-            const cv::Mat l = readImage(m_left, "left image"),
-                          r = readImage(m_right, "right image");
-            auto obs = mrpt::obs::CObservationStereoImages::Create();
-            obs->sensorLabel = "STEREO";
-            obs->timestamp = mrpt::Clock::now();
-            obs->imageLeft = mrpt::img::CImage(l, mrpt::img::SHALLOW_COPY);
-            obs->imageRight = mrpt::img::CImage(r, mrpt::img::SHALLOW_COPY);
-            obs->hasImageRight = true;
-            obs->setStereoCameraParams(cam);
-            const auto t0 = clock::now();
-            const auto f = front.process(*obs);
-            handle(f, msSince(t0));
+            processImagePair(front, handle);
         }
         else
         {
-            io::RawlogInput in(m_rawlog);
-            std::vector<mrpt::obs::CObservation::Ptr> batch;
-            std::size_t ignored = 0;
-            // The same frames as emslam-mapper and emslam-odometry use.
-            io::FrameStreamGuard guard;
-            const auto warn = [](const std::string& warning)
-            {
-                if (!warning.empty())
-                {
-                    std::fflush(stdout);
-                    std::fprintf(stderr, "%s: warning: %s\n", PROGRAM, warning.c_str());
-                }
-            };
-            // SIGINT / SIGTERM / SIGHUP end the loop after the current frame;
-            // the frames done are kept (exit 128 + signal).
-            StopSignal::clear();
-            const StopSignalGuard signals;
-            while ((maxFrames() == 0 || frames_processed < maxFrames()) &&
-                   !StopSignal::requested() && in.next(batch))
-            {
-                const std::size_t record = in.recordsRead() - 1;
-                for (const auto& o : batch)
-                {
-                    const auto decision = guard.check(*o, record);
-                    if (decision.verdict == io::FrameStreamGuard::Verdict::Skip)
-                    {
-                        warn(decision.warning);
-                        continue;
-                    }
-                    emslam::stereo::StereoFrame f;
-                    const auto t0 = clock::now();
-                    try
-                    {
-                        if (decision.verdict == io::FrameStreamGuard::Verdict::NotAFrame ||
-                            !front.process(*o, f))
-                        {
-                            ++ignored;
-                            continue;
-                        }
-                    }
-                    catch (const std::bad_alloc&)
-                    {
-                        throw;
-                    }
-                    catch (const std::exception& e)
-                    {
-                        warn(guard.skipUnusable(record, emslam::util::shortExceptionMessage(e)));
-                        continue;
-                    }
-                    guard.accept();
-                    handle(f, msSince(t0));
-                }
-            }
-            in.warnIfEndedEarly(PROGRAM);
-            if (ignored > 0)
-            {
-                std::printf("ignored %zu observations of other classes\n", ignored);
-            }
-            skipped = guard.counts();
-            skipped_reasons = guard.namedSkips();
-            camera_change = guard.cameraChangeWarning();
-            if (skipped.total() > 0)
-            {
-                std::printf("%s\n", guard.skippedText().c_str());
-            }
+            processRawlog(front, handle);
         }
     }
     catch (...)
@@ -414,14 +317,138 @@ void StereoApp::execute()
     }
     mean_density = total_density / frames_processed;
     mean_ms_per_frame = total_ms / frames_processed;
-    std::printf(
-        "%zu frame(s), %.0f points per frame on average (density %.1f %%), %.1f ms per frame\n",
-        frames_processed, static_cast<double>(total_points) / frames_processed,
-        100.0 * mean_density, mean_ms_per_frame);
-    if (!camera_change.empty())
+    printSummary(*this);
+}
+
+void StereoApp::writeFirstFrameOutputs(const emslam::stereo::StereoFrame& f)
+{
+    if (!m_ply.empty())
     {
-        std::fflush(stdout);
-        std::fprintf(stderr, "%s: warning: %s\n", PROGRAM, camera_change.c_str());
+        writePly(f, m_ply);
+    }
+    if (!m_disparity_png.empty())
+    {
+        writeDisparityPng(f, m_disparity_png);
+    }
+    if (!m_gt_disparity.empty())
+    {
+        cv::Mat gt = readImage(m_gt_disparity, "ground-truth disparity");
+        if (gt.channels() != 1)
+        {
+            throw std::runtime_error("ground-truth disparity must be single-channel");
+        }
+        cv::Mat gtf;
+        // Disparities shrink with the image: scale values and size alike.
+        const double k = m_gt_scale * f.intensity.cols / static_cast<double>(gt.cols);
+        gt.convertTo(gtf, CV_32F, k);
+        cv::resize(gtf, gtf, f.intensity.size(), 0, 0, cv::INTER_NEAREST);
+        std::size_t n_gt = 0, n_both = 0, n_bad = 0;
+        for (int v = 0; v < gtf.rows; ++v)
+        {
+            for (int u = 0; u < gtf.cols; ++u)
+            {
+                const float g = gtf.at<float>(v, u);
+                const float d = f.disparity.at<float>(v, u);
+                n_gt += g > 0;
+                if (g > 0 && d > 0)
+                {
+                    ++n_both;
+                    n_bad += std::abs(d - g) > 1.0f;
+                }
+            }
+        }
+        bad_pixel_rate = n_both ? static_cast<double>(n_bad) / n_both : 1.0;
+        gt_coverage = n_gt ? static_cast<double>(n_both) / n_gt : 0.0;
+        std::printf(
+            "ground truth: bad pixels (|d - d_gt| > 1 px) %.2f %% of %zu matched "
+            "pixels; %.1f %% of ground-truth pixels matched\n",
+            100.0 * bad_pixel_rate, n_both, 100.0 * gt_coverage);
+    }
+}
+
+void StereoApp::processImagePair(
+    emslam::stereo::StereoFrontEnd& front, const FrameHandler& handle) const
+{
+    const auto cam = io::loadStereoCameraFromIniFile(m_calib, m_calib_section);
+    const cv::Mat l = readImage(m_left, "left image"), r = readImage(m_right, "right image");
+    auto obs = mrpt::obs::CObservationStereoImages::Create();
+    obs->sensorLabel = "STEREO";
+    obs->timestamp = mrpt::Clock::now();
+    obs->imageLeft = mrpt::img::CImage(l, mrpt::img::SHALLOW_COPY);
+    obs->imageRight = mrpt::img::CImage(r, mrpt::img::SHALLOW_COPY);
+    obs->hasImageRight = true;
+    obs->setStereoCameraParams(cam);
+    const auto t0 = Clock::now();
+    const auto f = front.process(*obs);
+    handle(f, msSince(t0));
+}
+
+void StereoApp::processRawlog(emslam::stereo::StereoFrontEnd& front, const FrameHandler& handle)
+{
+    io::RawlogInput in(m_rawlog);
+    std::vector<mrpt::obs::CObservation::Ptr> batch;
+    std::size_t ignored = 0;
+    // The same frames as emslam-mapper and emslam-odometry use.
+    io::FrameStreamGuard guard;
+    const auto warn = [](const std::string& warning)
+    {
+        if (!warning.empty())
+        {
+            std::fflush(stdout);
+            std::fprintf(stderr, "%s: warning: %s\n", PROGRAM, warning.c_str());
+        }
+    };
+    // SIGINT / SIGTERM / SIGHUP end the loop after the current frame;
+    // the frames done are kept (exit 128 + signal).
+    StopSignal::clear();
+    const StopSignalGuard signals;
+    while ((maxFrames() == 0 || frames_processed < maxFrames()) && !StopSignal::requested() &&
+           in.next(batch))
+    {
+        const std::size_t record = in.recordsRead() - 1;
+        for (const auto& o : batch)
+        {
+            const auto decision = guard.check(*o, record);
+            if (decision.verdict == io::FrameStreamGuard::Verdict::Skip)
+            {
+                warn(decision.warning);
+                continue;
+            }
+            emslam::stereo::StereoFrame f;
+            const auto t0 = Clock::now();
+            try
+            {
+                if (decision.verdict == io::FrameStreamGuard::Verdict::NotAFrame ||
+                    !front.process(*o, f))
+                {
+                    ++ignored;
+                    continue;
+                }
+            }
+            catch (const std::bad_alloc&)
+            {
+                throw;
+            }
+            catch (const std::exception& e)
+            {
+                warn(guard.skipUnusable(record, emslam::util::shortExceptionMessage(e)));
+                continue;
+            }
+            guard.accept();
+            handle(f, msSince(t0));
+        }
+    }
+    in.warnIfEndedEarly(PROGRAM);
+    if (ignored > 0)
+    {
+        std::printf("ignored %zu observations of other classes\n", ignored);
+    }
+    skipped = guard.counts();
+    skipped_reasons = guard.namedSkips();
+    camera_change = guard.cameraChangeWarning();
+    if (skipped.total() > 0)
+    {
+        std::printf("%s\n", guard.skippedText().c_str());
     }
 }
 

@@ -85,6 +85,143 @@ void checkDistinctiveness(const Distinctiveness& d, std::size_t np, std::size_t 
         ASSERT_EQUAL_(d.cur_features->size(), nc);
     }
 }
+
+/** Current features bucketed in square cells of `cell` px: a disc of that
+ * radius around any point touches at most the 3x3 cells around its own. */
+class FeatureGrid
+{
+public:
+    FeatureGrid(const FeatureList& features, float cell) : m_features(features), m_cell(cell)
+    {
+        int max_u = 0, max_v = 0;
+        for (const auto& f : features)
+        {
+            max_u = std::max<int>(max_u, f.u);
+            max_v = std::max<int>(max_v, f.v);
+        }
+        m_cols = static_cast<int>(static_cast<float>(max_u) / cell) + 1;
+        m_rows = static_cast<int>(static_cast<float>(max_v) / cell) + 1;
+        // Counting sort by cell: m_in_cell[m_start[c] .. m_start[c + 1]) are cell c's.
+        m_start.assign(static_cast<std::size_t>(m_cols * m_rows) + 1, 0);
+        m_in_cell.resize(features.size());
+        for (std::size_t j = 0; j < features.size(); ++j)
+        {
+            ++m_start[cellOf(j) + 1];
+        }
+        for (std::size_t c = 1; c < m_start.size(); ++c)
+        {
+            m_start[c] += m_start[c - 1];
+        }
+        std::vector<std::size_t> fill(m_start.begin(), m_start.end() - 1);
+        for (std::size_t j = 0; j < features.size(); ++j)
+        {
+            m_in_cell[fill[cellOf(j)]++] = j;
+        }
+    }
+
+    /** Calls visit(j) for every feature j within `radius` px of p. */
+    template <typename Visit>
+    void forEachNear(const cv::Point2f& p, float radius, const Visit& visit) const
+    {
+        const float r2 = radius * radius;
+        const int cu = static_cast<int>(std::floor(p.x / m_cell));
+        const int cv_ = static_cast<int>(std::floor(p.y / m_cell));
+        for (int y = std::max(cv_ - 1, 0); y <= std::min(cv_ + 1, m_rows - 1); ++y)
+        {
+            for (int x = std::max(cu - 1, 0); x <= std::min(cu + 1, m_cols - 1); ++x)
+            {
+                const auto c = static_cast<std::size_t>(y * m_cols + x);
+                for (std::size_t k = m_start[c]; k < m_start[c + 1]; ++k)
+                {
+                    const std::size_t j = m_in_cell[k];
+                    const float du = static_cast<float>(m_features[j].u) - p.x;
+                    const float dv = static_cast<float>(m_features[j].v) - p.y;
+                    if (du * du + dv * dv > r2)
+                    {
+                        continue;
+                    }
+                    visit(j);
+                }
+            }
+        }
+    }
+
+private:
+    std::size_t cellOf(std::size_t j) const
+    {
+        const auto& f = m_features[j];
+        return static_cast<std::size_t>(
+            static_cast<int>(static_cast<float>(f.v) / m_cell) * m_cols +
+            static_cast<int>(static_cast<float>(f.u) / m_cell));
+    }
+
+    const FeatureList& m_features;
+    float m_cell;
+    int m_cols{0}, m_rows{0};
+    std::vector<std::size_t> m_start;
+    std::vector<std::size_t> m_in_cell;
+};
+
+/** Calls visit(i, j, s) for every previous feature i with a finite
+ * prediction and every current feature j within `radius_px` of it, s the
+ * |similarity| of their descriptors. */
+template <typename Visit>
+void forEachGuidedCandidate(
+    const Descriptors& prev,
+    const Descriptors& cur,
+    const std::vector<cv::Point2f>& predicted,
+    const FeatureGrid& grid,
+    float radius_px,
+    const Visit& visit)
+{
+    const auto dim = static_cast<Eigen::Index>(prev.dim);
+    for (std::size_t i = 0; i < prev.size(); ++i)
+    {
+        const cv::Point2f p = predicted[i];
+        if (!std::isfinite(p.x) || !std::isfinite(p.y))
+        {
+            continue;
+        }
+        const Eigen::Map<const Eigen::VectorXf> pi(prev.row(i), dim);
+        grid.forEachNear(
+            p, radius_px,
+            [&](std::size_t j)
+            {
+                // |rho|: a contrast inversion is still the same texture.
+                visit(i, j, std::abs(pi.dot(Eigen::Map<const Eigen::VectorXf>(cur.row(j), dim))));
+            });
+    }
+}
+
+/** The best partner of each previous and of each current feature. */
+struct BestPartners
+{
+    BestPartners(std::size_t np, std::size_t nc)
+        : best_cur(np, -1), best_cur_s(np, 0.0f), best_prev(nc, -1), best_prev_s(nc, 0.0f)
+    {
+    }
+
+    void add(std::size_t i, std::size_t j, float s)
+    {
+        // Ties: the lowest index wins, as in matchMutual().
+        if (s > best_cur_s[i] || (s == best_cur_s[i] && s > 0 && static_cast<int>(j) < best_cur[i]))
+        {
+            best_cur_s[i] = s;
+            best_cur[i] = static_cast<int>(j);
+        }
+        if (s > best_prev_s[j] ||
+            (s == best_prev_s[j] && s > 0 && static_cast<int>(i) < best_prev[j]))
+        {
+            best_prev_s[j] = s;
+            best_prev[j] = static_cast<int>(i);
+        }
+    }
+
+    std::vector<int> best_cur;  //!< per previous feature, -1: none
+    std::vector<float> best_cur_s;
+    std::vector<int> best_prev;  //!< per current feature, -1: none
+    std::vector<float> best_prev_s;
+};
 }  // namespace
 
 MatchList matchMutual(
@@ -199,116 +336,29 @@ MatchList matchMutualGuided(
     }
     ASSERT_EQUAL_(prev.dim, cur.dim);
     checkDistinctiveness(distinct, np, nc);
-    const auto dim = static_cast<Eigen::Index>(prev.dim);
 
-    // Current features in grid cells of radius_px: a disc of that radius
-    // around any point touches at most the 3x3 cells around its own.
-    int max_u = 0, max_v = 0;
-    for (const auto& f : cur_features)
-    {
-        max_u = std::max<int>(max_u, f.u);
-        max_v = std::max<int>(max_v, f.v);
-    }
-    const float cell = radius_px;
-    const int cols = static_cast<int>(static_cast<float>(max_u) / cell) + 1;
-    const int rows = static_cast<int>(static_cast<float>(max_v) / cell) + 1;
-    std::vector<std::size_t> cell_start(static_cast<std::size_t>(cols * rows) + 1, 0);
-    std::vector<std::size_t> in_cell(nc);
-    const auto cellOf = [&](std::size_t j)
-    {
-        const auto& f = cur_features[j];
-        return static_cast<std::size_t>(
-            static_cast<int>(static_cast<float>(f.v) / cell) * cols +
-            static_cast<int>(static_cast<float>(f.u) / cell));
-    };
-    for (std::size_t j = 0; j < nc; ++j)
-    {
-        ++cell_start[cellOf(j) + 1];
-    }
-    for (std::size_t c = 1; c < cell_start.size(); ++c)
-    {
-        cell_start[c] += cell_start[c - 1];
-    }
-    {
-        std::vector<std::size_t> fill(cell_start.begin(), cell_start.end() - 1);
-        for (std::size_t j = 0; j < nc; ++j)
-        {
-            in_cell[fill[cellOf(j)]++] = j;
-        }
-    }
-
-    std::vector<int> best_cur(np, -1);
-    std::vector<float> best_cur_s(np, 0.0f);
-    std::vector<int> best_prev(nc, -1);
-    std::vector<float> best_prev_s(nc, 0.0f);
-    const float r2 = radius_px * radius_px;
-    // Calls visit(i, j, s) for every pair within the window.
-    const auto forEachCandidate = [&](const auto& visit)
-    {
-        for (std::size_t i = 0; i < np; ++i)
-        {
-            const cv::Point2f p = predicted[i];
-            if (!std::isfinite(p.x) || !std::isfinite(p.y))
-            {
-                continue;
-            }
-            const Eigen::Map<const Eigen::VectorXf> pi(prev.row(i), dim);
-            const int cu = static_cast<int>(std::floor(p.x / cell));
-            const int cv_ = static_cast<int>(std::floor(p.y / cell));
-            for (int y = std::max(cv_ - 1, 0); y <= std::min(cv_ + 1, rows - 1); ++y)
-            {
-                for (int x = std::max(cu - 1, 0); x <= std::min(cu + 1, cols - 1); ++x)
-                {
-                    const auto c = static_cast<std::size_t>(y * cols + x);
-                    for (std::size_t k = cell_start[c]; k < cell_start[c + 1]; ++k)
-                    {
-                        const std::size_t j = in_cell[k];
-                        const float du = static_cast<float>(cur_features[j].u) - p.x;
-                        const float dv = static_cast<float>(cur_features[j].v) - p.y;
-                        if (du * du + dv * dv > r2)
-                        {
-                            continue;
-                        }
-                        // |rho|: a contrast inversion is still the same texture.
-                        visit(
-                            i, j,
-                            std::abs(pi.dot(Eigen::Map<const Eigen::VectorXf>(cur.row(j), dim))));
-                    }
-                }
-            }
-        }
-    };
-    forEachCandidate(
-        [&](std::size_t i, std::size_t j, float s)
-        {
-            // Ties: the lowest index wins, as in matchMutual().
-            if (s > best_cur_s[i] ||
-                (s == best_cur_s[i] && s > 0 && static_cast<int>(j) < best_cur[i]))
-            {
-                best_cur_s[i] = s;
-                best_cur[i] = static_cast<int>(j);
-            }
-            if (s > best_prev_s[j] ||
-                (s == best_prev_s[j] && s > 0 && static_cast<int>(i) < best_prev[j]))
-            {
-                best_prev_s[j] = s;
-                best_prev[j] = static_cast<int>(i);
-            }
-        });
+    const FeatureGrid grid(cur_features, radius_px);
+    BestPartners bests(np, nc);
+    forEachGuidedCandidate(
+        prev, cur, predicted, grid, radius_px,
+        [&](std::size_t i, std::size_t j, float s) { bests.add(i, j, s); });
     std::optional<RunnersUp> runners_up;
     if (distinct.enabled())
     {
-        runners_up.emplace(distinct, best_cur, best_prev);
-        forEachCandidate([&](std::size_t i, std::size_t j, float s) { runners_up->add(i, j, s); });
+        runners_up.emplace(distinct, bests.best_cur, bests.best_prev);
+        forEachGuidedCandidate(
+            prev, cur, predicted, grid, radius_px,
+            [&](std::size_t i, std::size_t j, float s) { runners_up->add(i, j, s); });
     }
     for (std::size_t i = 0; i < np; ++i)
     {
-        const int j = best_cur[i];
-        if (j >= 0 && best_prev[static_cast<std::size_t>(j)] == static_cast<int>(i) &&
-            best_cur_s[i] >= similarity_min &&
-            (!runners_up || runners_up->clear(i, static_cast<std::size_t>(j), best_cur_s[i])))
+        const int j = bests.best_cur[i];
+        const float s = bests.best_cur_s[i];
+        if (j >= 0 && bests.best_prev[static_cast<std::size_t>(j)] == static_cast<int>(i) &&
+            s >= similarity_min &&
+            (!runners_up || runners_up->clear(i, static_cast<std::size_t>(j), s)))
         {
-            out.push_back({static_cast<int>(i), j, std::min(best_cur_s[i], 1.0f)});
+            out.push_back({static_cast<int>(i), j, std::min(s, 1.0f)});
         }
     }
     return out;

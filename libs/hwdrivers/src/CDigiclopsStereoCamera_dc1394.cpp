@@ -169,29 +169,12 @@ void setFeature(dc1394camera_t* cam, dc1394feature_t f, int value, const char* k
         dc1394_feature_set_value(cam, f, static_cast<std::uint32_t>(value)),
         std::string("setting ") + key + " = " + std::to_string(value));
 }
-}  // namespace
-
-CDigiclopsStereoCamera::CDigiclopsStereoCamera() = default;
-
-CDigiclopsStereoCamera::~CDigiclopsStereoCamera()
+/** The camera the parameters name (camera_guid, else camera_index) among
+ * those libdc1394 enumerates. */
+dc1394camera_id_t chooseCamera(dc1394_t* ctx, const CDigiclopsStereoCamera::TParameters& p)
 {
-    closeDevice();
-}
-
-void CDigiclopsStereoCamera::openDevice()
-{
-    closeDevice();
-    const TParameters& p = m_params;
-    auto dev = std::make_unique<Device>();
-    dev->ctx = dc1394_new();
-    if (dev->ctx == nullptr)
-    {
-        throw std::runtime_error(
-            "CDigiclopsStereoCamera: no device: libdc1394 could not be initialised" +
-            noCameraDiagnosis());
-    }
     dc1394camera_list_t* list = nullptr;
-    check(dc1394_camera_enumerate(dev->ctx, &list), "enumerating IIDC cameras");
+    check(dc1394_camera_enumerate(ctx, &list), "enumerating IIDC cameras");
     std::vector<dc1394camera_id_t> ids(list->ids, list->ids + list->num);
     dc1394_camera_free_list(list);
     if (ids.empty())
@@ -230,19 +213,13 @@ void CDigiclopsStereoCamera::openDevice()
                 static_cast<unsigned long long>(p.camera_guid)) +
             found);
     }
-    dev->cam = dc1394_camera_new_unit(dev->ctx, id->guid, id->unit);
-    if (dev->cam == nullptr)
-    {
-        throw std::runtime_error(mrpt::format(
-            "CDigiclopsStereoCamera: permission: camera GUID 0x%016llx was enumerated but "
-            "cannot be opened (no read/write permission on its /dev/fw* or /dev/bus/usb "
-            "node?)",
-            static_cast<unsigned long long>(id->guid)));
-    }
-    const std::string cam_name = std::string(dev->cam->vendor ? dev->cam->vendor : "") + " " +
-                                 (dev->cam->model ? dev->cam->model : "");
+    return *id;
+}
 
-    // Video mode.
+/** Sets video_mode (checked against the camera's) and iso_speed. */
+dc1394video_mode_t setVideoMode(
+    dc1394camera_t* cam, const CDigiclopsStereoCamera::TParameters& p, const std::string& cam_name)
+{
     dc1394video_mode_t mode{};
     bool known = false;
     for (const auto& [name, m] : videoModes())
@@ -260,7 +237,7 @@ void CDigiclopsStereoCamera::openDevice()
             "' (expected WxH_CODING such as 640x480_RGB8, or FORMAT7_0..FORMAT7_7)");
     }
     dc1394video_modes_t modes;
-    check(dc1394_video_get_supported_modes(dev->cam, &modes), "reading the supported modes");
+    check(dc1394_video_get_supported_modes(cam, &modes), "reading the supported modes");
     bool supported = false;
     std::string mode_list;
     for (std::uint32_t i = 0; i < modes.num; ++i)
@@ -277,16 +254,26 @@ void CDigiclopsStereoCamera::openDevice()
     if (p.iso_speed == 800)
     {
         check(
-            dc1394_video_set_operation_mode(dev->cam, DC1394_OPERATION_MODE_1394B),
+            dc1394_video_set_operation_mode(cam, DC1394_OPERATION_MODE_1394B),
             "switching to 1394B (iso_speed 800)");
     }
     const dc1394speed_t speed = p.iso_speed == 100   ? DC1394_ISO_SPEED_100
                                 : p.iso_speed == 200 ? DC1394_ISO_SPEED_200
                                 : p.iso_speed == 400 ? DC1394_ISO_SPEED_400
                                                      : DC1394_ISO_SPEED_800;
-    check(dc1394_video_set_iso_speed(dev->cam, speed), "setting iso_speed");
-    check(dc1394_video_set_mode(dev->cam, mode), "setting video_mode " + p.video_mode);
+    check(dc1394_video_set_iso_speed(cam, speed), "setting iso_speed");
+    check(dc1394_video_set_mode(cam, mode), "setting video_mode " + p.video_mode);
+    return mode;
+}
 
+/** Sets the frame size (Format 7) or the lowest frame rate >= framerate;
+ * returns the frame period [us]. */
+double setFrameRate(
+    dc1394camera_t* cam,
+    dc1394video_mode_t mode,
+    const CDigiclopsStereoCamera::TParameters& p,
+    const std::string& cam_name)
+{
     const PackedFrameFormat fmt = p.frameFormat();
     if (dc1394_is_video_mode_scalable(mode) == DC1394_TRUE)
     {
@@ -297,16 +284,15 @@ void CDigiclopsStereoCamera::openDevice()
         const std::uint32_t h =
             fmt.layout == PackedLayout::PLANAR_8 ? fmt.height * fmt.channels() : fmt.height;
         check(
-            dc1394_format7_set_roi(
-                dev->cam, mode, coding, DC1394_USE_MAX_AVAIL, 0, 0, fmt.width, h),
+            dc1394_format7_set_roi(cam, mode, coding, DC1394_USE_MAX_AVAIL, 0, 0, fmt.width, h),
             mrpt::format("setting the %s region %ux%u", p.video_mode.c_str(), fmt.width, h));
-        dev->frame_period_us = 1e6 / p.framerate;
+        return 1e6 / p.framerate;
     }
     else
     {
         dc1394framerates_t rates;
         check(
-            dc1394_video_get_supported_framerates(dev->cam, mode, &rates),
+            dc1394_video_get_supported_framerates(cam, mode, &rates),
             "reading the supported frame rates");
         dc1394framerate_t best{};
         double best_v = 0;
@@ -330,9 +316,46 @@ void CDigiclopsStereoCamera::openDevice()
                     p.framerate) +
                 p.video_mode + " of camera '" + cam_name + "'; supported [fps]:" + rate_list);
         }
-        check(dc1394_video_set_framerate(dev->cam, best), "setting the frame rate");
-        dev->frame_period_us = 1e6 / best_v;
+        check(dc1394_video_set_framerate(cam, best), "setting the frame rate");
+        return 1e6 / best_v;
     }
+}
+}  // namespace
+
+CDigiclopsStereoCamera::CDigiclopsStereoCamera() = default;
+
+CDigiclopsStereoCamera::~CDigiclopsStereoCamera()
+{
+    closeDevice();
+}
+
+void CDigiclopsStereoCamera::openDevice()
+{
+    closeDevice();
+    const TParameters& p = m_params;
+    auto dev = std::make_unique<Device>();
+    dev->ctx = dc1394_new();
+    if (dev->ctx == nullptr)
+    {
+        throw std::runtime_error(
+            "CDigiclopsStereoCamera: no device: libdc1394 could not be initialised" +
+            noCameraDiagnosis());
+    }
+    const dc1394camera_id_t id = chooseCamera(dev->ctx, p);
+    dev->cam = dc1394_camera_new_unit(dev->ctx, id.guid, id.unit);
+    if (dev->cam == nullptr)
+    {
+        throw std::runtime_error(mrpt::format(
+            "CDigiclopsStereoCamera: permission: camera GUID 0x%016llx was enumerated but "
+            "cannot be opened (no read/write permission on its /dev/fw* or /dev/bus/usb "
+            "node?)",
+            static_cast<unsigned long long>(id.guid)));
+    }
+    const std::string cam_name = std::string(dev->cam->vendor ? dev->cam->vendor : "") + " " +
+                                 (dev->cam->model ? dev->cam->model : "");
+
+    const dc1394video_mode_t mode = setVideoMode(dev->cam, p, cam_name);
+    dev->frame_period_us = setFrameRate(dev->cam, mode, p, cam_name);
     setFeature(dev->cam, DC1394_FEATURE_SHUTTER, p.shutter, "shutter");
     setFeature(dev->cam, DC1394_FEATURE_GAIN, p.gain, "gain");
     setFeature(dev->cam, DC1394_FEATURE_EXPOSURE, p.exposure, "exposure");

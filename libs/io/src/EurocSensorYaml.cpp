@@ -98,79 +98,16 @@ EurocSensorYaml EurocSensorYaml::load(const std::string& file)
     return parse(text, file);
 }
 
-EurocSensorYaml EurocSensorYaml::parse(std::string_view text, const std::string& file)
+/** The line-by-line reader of parse(): top-level keys, one level of maps,
+ * flow lists (possibly over several lines) and scalars. */
+class EurocSensorYaml::Parser
 {
-    EurocSensorYaml y;
-    y.m_file = file;
+public:
+    Parser(EurocSensorYaml& y, const std::string& file) : m_y(y), m_file(file) {}
 
-    std::string map_key;                  // the open map ("T_BS"), empty at top level
-    std::optional<std::string> list_key;  // the list being read, up to its ']'
-    std::string list_text;
-    std::size_t line_no = 0;
-    std::size_t pos = 0;
-
-    const auto addEntry = [&](const std::string& key, Entry e)
+    void readLine(std::string_view line)
     {
-        if (const auto it = y.m_entries.find(key); it != y.m_entries.end())
-        {
-            parseError(
-                file, e.line, key,
-                "duplicate key (first at line " + std::to_string(it->second.line) + ")");
-        }
-        y.m_entries.emplace(key, std::move(e));
-    };
-    // Appends list text up to a ']' (then closes the list); returns false if no ']'.
-    const auto readListText = [&](std::string_view rest)
-    {
-        const auto close = rest.find(']');
-        const std::string_view part = rest.substr(0, close);
-        if (part.find('[') != std::string_view::npos || part.find('{') != std::string_view::npos)
-        {
-            parseError(file, line_no, *list_key, "nested lists or maps are not supported");
-        }
-        list_text.append(part);
-        list_text += ' ';
-        if (close == std::string_view::npos)
-        {
-            return;
-        }
-        if (!isBlank(rest.substr(close + 1)))
-        {
-            parseError(
-                file, line_no, *list_key,
-                "unexpected " + quotedExcerpt(trimmed(rest.substr(close + 1))) + " after ']'");
-        }
-        Entry& e = y.m_entries.at(*list_key);
-        if (!isBlank(list_text))
-        {
-            std::size_t start = 0;
-            while (true)
-            {
-                const auto comma = list_text.find(',', start);
-                const auto item = trimmed(std::string_view(list_text).substr(
-                    start, comma == std::string::npos ? comma : comma - start));
-                if (item.empty())
-                {
-                    parseError(file, line_no, *list_key, "empty list element");
-                }
-                e.items.emplace_back(item);
-                if (comma == std::string::npos)
-                {
-                    break;
-                }
-                start = comma + 1;
-            }
-        }
-        list_key.reset();
-        list_text.clear();
-    };
-
-    while (pos < text.size())
-    {
-        const auto eol = text.find('\n', pos);
-        std::string_view line = text.substr(pos, eol == std::string_view::npos ? eol : eol - pos);
-        pos = eol == std::string_view::npos ? text.size() : eol + 1;
-        ++line_no;
+        ++m_line_no;
         if (!line.empty() && line.back() == '\r')
         {
             line.remove_suffix(1);
@@ -180,34 +117,56 @@ EurocSensorYaml EurocSensorYaml::parse(std::string_view text, const std::string&
             const auto u = static_cast<unsigned char>(c);
             if ((u < 0x20 && c != '\t') || u == 0x7f)
             {
-                parseError(file, line_no, {}, "control character (binary data?)");
+                parseError(m_file, m_line_no, {}, "control character (binary data?)");
             }
         }
-        if (line_no == 1 && line.substr(0, 5) == "%YAML")
+        if (m_line_no == 1 && line.substr(0, 5) == "%YAML")
         {
-            continue;
+            return;
         }
         const std::string_view content = withoutComment(line);
-        if (list_key)
+        if (m_list_key)
         {
             // A "key:" line inside a list means its ']' is missing (numbers have no ':').
             if (content.find(':') != std::string_view::npos)
             {
                 parseError(
-                    file, y.m_entries.at(*list_key).line, *list_key,
-                    "list not closed (missing ']') before line " + std::to_string(line_no));
+                    m_file, m_y.m_entries.at(*m_list_key).line, *m_list_key,
+                    "list not closed (missing ']') before line " + std::to_string(m_line_no));
             }
             readListText(content);
-            continue;
+            return;
         }
-        if (isBlank(content) || (y.m_entries.empty() && trimmed(content) == "---"))
+        if (isBlank(content) || (m_y.m_entries.empty() && trimmed(content) == "---"))
         {
-            continue;
+            return;
         }
+        readKeyLine(content);
+    }
+
+    /** At the end of the text: no list left open, some entry read. */
+    void finish() const
+    {
+        if (m_list_key)
+        {
+            parseError(
+                m_file, m_y.m_entries.at(*m_list_key).line, *m_list_key,
+                "list not closed (missing ']') before the end of the file");
+        }
+        if (m_y.m_entries.empty())
+        {
+            parseError(m_file, 0, {}, "no 'key: value' line");
+        }
+    }
+
+private:
+    /** A 'key: value' line (value empty: a map opens). */
+    void readKeyLine(std::string_view content)
+    {
         const auto indent = content.find_first_not_of(' ');
         if (content[indent] == '\t')
         {
-            parseError(file, line_no, {}, "tab in the indentation (use spaces)");
+            parseError(m_file, m_line_no, {}, "tab in the indentation (use spaces)");
         }
         const std::string_view body = trimmed(content);
         std::size_t key_end = 0;
@@ -218,42 +177,42 @@ EurocSensorYaml EurocSensorYaml::parse(std::string_view text, const std::string&
         if (key_end == 0 || key_end == body.size() || body[key_end] != ':' ||
             (key_end + 1 < body.size() && body[key_end + 1] != ' ' && body[key_end + 1] != '\t'))
         {
-            parseError(file, line_no, {}, "expected 'key: value', got " + quotedExcerpt(body));
+            parseError(m_file, m_line_no, {}, "expected 'key: value', got " + quotedExcerpt(body));
         }
         const std::string name(body.substr(0, key_end));
         const std::string_view value = trimmed(body.substr(key_end + 1));
         if (indent == 0)
         {
-            map_key.clear();
+            m_map_key.clear();
         }
-        else if (map_key.empty())
+        else if (m_map_key.empty())
         {
-            parseError(file, line_no, name, "indented key outside a map");
+            parseError(m_file, m_line_no, name, "indented key outside a map");
         }
-        const std::string key = indent == 0 ? name : map_key + "." + name;
+        const std::string key = indent == 0 ? name : m_map_key + "." + name;
 
         Entry e;
-        e.line = line_no;
+        e.line = m_line_no;
         if (value.empty())
         {
             if (indent != 0)
             {
-                parseError(file, line_no, key, "maps nested deeper than one level");
+                parseError(m_file, m_line_no, key, "maps nested deeper than one level");
             }
             e.kind = Kind::Map;
             addEntry(key, e);
-            map_key = key;
+            m_map_key = key;
         }
         else if (value.front() == '[')
         {
             e.kind = Kind::List;
             addEntry(key, e);
-            list_key = key;
+            m_list_key = key;
             readListText(value.substr(1));
         }
         else if (std::string_view("{&*!|>]").find(value.front()) != std::string_view::npos)
         {
-            parseError(file, line_no, key, "unsupported YAML value " + quotedExcerpt(value));
+            parseError(m_file, m_line_no, key, "unsupported YAML value " + quotedExcerpt(value));
         }
         else
         {
@@ -261,16 +220,93 @@ EurocSensorYaml EurocSensorYaml::parse(std::string_view text, const std::string&
             addEntry(key, e);
         }
     }
-    if (list_key)
+
+    void addEntry(const std::string& key, Entry e)
     {
-        parseError(
-            file, y.m_entries.at(*list_key).line, *list_key,
-            "list not closed (missing ']') before the end of the file");
+        if (const auto it = m_y.m_entries.find(key); it != m_y.m_entries.end())
+        {
+            parseError(
+                m_file, e.line, key,
+                "duplicate key (first at line " + std::to_string(it->second.line) + ")");
+        }
+        m_y.m_entries.emplace(key, std::move(e));
     }
-    if (y.m_entries.empty())
+
+    /** Appends list text up to a ']' (then closes the list). */
+    void readListText(std::string_view rest)
     {
-        parseError(file, 0, {}, "no 'key: value' line");
+        const auto close = rest.find(']');
+        const std::string_view part = rest.substr(0, close);
+        if (part.find('[') != std::string_view::npos || part.find('{') != std::string_view::npos)
+        {
+            parseError(m_file, m_line_no, *m_list_key, "nested lists or maps are not supported");
+        }
+        m_list_text.append(part);
+        m_list_text += ' ';
+        if (close == std::string_view::npos)
+        {
+            return;
+        }
+        if (!isBlank(rest.substr(close + 1)))
+        {
+            parseError(
+                m_file, m_line_no, *m_list_key,
+                "unexpected " + quotedExcerpt(trimmed(rest.substr(close + 1))) + " after ']'");
+        }
+        if (!isBlank(m_list_text))
+        {
+            splitListItems(m_y.m_entries.at(*m_list_key).items);
+        }
+        m_list_key.reset();
+        m_list_text.clear();
     }
+
+    /** The comma-separated elements of the list text, none empty. */
+    void splitListItems(std::vector<std::string>& items) const
+    {
+        std::size_t start = 0;
+        while (true)
+        {
+            const auto comma = m_list_text.find(',', start);
+            const auto item =
+                trimmed(std::string_view(m_list_text)
+                            .substr(start, comma == std::string::npos ? comma : comma - start));
+            if (item.empty())
+            {
+                parseError(m_file, m_line_no, *m_list_key, "empty list element");
+            }
+            items.emplace_back(item);
+            if (comma == std::string::npos)
+            {
+                break;
+            }
+            start = comma + 1;
+        }
+    }
+
+    EurocSensorYaml& m_y;
+    const std::string& m_file;
+    std::string m_map_key;                  // the open map ("T_BS"), empty at top level
+    std::optional<std::string> m_list_key;  // the list being read, up to its ']'
+    std::string m_list_text;
+    std::size_t m_line_no{0};
+};
+
+EurocSensorYaml EurocSensorYaml::parse(std::string_view text, const std::string& file)
+{
+    EurocSensorYaml y;
+    y.m_file = file;
+    Parser parser(y, file);
+    std::size_t pos = 0;
+    while (pos < text.size())
+    {
+        const auto eol = text.find('\n', pos);
+        const std::string_view line =
+            text.substr(pos, eol == std::string_view::npos ? eol : eol - pos);
+        pos = eol == std::string_view::npos ? text.size() : eol + 1;
+        parser.readLine(line);
+    }
+    parser.finish();
     return y;
 }
 

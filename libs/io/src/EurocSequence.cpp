@@ -152,16 +152,11 @@ std::vector<EurocSequence::GtRow> EurocSequence::readGroundTruthCsv(const std::s
     return rows;
 }
 
-void EurocSequence::open(const std::string& mav0_dir, const std::string& gt_csv)
+namespace
 {
-    m_dir.clear();
-    m_stamps.clear();
-    m_left_files.clear();
-    m_right_files.clear();
-    m_gt.clear();
-    m_has_gt = false;
-    m_unpaired = 0;
-
+/** The folder holding cam0 and cam1: mav0_dir itself or its mav0. */
+std::string cameraFolder(const std::string& mav0_dir)
+{
     std::error_code ec;
     if (!fs::is_directory(mav0_dir, ec))
     {
@@ -179,13 +174,22 @@ void EurocSequence::open(const std::string& mav0_dir, const std::string& gt_csv)
             THROW_EXCEPTION_FMT("EuRoC folder '%s' has no '%s' folder", dir.c_str(), cam);
         }
     }
+    return dir;
+}
 
-    // Both lists rise strictly: one merge pass pairs equal stamps; an image
-    // the other camera has no image for is dropped and counted.
-    const auto left = readDataCsv(dir + "/cam0");
-    const auto right = readDataCsv(dir + "/cam1");
+/** The image pairs of equal stamps, their files checked to exist. */
+struct StereoPairs
+{
     std::vector<std::int64_t> stamps;
-    std::vector<std::string> lf, rf;
+    std::vector<std::string> left, right;
+};
+
+/** Both lists rise strictly: one merge pass pairs equal stamps; an image
+ * the other camera has no image for is dropped. */
+StereoPairs pairByStamp(
+    const std::vector<CsvImage>& left, const std::vector<CsvImage>& right, const std::string& dir)
+{
+    StereoPairs p;
     std::size_t li = 0, ri = 0;
     while (li < left.size() && ri < right.size())
     {
@@ -199,21 +203,21 @@ void EurocSequence::open(const std::string& mav0_dir, const std::string& gt_csv)
         }
         else
         {
-            stamps.push_back(left[li].t_ns);
-            lf.push_back(left[li++].file);
-            rf.push_back(right[ri++].file);
+            p.stamps.push_back(left[li].t_ns);
+            p.left.push_back(left[li++].file);
+            p.right.push_back(right[ri++].file);
         }
     }
-    m_unpaired = left.size() + right.size() - 2 * stamps.size();
-    if (stamps.empty())
+    if (p.stamps.empty())
     {
         THROW_EXCEPTION_FMT(
             "EuRoC folder '%s': no timestamp of cam0/data.csv appears in cam1/data.csv",
             dir.c_str());
     }
-    for (std::size_t i = 0; i < stamps.size(); i++)
+    std::error_code ec;
+    for (std::size_t i = 0; i < p.stamps.size(); i++)
     {
-        for (const auto* file : {&lf[i], &rf[i]})
+        for (const auto* file : {&p.left[i], &p.right[i]})
         {
             if (!fs::is_regular_file(*file, ec))
             {
@@ -221,6 +225,65 @@ void EurocSequence::open(const std::string& mav0_dir, const std::string& gt_csv)
             }
         }
     }
+    return p;
+}
+
+/** Per stamp, the pose of the nearest ground-truth row within max_dt_ns
+ * (rows sorted by time), or none. */
+std::vector<std::optional<mrpt::poses::CPose3D>> posesAtStamps(
+    const std::vector<std::int64_t>& stamps,
+    const std::vector<EurocSequence::GtRow>& rows,
+    std::int64_t max_dt_ns)
+{
+    using GtRow = EurocSequence::GtRow;
+    std::vector<std::optional<mrpt::poses::CPose3D>> gt(stamps.size());
+    for (std::size_t i = 0; i < stamps.size(); i++)
+    {
+        const auto it = std::lower_bound(
+            rows.begin(), rows.end(), stamps[i],
+            [](const GtRow& r, std::int64_t t) { return r.t_ns < t; });
+        const GtRow* best = nullptr;
+        std::int64_t best_dt = 0;
+        for (auto c : {it, it == rows.begin() ? rows.end() : std::prev(it)})
+        {
+            if (c == rows.end())
+            {
+                continue;
+            }
+            const std::int64_t dt = absDifferenceNs(c->t_ns, stamps[i]);
+            if (best == nullptr || dt < best_dt)
+            {
+                best = &*c;
+                best_dt = dt;
+            }
+        }
+        if (best != nullptr && best_dt <= max_dt_ns)
+        {
+            gt[i] = best->pose;
+        }
+    }
+    return gt;
+}
+}  // namespace
+
+void EurocSequence::open(const std::string& mav0_dir, const std::string& gt_csv)
+{
+    m_dir.clear();
+    m_stamps.clear();
+    m_left_files.clear();
+    m_right_files.clear();
+    m_gt.clear();
+    m_has_gt = false;
+    m_unpaired = 0;
+
+    const std::string dir = cameraFolder(mav0_dir);
+    const auto left = readDataCsv(dir + "/cam0");
+    const auto right = readDataCsv(dir + "/cam1");
+    StereoPairs pairs = pairByStamp(left, right, dir);
+    const std::vector<std::string>& lf = pairs.left;
+    const std::vector<std::string>& rf = pairs.right;
+    // An image the other camera has no image for is counted.
+    m_unpaired = left.size() + right.size() - 2 * pairs.stamps.size();
 
     m_calib = loadEurocCalibration(dir + "/cam0/sensor.yaml", dir + "/cam1/sensor.yaml");
     // Sizes from the headers: a huge image is refused before it is decoded.
@@ -247,7 +310,7 @@ void EurocSequence::open(const std::string& mav0_dir, const std::string& gt_csv)
     loadImageFile(lf[0], l0, "its header");
     loadImageFile(rf[0], r0, "its header");
 
-    std::vector<std::optional<mrpt::poses::CPose3D>> gt(stamps.size());
+    std::vector<std::optional<mrpt::poses::CPose3D>> gt(pairs.stamps.size());
     if (!gt_csv.empty())
     {
         // Bounded so that the conversion to nanoseconds below cannot overflow.
@@ -255,39 +318,15 @@ void EurocSequence::open(const std::string& mav0_dir, const std::string& gt_csv)
         {
             THROW_EXCEPTION_FMT("gt_max_dt = %g s: must be in [0, 1e9]", gt_max_dt);
         }
-        const auto rows = readGroundTruthCsv(gt_csv);
-        const auto max_dt_ns = static_cast<std::int64_t>(std::llround(gt_max_dt * 1e9));
-        for (std::size_t i = 0; i < stamps.size(); i++)
-        {
-            const auto it = std::lower_bound(
-                rows.begin(), rows.end(), stamps[i],
-                [](const GtRow& r, std::int64_t t) { return r.t_ns < t; });
-            const GtRow* best = nullptr;
-            std::int64_t best_dt = 0;
-            for (auto c : {it, it == rows.begin() ? rows.end() : std::prev(it)})
-            {
-                if (c == rows.end())
-                {
-                    continue;
-                }
-                const std::int64_t dt = absDifferenceNs(c->t_ns, stamps[i]);
-                if (best == nullptr || dt < best_dt)
-                {
-                    best = &*c;
-                    best_dt = dt;
-                }
-            }
-            if (best != nullptr && best_dt <= max_dt_ns)
-            {
-                gt[i] = best->pose;
-            }
-        }
+        gt = posesAtStamps(
+            pairs.stamps, readGroundTruthCsv(gt_csv),
+            static_cast<std::int64_t>(std::llround(gt_max_dt * 1e9)));
         m_has_gt = true;
     }
 
-    m_stamps = std::move(stamps);
-    m_left_files = std::move(lf);
-    m_right_files = std::move(rf);
+    m_stamps = std::move(pairs.stamps);
+    m_left_files = std::move(pairs.left);
+    m_right_files = std::move(pairs.right);
     m_gt = std::move(gt);
     m_dir = dir;
 }

@@ -95,6 +95,71 @@ std::size_t nearest(const std::vector<double>& ts, double t, double max_dt)
     }
     return best_dt <= max_dt ? best : std::string::npos;
 }
+/** Per colour image, the index of its depth image (npos: none within
+ * max_dt): greedy association by increasing |dt|, each image used at most
+ * once. */
+std::vector<std::size_t> associateGreedily(
+    const std::vector<ListEntry>& rgb, const std::vector<ListEntry>& depth, double max_dt)
+{
+    std::vector<double> depth_t(depth.size());
+    for (std::size_t j = 0; j < depth.size(); j++)
+    {
+        depth_t[j] = depth[j].t;
+    }
+    struct Candidate
+    {
+        double dt;
+        std::size_t i, j;
+    };
+    std::vector<Candidate> cand;
+    for (std::size_t i = 0; i < rgb.size(); i++)
+    {
+        auto j = static_cast<std::size_t>(
+            std::lower_bound(depth_t.begin(), depth_t.end(), rgb[i].t - max_dt) - depth_t.begin());
+        for (; j < depth_t.size() && depth_t[j] <= rgb[i].t + max_dt; j++)
+        {
+            cand.push_back({std::abs(depth_t[j] - rgb[i].t), i, j});
+        }
+    }
+    std::stable_sort(
+        cand.begin(), cand.end(),
+        [](const Candidate& a, const Candidate& b) { return a.dt < b.dt; });
+    std::vector<std::size_t> match(rgb.size(), std::string::npos);
+    std::vector<bool> depth_used(depth.size(), false);
+    for (const auto& c : cand)
+    {
+        if (match[c.i] == std::string::npos && !depth_used[c.j])
+        {
+            match[c.i] = c.j;
+            depth_used[c.j] = true;
+        }
+    }
+    return match;
+}
+
+/** Per time, the pose of the trajectory's nearest within max_dt, or none. */
+std::vector<std::optional<mrpt::poses::CPose3D>> posesAtTimes(
+    TumTrajectory traj, const std::vector<double>& times, double max_dt)
+{
+    std::stable_sort(
+        traj.poses.begin(), traj.poses.end(),
+        [](const auto& a, const auto& b) { return a.t < b.t; });
+    std::vector<double> gt_t(traj.size());
+    for (std::size_t k = 0; k < traj.size(); k++)
+    {
+        gt_t[k] = traj.poses[k].t;
+    }
+    std::vector<std::optional<mrpt::poses::CPose3D>> gt(times.size());
+    for (std::size_t i = 0; i < times.size(); i++)
+    {
+        const std::size_t k = nearest(gt_t, times[i], max_dt);
+        if (k != std::string::npos)
+        {
+            gt[i] = traj.poses[k].pose;
+        }
+    }
+    return gt;
+}
 }  // namespace
 
 TumRgbdSequence::TumRgbdSequence()
@@ -128,41 +193,7 @@ void TumRgbdSequence::open(const std::string& rgbd_dir)
     const auto rgb = readList(rgbd_dir, "rgb.txt");
     const auto depth = readList(rgbd_dir, "depth.txt");
 
-    // Greedy association by increasing |dt| (each image used at most once).
-    std::vector<double> depth_t(depth.size());
-    for (std::size_t j = 0; j < depth.size(); j++)
-    {
-        depth_t[j] = depth[j].t;
-    }
-    struct Candidate
-    {
-        double dt;
-        std::size_t i, j;
-    };
-    std::vector<Candidate> cand;
-    for (std::size_t i = 0; i < rgb.size(); i++)
-    {
-        auto j = static_cast<std::size_t>(
-            std::lower_bound(depth_t.begin(), depth_t.end(), rgb[i].t - max_association_dt) -
-            depth_t.begin());
-        for (; j < depth_t.size() && depth_t[j] <= rgb[i].t + max_association_dt; j++)
-        {
-            cand.push_back({std::abs(depth_t[j] - rgb[i].t), i, j});
-        }
-    }
-    std::stable_sort(
-        cand.begin(), cand.end(),
-        [](const Candidate& a, const Candidate& b) { return a.dt < b.dt; });
-    std::vector<std::size_t> match(rgb.size(), std::string::npos);
-    std::vector<bool> depth_used(depth.size(), false);
-    for (const auto& c : cand)
-    {
-        if (match[c.i] == std::string::npos && !depth_used[c.j])
-        {
-            match[c.i] = c.j;
-            depth_used[c.j] = true;
-        }
-    }
+    const std::vector<std::size_t> match = associateGreedily(rgb, depth, max_association_dt);
     std::vector<double> rgb_t, d_t;
     std::vector<std::string> rgb_files, depth_files;
     for (std::size_t i = 0; i < rgb.size(); i++)
@@ -214,23 +245,7 @@ void TumRgbdSequence::open(const std::string& rgbd_dir)
     const std::string gt_file = rgbd_dir + "/groundtruth.txt";
     if (fs::exists(gt_file, ec))
     {
-        auto traj = TumTrajectory::fromFile(gt_file);
-        std::stable_sort(
-            traj.poses.begin(), traj.poses.end(),
-            [](const auto& a, const auto& b) { return a.t < b.t; });
-        std::vector<double> gt_t(traj.size());
-        for (std::size_t k = 0; k < traj.size(); k++)
-        {
-            gt_t[k] = traj.poses[k].t;
-        }
-        for (std::size_t i = 0; i < rgb_t.size(); i++)
-        {
-            const std::size_t k = nearest(gt_t, rgb_t[i], gt_max_dt);
-            if (k != std::string::npos)
-            {
-                gt[i] = traj.poses[k].pose;
-            }
-        }
+        gt = posesAtTimes(TumTrajectory::fromFile(gt_file), rgb_t, gt_max_dt);
         m_has_gt = true;
     }
 

@@ -132,6 +132,123 @@ void scatterDeltas(const ScatterArgs& s)
         one(j);
     }
 }
+
+/** The dense grids of the tracked marginal terms (every term but H3D), in
+ * the order they are tracked; their layout is set by layOutGrids(). */
+DenseGrids marginalGrids(const TermList& terms)
+{
+    DenseGrids g;
+    for (std::size_t k = 0; k < terms.n; k++)
+    {
+        const std::size_t t = terms.idx[k];
+        if (t != static_cast<std::size_t>(EntropyTerm::H3D))
+        {
+            g.term[g.n++] = t;
+        }
+    }
+    return g;
+}
+
+/** Grid k: row major over its kept axes (a, b), or over b alone for a 1D
+ * term, over a box of `dim` cells; the grids follow each other in one
+ * buffer of `total` cells. False: a grid is too large for the dense path
+ * with `n` moved points. */
+bool layOutGrids(DenseGrids& g, const std::size_t dim[3], std::size_t n, std::size_t& total)
+{
+    total = 0;
+    for (std::size_t k = 0; k < g.n; k++)
+    {
+        const auto& ax = TERM_AXES[g.term[k]];
+        const int b = ax[2] ? 2 : (ax[1] ? 1 : 0);
+        const int a = (ax[0] && b != 0) ? 0 : ((ax[1] && b == 2) ? 1 : b);
+        g.a[k] = a;
+        g.b[k] = b;
+        g.stride[k] = a == b ? 0 : static_cast<std::int32_t>(dim[b]);
+        g.area[k] = a == b ? dim[b] : dim[a] * dim[b];
+        g.offset[k] = total;
+        total += g.area[k];
+        // The sweep costs ~area, the hash path a few times that per point.
+        if (g.area[k] > DENSE_MAX_CELLS || g.area[k] > 16 * n + 4096)
+        {
+            return false;
+        }
+    }
+    return true;
+}
+
+/** scatterDeltas() with the grids of `pattern`. */
+void scatterPattern(DensePattern pattern, const ScatterArgs& args)
+{
+    switch (pattern)
+    {
+        case DensePattern::XY_XZ_YZ:
+            scatterDeltas<GridAxes<0, 1>, GridAxes<0, 2>, GridAxes<1, 2>>(args);
+            break;
+        case DensePattern::XZ_X_Z:
+            scatterDeltas<GridAxes<0, 2>, GridAxes<0, 0>, GridAxes<2, 2>>(args);
+            break;
+        case DensePattern::XZ:
+            scatterDeltas<GridAxes<0, 2>>(args);
+            break;
+        case DensePattern::Y:
+            scatterDeltas<GridAxes<1, 1>>(args);
+            break;
+        case DensePattern::None:
+            break;
+    }
+}
+
+/** One packed cell-key field per bit range of a key (21 bits per axis). */
+constexpr std::uint64_t KEY_FIELD = (std::uint64_t{1} << 21) - 1;
+
+/** The packed key fields of each box coordinate, per axis: field[a][i] is
+ * axis a's bits of the key of coordinate lo[a] + i. */
+void fillKeyFields(
+    const std::int32_t lo[3], const std::size_t dim[3], std::uint64_t* const field[3])
+{
+    for (int a = 0; a < 3; a++)
+    {
+        const std::uint64_t mask = KEY_FIELD << (42 - 21 * a);
+        for (std::size_t i = 0; i < dim[a]; i++)
+        {
+            std::int32_t c[3] = {0, 0, 0};
+            c[a] = lo[a] + static_cast<std::int32_t>(i);
+            field[a][i] = packCellKey(c[0], c[1], c[2]) & mask;
+        }
+    }
+}
+
+/** Sweeps grid k: one net update per changed cell into `u` (branch-free
+ * compaction), clearing the grid for the next call; returns how many. */
+std::size_t sweepGrid(
+    const DenseGrids& g,
+    std::size_t k,
+    const std::size_t dim[3],
+    const std::uint64_t* const field[3],
+    double* row,
+    WeightedHistogram::Update* const u)
+{
+    const int a = g.a[k], b = g.b[k];
+    const std::size_t rows = a == b ? 1 : dim[a];
+    const std::uint64_t keep_a = a == b ? 0 : KEY_FIELD << (42 - 21 * a);
+    const std::uint64_t keep_b = KEY_FIELD << (42 - 21 * b);
+    const std::uint64_t fill = packCellKey(0, 0, 0) & ~(keep_a | keep_b);
+    const std::uint64_t* const fb = field[b];
+    std::size_t net = 0;
+    for (std::size_t ia = 0; ia < rows; ia++, row += dim[b])
+    {
+        const std::uint64_t ka = (a == b ? 0 : field[a][ia]) | fill;
+        for (std::size_t ib = 0; ib < dim[b]; ib++)
+        {
+            const double v = row[ib];
+            u[net].key = ka | fb[ib];
+            u[net].w = v;
+            net += v != 0 ? 1 : 0;
+            row[ib] = 0;
+        }
+    }
+    return net;
+}
 }  // namespace
 
 void IncrementalEntropyGrid::addNetUpdates(
@@ -150,16 +267,7 @@ void IncrementalEntropyGrid::addNetUpdates(
 bool IncrementalEntropyGrid::applyMarginalDeltasDense(
     const CellChange* changes, std::size_t count, const CellBox& box)
 {
-    const TermList terms(m_tracked);
-    DenseGrids g;
-    for (std::size_t k = 0; k < terms.n; k++)
-    {
-        const std::size_t t = terms.idx[k];
-        if (t != static_cast<std::size_t>(EntropyTerm::H3D))
-        {
-            g.term[g.n++] = t;
-        }
-    }
+    DenseGrids g = marginalGrids(TermList(m_tracked));
     const auto pattern = termsPattern(g);
     if (pattern == DensePattern::None)
     {
@@ -175,24 +283,10 @@ bool IncrementalEntropyGrid::applyMarginalDeltasDense(
     {
         dim[a] = static_cast<std::size_t>(std::int64_t{box.hi[a]} - box.lo[a] + 1);
     }
-    // Grid k: row major over its kept axes (a, b), or over b alone for a 1D term.
     std::size_t total = 0;
-    for (std::size_t k = 0; k < g.n; k++)
+    if (!layOutGrids(g, dim, n, total))
     {
-        const auto& ax = TERM_AXES[g.term[k]];
-        const int b = ax[2] ? 2 : (ax[1] ? 1 : 0);
-        const int a = (ax[0] && b != 0) ? 0 : ((ax[1] && b == 2) ? 1 : b);
-        g.a[k] = a;
-        g.b[k] = b;
-        g.stride[k] = a == b ? 0 : static_cast<std::int32_t>(dim[b]);
-        g.area[k] = a == b ? dim[b] : dim[a] * dim[b];
-        g.offset[k] = total;
-        total += g.area[k];
-        // The sweep costs ~area, the hash path a few times that per point.
-        if (g.area[k] > DENSE_MAX_CELLS || g.area[k] > 16 * n + 4096)
-        {
-            return false;
-        }
+        return false;
     }
     if (m_dense.size() < total)
     {
@@ -205,81 +299,29 @@ bool IncrementalEntropyGrid::applyMarginalDeltasDense(
     }
     for (std::size_t c = 0; c < count; c++)
     {
-        const ScatterArgs args{
-            changes[c].from->data(),
-            changes[c].to->data(),
-            changes[c].cloud->weights.data(),
-            changes[c].cloud->size(),
-            {box.lo[0], box.lo[1], box.lo[2]},
-            {g.stride[0], g.stride[1], g.stride[2]},
-            grids};
-        switch (pattern)
-        {
-            case DensePattern::XY_XZ_YZ:
-                scatterDeltas<GridAxes<0, 1>, GridAxes<0, 2>, GridAxes<1, 2>>(args);
-                break;
-            case DensePattern::XZ_X_Z:
-                scatterDeltas<GridAxes<0, 2>, GridAxes<0, 0>, GridAxes<2, 2>>(args);
-                break;
-            case DensePattern::XZ:
-                scatterDeltas<GridAxes<0, 2>>(args);
-                break;
-            case DensePattern::Y:
-                scatterDeltas<GridAxes<1, 1>>(args);
-                break;
-            case DensePattern::None:
-                break;
-        }
+        scatterPattern(
+            pattern, {changes[c].from->data(),
+                      changes[c].to->data(),
+                      changes[c].cloud->weights.data(),
+                      changes[c].cloud->size(),
+                      {box.lo[0], box.lo[1], box.lo[2]},
+                      {g.stride[0], g.stride[1], g.stride[2]},
+                      grids});
     }
 
-    // Packed key fields of each box coordinate, per axis.
     m_fields.resize(dim[0] + dim[1] + dim[2]);
-    std::uint64_t* field[3] = {
+    std::uint64_t* const field[3] = {
         m_fields.data(), m_fields.data() + dim[0], m_fields.data() + dim[0] + dim[1]};
-    constexpr std::uint64_t FIELD = (std::uint64_t{1} << 21) - 1;
-    for (int a = 0; a < 3; a++)
-    {
-        const std::uint64_t mask = FIELD << (42 - 21 * a);
-        for (std::size_t i = 0; i < dim[a]; i++)
-        {
-            std::int32_t c[3] = {0, 0, 0};
-            c[a] = box.lo[a] + static_cast<std::int32_t>(i);
-            field[a][i] = packCellKey(c[0], c[1], c[2]) & mask;
-        }
-    }
-    const std::uint64_t zero_key = packCellKey(0, 0, 0);
-    // Sweep each grid: one net update per changed cell (branch-free
-    // compaction), clearing the grid for the next call. Net updates hit
-    // distinct cells: immediate updates, one w log w each.
+    fillKeyFields(box.lo, dim, field);
+    // Net updates hit distinct cells: immediate updates, one w log w each.
     for (std::size_t k = 0; k < g.n; k++)
     {
-        const std::size_t t = g.term[k];
-        const int a = g.a[k], b = g.b[k];
-        const std::size_t rows = a == b ? 1 : dim[a];
-        const std::uint64_t keep_a = a == b ? 0 : FIELD << (42 - 21 * a);
-        const std::uint64_t keep_b = FIELD << (42 - 21 * b);
-        const std::uint64_t fill = zero_key & ~(keep_a | keep_b);
         if (m_updates.size() < g.area[k])
         {
             m_updates.resize(g.area[k]);
         }
-        WeightedHistogram::Update* const u = m_updates.data();
-        const std::uint64_t* const fb = field[b];
-        double* row = grids[k];
-        std::size_t net = 0;
-        for (std::size_t ia = 0; ia < rows; ia++, row += dim[b])
-        {
-            const std::uint64_t ka = (a == b ? 0 : field[a][ia]) | fill;
-            for (std::size_t ib = 0; ib < dim[b]; ib++)
-            {
-                const double v = row[ib];
-                u[net].key = ka | fb[ib];
-                u[net].w = v;
-                net += v != 0 ? 1 : 0;
-                row[ib] = 0;
-            }
-        }
-        addNetUpdates(t, u, net);
+        const std::size_t net = sweepGrid(g, k, dim, field, grids[k], m_updates.data());
+        addNetUpdates(g.term[k], m_updates.data(), net);
     }
     return true;
 }

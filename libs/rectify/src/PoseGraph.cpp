@@ -6,6 +6,7 @@
 #include <Eigen/Sparse>
 #include <algorithm>
 #include <cmath>
+#include <functional>
 #include <stdexcept>
 #include <string>
 
@@ -112,6 +113,298 @@ mrpt::poses::CPose3D moved(const mrpt::poses::CPose3D& x, const Vec6& d)
 {
     return perturbAction(x, {d[0], d[1], d[2], d[3], d[4], d[5]});
 }
+
+using Triplets = std::vector<Eigen::Triplet<double>>;
+using Solver = Eigen::SimplicialLDLT<Eigen::SparseMatrix<double>>;
+
+/** Where the unknowns sit in the normal equations: six per free node, then
+ * the shared world direction and bias of the direction priors (two each). */
+struct Unknowns
+{
+    std::size_t first_free{1};
+    bool solve_world{false}, solve_bias{false};
+    Eigen::Index world_col{0}, bias_col{0}, dim{0};
+    Mat32 Eb;  //!< the bias moves orthogonally to the mean measured direction
+
+    Eigen::Index col(std::size_t node) const
+    {
+        return static_cast<Eigen::Index>(6 * (node - first_free));
+    }
+    bool fixed(std::size_t node) const { return node < first_free; }
+};
+
+Unknowns unknownsOf(
+    std::size_t n,
+    std::size_t first_free,
+    const std::vector<PoseGraph::DirectionPrior>& priors,
+    const PoseGraph::DirectionFrame& frame)
+{
+    Unknowns u;
+    u.first_free = first_free;
+    const bool any_prior = !priors.empty();
+    u.solve_world = any_prior && frame.solve_world;
+    u.solve_bias = any_prior && frame.solve_bias;
+    u.world_col = static_cast<Eigen::Index>(6 * (n - first_free));
+    u.bias_col = u.world_col + (u.solve_world ? 2 : 0);
+    u.dim = u.bias_col + (u.solve_bias ? 2 : 0);
+    Vec3 mean_measured = Vec3::Zero();
+    for (const auto& p : priors)
+    {
+        mean_measured += toVec3(p.in_node);
+    }
+    u.Eb = tangentBasis(mean_measured.norm() > 0 ? mean_measured.normalized() : Vec3::UnitY());
+    return u;
+}
+
+/** The linearization point of the shared direction unknowns. */
+struct FramePoint
+{
+    Vec3 w, b;
+    Mat32 Ew;  //!< moves of w: tangent to it
+};
+
+/** One edge's J ᵀW J and J ᵀW r, on the free ends' unknowns. */
+void addEdgeTerms(
+    const PoseGraph::Edge& e,
+    const std::vector<mrpt::poses::CPose3D>& nodes,
+    const Unknowns& u,
+    Triplets& triplets,
+    Eigen::VectorXd& g)
+{
+    const auto& xi = nodes[e.from];
+    const auto& xj = nodes[e.to];
+    const Vec6 r = residual(xi, xj, e.measurement);
+    const Mat6x12 J = edgeJacobian(xi, xj, r);
+    const Mat6 W = toMat(e.information);
+    const Eigen::Matrix<double, 12, 12> H = J.transpose() * W * J;
+    const Eigen::Matrix<double, 12, 1> b = J.transpose() * W * r;
+    const std::size_t ends[2] = {e.from, e.to};
+    for (int a = 0; a < 2; ++a)
+    {
+        if (u.fixed(ends[a]))
+        {
+            continue;
+        }
+        g.segment<6>(u.col(ends[a])) += b.segment<6>(6 * a);
+        for (int c = 0; c < 2; ++c)
+        {
+            if (u.fixed(ends[c]))
+            {
+                continue;
+            }
+            for (int p = 0; p < 6; ++p)
+            {
+                for (int q = 0; q < 6; ++q)
+                {
+                    triplets.emplace_back(
+                        u.col(ends[a]) + p, u.col(ends[c]) + q, H(6 * a + p, 6 * c + q));
+                }
+            }
+        }
+    }
+}
+
+/** A direction prior's Jacobian blocks, by central differences of a smooth
+ * residual: the node's six unknowns and those of the shared world direction
+ * and bias, where solved; each with its first column. */
+std::vector<std::pair<Eigen::Index, Eigen::MatrixXd>> priorJacobian(
+    const PoseGraph::DirectionPrior& p,
+    const mrpt::poses::CPose3D& x,
+    const FramePoint& fp,
+    const Unknowns& u)
+{
+    constexpr double h = 1e-6;
+    const Vec3& w = fp.w;
+    const Vec3& b = fp.b;
+    std::vector<std::pair<Eigen::Index, Eigen::MatrixXd>> blocks;
+    if (!u.fixed(p.node))
+    {
+        Eigen::MatrixXd J(3, 6);
+        for (int k = 0; k < 6; ++k)
+        {
+            Vec6 d = Vec6::Zero();
+            d[k] = h;
+            J.col(k) =
+                (priorResidual(moved(x, d), p, w, b) - priorResidual(moved(x, -d), p, w, b)) /
+                (2 * h);
+        }
+        blocks.emplace_back(u.col(p.node), J);
+    }
+    if (u.solve_world)
+    {
+        Eigen::MatrixXd J(3, 2);
+        for (int k = 0; k < 2; ++k)
+        {
+            J.col(k) = (priorResidual(x, p, (w + h * fp.Ew.col(k)).normalized(), b) -
+                        priorResidual(x, p, (w - h * fp.Ew.col(k)).normalized(), b)) /
+                       (2 * h);
+        }
+        blocks.emplace_back(u.world_col, J);
+    }
+    if (u.solve_bias)
+    {
+        Eigen::MatrixXd J(3, 2);
+        for (int k = 0; k < 2; ++k)
+        {
+            J.col(k) = (priorResidual(x, p, w, b + h * u.Eb.col(k)) -
+                        priorResidual(x, p, w, b - h * u.Eb.col(k))) /
+                       (2 * h);
+        }
+        blocks.emplace_back(u.bias_col, J);
+    }
+    return blocks;
+}
+
+/** One direction prior's J ᵀΛ J and J ᵀΛ ρ. */
+void addPriorTerms(
+    const PoseGraph::DirectionPrior& p,
+    const mrpt::poses::CPose3D& x,
+    const FramePoint& fp,
+    const Unknowns& u,
+    Triplets& triplets,
+    Eigen::VectorXd& g)
+{
+    const Vec3 r = priorResidual(x, p, fp.w, fp.b);
+    const auto blocks = priorJacobian(p, x, fp, u);
+    const Mat3 W = p.information.asEigen();
+    for (const auto& [ci, Ji] : blocks)
+    {
+        g.segment(ci, Ji.cols()) += Ji.transpose() * W * r;
+        for (const auto& [cj, Jj] : blocks)
+        {
+            const Eigen::MatrixXd Hij = Ji.transpose() * W * Jj;
+            for (Eigen::Index a = 0; a < Hij.rows(); ++a)
+            {
+                for (Eigen::Index c = 0; c < Hij.cols(); ++c)
+                {
+                    triplets.emplace_back(ci + a, cj + c, Hij(a, c));
+                }
+            }
+        }
+    }
+}
+
+/** Moves the free nodes, w and b (where solved) by `step`; a solved b is
+ * pulled back onto its bound. */
+void applyStep(
+    const Eigen::VectorXd& step,
+    const Unknowns& u,
+    const FramePoint& fp,
+    std::vector<mrpt::poses::CPose3D>& nodes,
+    PoseGraph::DirectionFrame& frame)
+{
+    for (std::size_t i = u.first_free; i < nodes.size(); ++i)
+    {
+        nodes[i] = moved(nodes[i], step.segment<6>(u.col(i)));
+    }
+    if (u.solve_world)
+    {
+        const Vec3 w_new = (fp.w + fp.Ew * step.segment<2>(u.world_col)).normalized();
+        frame.world = {w_new.x(), w_new.y(), w_new.z()};
+    }
+    if (u.solve_bias)
+    {
+        Vec3 b_new = fp.b + u.Eb * step.segment<2>(u.bias_col);
+        if (frame.max_bias > 0 && b_new.norm() > frame.max_bias)
+        {
+            b_new *= frame.max_bias / b_new.norm();
+        }
+        frame.bias = {b_new.x(), b_new.y(), b_new.z()};
+    }
+}
+
+/** H + λ diag(H), the Levenberg–Marquardt damping. */
+Eigen::SparseMatrix<double> damped(
+    const Eigen::SparseMatrix<double>& H, const Eigen::VectorXd& diag, double lambda)
+{
+    Eigen::SparseMatrix<double> A = H;
+    for (Eigen::Index k = 0; k < A.rows(); ++k)
+    {
+        // A node no edge reaches keeps a regular system.
+        A.coeffRef(k, k) += lambda * std::max(diag[k], 1e-9) + 1e-12;
+    }
+    return A;
+}
+
+/** The indices of the edges with an end at or after `first_free`. */
+std::vector<std::size_t> edgesReaching(
+    const std::vector<PoseGraph::Edge>& edges, std::size_t first_free)
+{
+    std::vector<std::size_t> active;
+    for (std::size_t e = 0; e < edges.size(); ++e)
+    {
+        if (edges[e].from >= first_free || edges[e].to >= first_free)
+        {
+            active.push_back(e);
+        }
+    }
+    return active;
+}
+
+/** Levenberg–Marquardt's λ and the factorization whose ordering is kept. */
+struct Damping
+{
+    double lambda{1e-4};
+    Solver solver;
+    bool analysed{false};
+};
+
+enum class StepOutcome
+{
+    Rejected,   //!< no λ of ten tries lowered the cost: nodes and frame as before
+    Improved,   //!< moved, the cost fell
+    Converged,  //!< moved, the cost fell by less than the relative decrease asked
+};
+
+/** Solves (H + λ diag H) δ = −g and keeps the step if the cost does not
+ * rise, else restores the nodes and frame and tries again with 10 λ (up to
+ * ten tries); `final_cost` follows the kept steps. */
+StepOutcome dampedStep(
+    const Eigen::SparseMatrix<double>& H,
+    const Eigen::VectorXd& g,
+    const Unknowns& u,
+    const FramePoint& fp,
+    const std::function<double()>& cost,
+    double min_relative_decrease,
+    Damping& damping,
+    std::vector<mrpt::poses::CPose3D>& nodes,
+    PoseGraph::DirectionFrame& frame,
+    double& final_cost)
+{
+    const Eigen::VectorXd diag = H.diagonal();
+    for (int tries = 0; tries < 10; ++tries)
+    {
+        const Eigen::SparseMatrix<double> A = damped(H, diag, damping.lambda);
+        if (!damping.analysed)
+        {
+            // The pattern is the graph's: its ordering is found once.
+            damping.solver.analyzePattern(A);
+            damping.analysed = true;
+        }
+        damping.solver.factorize(A);
+        if (damping.solver.info() != Eigen::Success)
+        {
+            damping.lambda *= 10;
+            continue;
+        }
+        std::vector<mrpt::poses::CPose3D> before = nodes;
+        const PoseGraph::DirectionFrame frame_before = frame;
+        applyStep(damping.solver.solve(-g), u, fp, nodes, frame);
+        const double c = cost();
+        if (std::isfinite(c) && c <= final_cost)
+        {
+            const double decrease = (final_cost - c) / std::max(final_cost, 1e-300);
+            final_cost = c;
+            damping.lambda = std::max(damping.lambda / 10, 1e-9);
+            return decrease < min_relative_decrease ? StepOutcome::Converged
+                                                    : StepOutcome::Improved;
+        }
+        nodes = std::move(before);
+        frame = frame_before;
+        damping.lambda *= 10;
+    }
+    return StepOutcome::Rejected;
+}
 }  // namespace
 
 std::size_t PoseGraph::addNode(const mrpt::poses::CPose3D& pose)
@@ -203,24 +496,15 @@ PoseGraph::Result PoseGraph::optimize(
     const std::size_t n = m_nodes.size();
     first_free = std::min(std::max<std::size_t>(first_free, 1), n);
     // Only the edges that reach a free node change the cost.
-    std::vector<std::size_t> active;
-    for (std::size_t e = 0; e < m_edges.size(); ++e)
-    {
-        if (m_edges[e].from >= first_free || m_edges[e].to >= first_free)
-        {
-            active.push_back(e);
-        }
-    }
-    // Nodes before first_free are fixed (node 0 always: the world): the
-    // unknowns are the others, six each, then the shared world direction
-    // and bias of the direction priors (two each). The priors of fixed
-    // nodes pull on those two only: without them, they change nothing.
-    const bool any_prior = !m_priors.empty();
-    const bool shared_unknowns = any_prior && (m_frame.solve_world || m_frame.solve_bias);
+    const std::vector<std::size_t> active = edgesReaching(m_edges, first_free);
+    // Nodes before first_free are fixed (node 0 always: the world). The
+    // priors of fixed nodes pull on the shared world direction and bias
+    // only: without them, they change nothing.
+    const Unknowns u = unknownsOf(n, first_free, m_priors, m_frame);
     std::vector<const DirectionPrior*> active_priors;
     for (const auto& p : m_priors)
     {
-        if (shared_unknowns || p.node >= first_free)
+        if (u.solve_world || u.solve_bias || p.node >= first_free)
         {
             active_priors.push_back(&p);
         }
@@ -245,195 +529,35 @@ PoseGraph::Result PoseGraph::optimize(
     {
         return res;
     }
-    const auto world_col = static_cast<Eigen::Index>(6 * (n - first_free));
-    const Eigen::Index bias_col = world_col + (any_prior && m_frame.solve_world ? 2 : 0);
-    const Eigen::Index dim = bias_col + (any_prior && m_frame.solve_bias ? 2 : 0);
-    // The bias moves orthogonally to the mean measured direction.
-    Vec3 mean_measured = Vec3::Zero();
-    for (const auto& p : m_priors)
-    {
-        mean_measured += toVec3(p.in_node);
-    }
-    const Mat32 Eb =
-        tangentBasis(mean_measured.norm() > 0 ? mean_measured.normalized() : Vec3::UnitY());
-    const auto col = [first_free](std::size_t node)
-    { return static_cast<Eigen::Index>(6 * (node - first_free)); };
-    const auto fixed = [first_free](std::size_t node) { return node < first_free; };
-    double lambda = 1e-4;
-    Eigen::SimplicialLDLT<Eigen::SparseMatrix<double>> solver;
-    bool analysed = false;
-    constexpr double h = 1e-6;  // central differences of a smooth residual
+    Damping damping;
     for (int it = 0; it < max_iterations; ++it)
     {
-        std::vector<Eigen::Triplet<double>> triplets;
+        Triplets triplets;
         triplets.reserve(active.size() * 144);
-        Eigen::VectorXd g = Eigen::VectorXd::Zero(dim);
+        Eigen::VectorXd g = Eigen::VectorXd::Zero(u.dim);
         for (std::size_t ei : active)
         {
-            const Edge& e = m_edges[ei];
-            const auto& xi = m_nodes[e.from];
-            const auto& xj = m_nodes[e.to];
-            const Vec6 r = residual(xi, xj, e.measurement);
-            const Mat6x12 J = edgeJacobian(xi, xj, r);
-            const Mat6 W = toMat(e.information);
-            const Eigen::Matrix<double, 12, 12> H = J.transpose() * W * J;
-            const Eigen::Matrix<double, 12, 1> b = J.transpose() * W * r;
-            const std::size_t ends[2] = {e.from, e.to};
-            for (int a = 0; a < 2; ++a)
-            {
-                if (fixed(ends[a]))
-                {
-                    continue;
-                }
-                g.segment<6>(col(ends[a])) += b.segment<6>(6 * a);
-                for (int c = 0; c < 2; ++c)
-                {
-                    if (fixed(ends[c]))
-                    {
-                        continue;
-                    }
-                    for (int p = 0; p < 6; ++p)
-                    {
-                        for (int q = 0; q < 6; ++q)
-                        {
-                            triplets.emplace_back(
-                                col(ends[a]) + p, col(ends[c]) + q, H(6 * a + p, 6 * c + q));
-                        }
-                    }
-                }
-            }
+            addEdgeTerms(m_edges[ei], m_nodes, u, triplets, g);
         }
-        // Direction priors: the node's six unknowns and those of the
-        // shared world direction and bias, where solved.
         const Vec3 w = toVec3(m_frame.world);
-        const Vec3 b = toVec3(m_frame.bias);
-        const Mat32 Ew = tangentBasis(w);
-        for (const DirectionPrior* prior : active_priors)
+        const FramePoint fp{w, toVec3(m_frame.bias), tangentBasis(w)};
+        for (const DirectionPrior* p : active_priors)
         {
-            const DirectionPrior& p = *prior;
-            const auto& x = m_nodes[p.node];
-            const Vec3 r = priorResidual(x, p, w, b);
-            std::vector<std::pair<Eigen::Index, Eigen::MatrixXd>> blocks;
-            if (!fixed(p.node))
-            {
-                Eigen::MatrixXd J(3, 6);
-                for (int k = 0; k < 6; ++k)
-                {
-                    Vec6 d = Vec6::Zero();
-                    d[k] = h;
-                    J.col(k) = (priorResidual(moved(x, d), p, w, b) -
-                                priorResidual(moved(x, -d), p, w, b)) /
-                               (2 * h);
-                }
-                blocks.emplace_back(col(p.node), J);
-            }
-            if (m_frame.solve_world)
-            {
-                Eigen::MatrixXd J(3, 2);
-                for (int k = 0; k < 2; ++k)
-                {
-                    J.col(k) = (priorResidual(x, p, (w + h * Ew.col(k)).normalized(), b) -
-                                priorResidual(x, p, (w - h * Ew.col(k)).normalized(), b)) /
-                               (2 * h);
-                }
-                blocks.emplace_back(world_col, J);
-            }
-            if (m_frame.solve_bias)
-            {
-                Eigen::MatrixXd J(3, 2);
-                for (int k = 0; k < 2; ++k)
-                {
-                    J.col(k) = (priorResidual(x, p, w, b + h * Eb.col(k)) -
-                                priorResidual(x, p, w, b - h * Eb.col(k))) /
-                               (2 * h);
-                }
-                blocks.emplace_back(bias_col, J);
-            }
-            const Mat3 W = p.information.asEigen();
-            for (const auto& [ci, Ji] : blocks)
-            {
-                g.segment(ci, Ji.cols()) += Ji.transpose() * W * r;
-                for (const auto& [cj, Jj] : blocks)
-                {
-                    const Eigen::MatrixXd Hij = Ji.transpose() * W * Jj;
-                    for (Eigen::Index a = 0; a < Hij.rows(); ++a)
-                    {
-                        for (Eigen::Index c = 0; c < Hij.cols(); ++c)
-                        {
-                            triplets.emplace_back(ci + a, cj + c, Hij(a, c));
-                        }
-                    }
-                }
-            }
+            addPriorTerms(*p, m_nodes[p->node], fp, u, triplets, g);
         }
-        Eigen::SparseMatrix<double> H(dim, dim);
+        Eigen::SparseMatrix<double> H(u.dim, u.dim);
         H.setFromTriplets(triplets.begin(), triplets.end());
-        const Eigen::VectorXd diag = H.diagonal();
-        bool improved = false;
-        for (int tries = 0; tries < 10 && !improved; ++tries)
-        {
-            Eigen::SparseMatrix<double> A = H;
-            for (Eigen::Index k = 0; k < dim; ++k)
-            {
-                // A node no edge reaches keeps a regular system.
-                A.coeffRef(k, k) += lambda * std::max(diag[k], 1e-9) + 1e-12;
-            }
-            if (!analysed)
-            {
-                // The pattern is the graph's: its ordering is found once.
-                solver.analyzePattern(A);
-                analysed = true;
-            }
-            solver.factorize(A);
-            if (solver.info() != Eigen::Success)
-            {
-                lambda *= 10;
-                continue;
-            }
-            const Eigen::VectorXd step = solver.solve(-g);
-            std::vector<mrpt::poses::CPose3D> before = m_nodes;
-            const DirectionFrame frame_before = m_frame;
-            for (std::size_t i = first_free; i < n; ++i)
-            {
-                m_nodes[i] = moved(m_nodes[i], step.segment<6>(col(i)));
-            }
-            if (any_prior && m_frame.solve_world)
-            {
-                const Vec3 w_new = (w + Ew * step.segment<2>(world_col)).normalized();
-                m_frame.world = {w_new.x(), w_new.y(), w_new.z()};
-            }
-            if (any_prior && m_frame.solve_bias)
-            {
-                Vec3 b_new = b + Eb * step.segment<2>(bias_col);
-                if (m_frame.max_bias > 0 && b_new.norm() > m_frame.max_bias)
-                {
-                    b_new *= m_frame.max_bias / b_new.norm();
-                }
-                m_frame.bias = {b_new.x(), b_new.y(), b_new.z()};
-            }
-            const double c = activeCost();
-            if (std::isfinite(c) && c <= res.final_cost)
-            {
-                improved = true;
-                const double decrease = (res.final_cost - c) / std::max(res.final_cost, 1e-300);
-                res.final_cost = c;
-                lambda = std::max(lambda / 10, 1e-9);
-                res.iterations = it + 1;
-                if (decrease < min_relative_decrease)
-                {
-                    return res;
-                }
-            }
-            else
-            {
-                m_nodes = std::move(before);
-                m_frame = frame_before;
-                lambda *= 10;
-            }
-        }
-        if (!improved)
+        const StepOutcome outcome = dampedStep(
+            H, g, u, fp, activeCost, min_relative_decrease, damping, m_nodes, m_frame,
+            res.final_cost);
+        if (outcome == StepOutcome::Rejected)
         {
             break;
+        }
+        res.iterations = it + 1;
+        if (outcome == StepOutcome::Converged)
+        {
+            return res;
         }
     }
     return res;

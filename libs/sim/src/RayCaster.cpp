@@ -27,6 +27,176 @@ float bilinear(const cv::Mat& m, double fx, double fz)
     return (r0[ix] * (1 - ax) + r0[ix + 1] * ax) * (1 - az) +
            (r1[ix] * (1 - ax) + r1[ix + 1] * ax) * az;
 }
+
+/** Clips the ray o + t d, t in [ta, tb], to the element's bounding box;
+ * false: it misses the box. */
+bool clipToBox(const Prepared& e, const Vec3& o, const Vec3& d, double& ta, double& tb)
+{
+    for (std::size_t a = 0; a < 3; ++a)
+    {
+        if (d[a] == 0.0)
+        {
+            if (o[a] < e.lo[a] || o[a] > e.hi[a])
+            {
+                return false;
+            }
+            continue;
+        }
+        double t1 = (e.lo[a] - o[a]) / d[a];
+        double t2 = (e.hi[a] - o[a]) / d[a];
+        if (t1 > t2)
+        {
+            std::swap(t1, t2);
+        }
+        ta = std::max(ta, t1);
+        tb = std::min(tb, t2);
+    }
+    return ta < tb;
+}
+
+/** What empty-space skipping did with a ray at t. */
+enum class Skip
+{
+    None,    //!< march from t
+    Jumped,  //!< t moved to a cell's exit: look again
+    Past,    //!< t left the field
+};
+
+/** A ray o + t d (t < tb) over a height field: its height above the ground,
+ * and the empty-space skipping and root finding of the march. */
+struct HeightFieldRay
+{
+    HeightFieldRay(const HeightField& field, const Vec3& origin, const Vec3& dir, double t_end)
+        : hf(field),
+          o(origin),
+          d(dir),
+          tb(t_end),
+          inv_cell(1.0 / field.cell),
+          fx_max(field.heights.cols - 1.001),
+          fz_max(field.heights.rows - 1.001),
+          bsize(field.cell * HeightField::BLOCK),
+          inv_bsize(1.0 / bsize),
+          csize(bsize * HeightField::COARSE)
+    {
+    }
+
+    /** The ray's height above the ground at t: HeightField::at() with
+     * multiplications instead of divisions (hot loop). */
+    double height(double t) const
+    {
+        const double fx = std::clamp((o[0] + t * d[0] - hf.x0) * inv_cell, 0.0, fx_max);
+        const double fz = std::clamp((o[2] + t * d[2] - hf.z0) * inv_cell, 0.0, fz_max);
+        const int ix = static_cast<int>(fx);
+        const int iz = static_cast<int>(fz);
+        const double ax = fx - ix;
+        const double az = fz - iz;
+        const float* r0 = hf.heights.ptr<float>(iz) + ix;
+        const float* r1 = hf.heights.ptr<float>(iz + 1) + ix;
+        const double h =
+            (r0[0] * (1 - ax) + r0[1] * ax) * (1 - az) + (r1[0] * (1 - ax) + r1[1] * ax) * az;
+        return o[1] + t * d[1] - h;
+    }
+
+    /** Exit t of the ray from grid cell (ix, iz) of edge size. */
+    double cellExit(double size, int ix, int iz) const
+    {
+        double t_exit = tb;
+        if (d[0] != 0.0)
+        {
+            const double xe = hf.x0 + (d[0] > 0 ? ix + 1 : ix) * size;
+            t_exit = std::min(t_exit, (xe - o[0]) / d[0]);
+        }
+        if (d[2] != 0.0)
+        {
+            const double ze = hf.z0 + (d[2] > 0 ? iz + 1 : iz) * size;
+            t_exit = std::min(t_exit, (ze - o[2]) / d[2]);
+        }
+        return t_exit;
+    }
+
+    /** Empty-space skipping (coarse cells, then blocks): if the ray stays
+     * above a cell's highest sample until it leaves the cell, jump to the
+     * cell's exit; if it sinks below it inside, jump to where it does.
+     * Updates t and ft = height(t). */
+    Skip skipEmptySpace(double& t, double& ft) const
+    {
+        const double x = o[0] + t * d[0];
+        const double z = o[2] + t * d[2];
+        const double y = o[1] + t * d[1];
+        const int bx =
+            std::clamp(static_cast<int>((x - hf.x0) * inv_bsize), 0, hf.block_max.cols - 1);
+        const int bz =
+            std::clamp(static_cast<int>((z - hf.z0) * inv_bsize), 0, hf.block_max.rows - 1);
+        double cmax = hf.block_max.at<float>(bz, bx);
+        if (y <= cmax)
+        {
+            return Skip::None;
+        }
+        double t_exit = tb;
+        const int cx = std::min(bx / HeightField::COARSE, hf.coarse_max.cols - 1);
+        const int cz = std::min(bz / HeightField::COARSE, hf.coarse_max.rows - 1);
+        const double c_max = hf.coarse_max.at<float>(cz, cx);
+        bool coarse = false;
+        if (y > c_max)
+        {
+            t_exit = cellExit(csize, cx, cz);
+            coarse = d[1] >= 0 || o[1] + t_exit * d[1] > c_max;
+            cmax = c_max;
+        }
+        if (!coarse)
+        {
+            t_exit = cellExit(bsize, bx, bz);
+            cmax = hf.block_max.at<float>(bz, bx);
+        }
+        if (t_exit <= t)
+        {
+            return Skip::None;
+        }
+        if (d[1] >= 0 || o[1] + t_exit * d[1] > cmax)
+        {
+            t = t_exit + 1e-6;
+            if (t >= tb)
+            {
+                return Skip::Past;
+            }
+            ft = height(t);
+            return Skip::Jumped;
+        }
+        // No crossing before the ray sinks below the cell's maximum.
+        t = (cmax - o[1]) / d[1];
+        ft = height(t);
+        return Skip::None;
+    }
+
+    /** The ground crossing bracketed by [lo, hi] (heights flo > 0 >= fhi):
+     * a few regula-falsi steps. */
+    double crossing(double lo, double hi, double flo, double fhi) const
+    {
+        for (int k = 0; k < 4; ++k)
+        {
+            const double mid = lo + (hi - lo) * flo / (flo - fhi);
+            const double fm = height(mid);
+            if (fm > 0)
+            {
+                lo = mid;
+                flo = fm;
+            }
+            else
+            {
+                hi = mid;
+                fhi = fm;
+            }
+        }
+        return lo + (hi - lo) * flo / (flo - fhi);
+    }
+
+    const HeightField& hf;
+    const Vec3& o;
+    const Vec3& d;
+    const double tb;
+    const double inv_cell, fx_max, fz_max;
+    const double bsize, inv_bsize, csize;
+};
 }  // namespace
 
 float RayCaster::cast(const Vec3& d, const std::vector<int>& cand, double& t_hit) const
@@ -132,155 +302,38 @@ float RayCaster::cast(const Vec3& d, const std::vector<int>& cand, double& t_hit
 
 double RayCaster::castHeightField(const Prepared& e, const Vec3& d, double t_limit) const
 {
-    // Clip the ray to the field's bounding box.
     double ta = NEAR;
     double tb = t_limit;
-    for (std::size_t a = 0; a < 3; ++a)
-    {
-        if (d[a] == 0.0)
-        {
-            if (m_o[a] < e.lo[a] || m_o[a] > e.hi[a])
-            {
-                return -1;
-            }
-            continue;
-        }
-        double t1 = (e.lo[a] - m_o[a]) / d[a];
-        double t2 = (e.hi[a] - m_o[a]) / d[a];
-        if (t1 > t2)
-        {
-            std::swap(t1, t2);
-        }
-        ta = std::max(ta, t1);
-        tb = std::min(tb, t2);
-    }
-    if (ta >= tb)
+    if (!clipToBox(e, m_o, d, ta, tb))
     {
         return -1;
     }
-    const HeightField& hf = m_world.heightField();
-    const double dxz = std::sqrt(d[0] * d[0] + d[2] * d[2]);
-    const double denom = hf.max_slope * dxz + std::abs(d[1]);
+    const HeightFieldRay r(m_world.heightField(), m_o, d, tb);
+    const double denom = r.hf.max_slope * std::sqrt(d[0] * d[0] + d[2] * d[2]) + std::abs(d[1]);
     const double dn = std::sqrt(d[0] * d[0] + d[1] * d[1] + d[2] * d[2]);
-    // HeightField::at() with multiplications instead of divisions (hot loop).
-    const double inv_cell = 1.0 / hf.cell;
-    const double fx_max = hf.heights.cols - 1.001;
-    const double fz_max = hf.heights.rows - 1.001;
-    auto f = [&](double t)
-    {
-        const double fx = std::clamp((m_o[0] + t * d[0] - hf.x0) * inv_cell, 0.0, fx_max);
-        const double fz = std::clamp((m_o[2] + t * d[2] - hf.z0) * inv_cell, 0.0, fz_max);
-        const int ix = static_cast<int>(fx);
-        const int iz = static_cast<int>(fz);
-        const double ax = fx - ix;
-        const double az = fz - iz;
-        const float* r0 = hf.heights.ptr<float>(iz) + ix;
-        const float* r1 = hf.heights.ptr<float>(iz + 1) + ix;
-        const double h =
-            (r0[0] * (1 - ax) + r0[1] * ax) * (1 - az) + (r1[0] * (1 - ax) + r1[1] * ax) * az;
-        return m_o[1] + t * d[1] - h;
-    };
     double t = ta;
-    double ft = f(t);
+    double ft = r.height(t);
     if (ft <= 0)
     {
         return -1;  // starts under the ground
     }
-    // Exit t of the ray from grid cell (ix, iz) of edge size.
-    auto cellExit = [&](double size, int ix, int iz)
-    {
-        double t_exit = tb;
-        if (d[0] != 0.0)
-        {
-            const double xe = hf.x0 + (d[0] > 0 ? ix + 1 : ix) * size;
-            t_exit = std::min(t_exit, (xe - m_o[0]) / d[0]);
-        }
-        if (d[2] != 0.0)
-        {
-            const double ze = hf.z0 + (d[2] > 0 ? iz + 1 : iz) * size;
-            t_exit = std::min(t_exit, (ze - m_o[2]) / d[2]);
-        }
-        return t_exit;
-    };
-    const double bsize = hf.cell * HeightField::BLOCK;
-    const double inv_bsize = 1.0 / bsize;
-    const double csize = bsize * HeightField::COARSE;
-    const int nbx = hf.block_max.cols;
-    const int nbz = hf.block_max.rows;
-    const int ncx = hf.coarse_max.cols;
-    const int ncz = hf.coarse_max.rows;
     for (int it = 0; it < 1000 && t < tb; ++it)
     {
-        // Empty-space skipping (coarse cells, then blocks): if the ray stays
-        // above a cell's highest sample until it leaves the cell, jump to the
-        // cell's exit; if it sinks below it inside, jump to where it does.
-        const double x = m_o[0] + t * d[0];
-        const double z = m_o[2] + t * d[2];
-        const double y = m_o[1] + t * d[1];
-        const int bx = std::clamp(static_cast<int>((x - hf.x0) * inv_bsize), 0, nbx - 1);
-        const int bz = std::clamp(static_cast<int>((z - hf.z0) * inv_bsize), 0, nbz - 1);
-        double cmax = hf.block_max.at<float>(bz, bx);
-        if (y > cmax)
+        const Skip skip = r.skipEmptySpace(t, ft);
+        if (skip == Skip::Past)
         {
-            double t_exit = tb;
-            const int cx = std::min(bx / HeightField::COARSE, ncx - 1);
-            const int cz = std::min(bz / HeightField::COARSE, ncz - 1);
-            const double c_max = hf.coarse_max.at<float>(cz, cx);
-            bool coarse = false;
-            if (y > c_max)
-            {
-                t_exit = cellExit(csize, cx, cz);
-                coarse = d[1] >= 0 || m_o[1] + t_exit * d[1] > c_max;
-                cmax = c_max;
-            }
-            if (!coarse)
-            {
-                t_exit = cellExit(bsize, bx, bz);
-                cmax = hf.block_max.at<float>(bz, bx);
-            }
-            if (t_exit > t)
-            {
-                if (d[1] >= 0 || m_o[1] + t_exit * d[1] > cmax)
-                {
-                    t = t_exit + 1e-6;
-                    if (t >= tb)
-                    {
-                        break;
-                    }
-                    ft = f(t);
-                    continue;
-                }
-                // No crossing before the ray sinks below the cell's maximum.
-                t = (cmax - m_o[1]) / d[1];
-                ft = f(t);
-            }
+            break;
+        }
+        if (skip == Skip::Jumped)
+        {
+            continue;
         }
         const double step = std::max(0.8 * ft / denom, (0.05 + 0.012 * t) / dn);
         const double tn = std::min(t + step, tb);
-        const double fn = f(tn);
+        const double fn = r.height(tn);
         if (fn <= 0)
         {
-            // Bracketed crossing: a few regula-falsi steps.
-            double lo = t;
-            double hi = tn;
-            double flo = ft;
-            double fhi = fn;
-            for (int k = 0; k < 4; ++k)
-            {
-                const double mid = lo + (hi - lo) * flo / (flo - fhi);
-                const double fm = f(mid);
-                if (fm > 0)
-                {
-                    lo = mid;
-                    flo = fm;
-                }
-                else
-                {
-                    hi = mid;
-                    fhi = fm;
-                }
-            }
-            return lo + (hi - lo) * flo / (flo - fhi);
+            return r.crossing(t, tn, ft, fn);
         }
         t = tn;
         ft = fn;

@@ -23,37 +23,96 @@ namespace
 /** Edge [px] of the image tiles over which elements are binned: a ray only
  * tests the elements whose projected bounds overlap its tile. */
 constexpr int TILE = 16;
-}  // namespace
 
-void StereoRenderer::renderView(
-    const World& world,
-    const mrpt::poses::CPose3D& T_scene_cam,
-    double t,
-    cv::Mat& intensity,
-    cv::Mat* depth) const
+/** The pinhole camera of one view, in the scene. */
+struct ViewGeometry
 {
-    const int W = m_p.width;
-    const int H = m_p.height;
-    const double f = m_p.focal_px;
-    const double cx = m_p.cx >= 0 ? m_p.cx : (W - 1) / 2.0;
-    const double cy = m_p.cy >= 0 ? m_p.cy : (H - 1) / 2.0;
-    mrpt::math::CMatrixDouble33 Rm;
-    T_scene_cam.getRotationMatrix(Rm);
-    double R[3][3];
-    for (int i = 0; i < 3; ++i)
+    int W{0}, H{0};
+    double f{0}, cx{0}, cy{0};
+    double R[3][3]{};  //!< camera axes in the scene (columns)
+    Vec3 o{};          //!< camera centre in the scene
+
+    /** The scene direction of the ray through pixel (u, v). */
+    Vec3 ray(double u, double v) const
     {
-        for (int j = 0; j < 3; ++j)
+        const double xc = (u - cx) / f;
+        const double yc = (v - cy) / f;
+        return Vec3{
+            R[0][0] * xc + R[0][1] * yc + R[0][2], R[1][0] * xc + R[1][1] * yc + R[1][2],
+            R[2][0] * xc + R[2][1] * yc + R[2][2]};
+    }
+};
+
+/** Image rectangle an element's box may cover (umin > umax: behind the camera). */
+struct ImageBounds
+{
+    double umin{1e30}, umax{-1e30}, vmin{1e30}, vmax{-1e30};
+};
+
+/** Projects the box edges of `p`, clipped at the near plane. */
+ImageBounds projectBox(const Prepared& p, const ViewGeometry& g)
+{
+    ImageBounds b;
+    Vec3 corners[8];
+    for (int k = 0; k < 8; ++k)
+    {
+        const Vec3 w{
+            k & 1 ? p.hi[0] : p.lo[0], k & 2 ? p.hi[1] : p.lo[1], k & 4 ? p.hi[2] : p.lo[2]};
+        const Vec3 dw{w[0] - g.o[0], w[1] - g.o[1], w[2] - g.o[2]};
+        for (std::size_t i = 0; i < 3; ++i)
         {
-            R[i][j] = Rm(i, j);
+            corners[k][i] = g.R[0][i] * dw[0] + g.R[1][i] * dw[1] + g.R[2][i] * dw[2];
         }
     }
-    const Vec3 o{T_scene_cam.x(), T_scene_cam.y(), T_scene_cam.z()};
+    auto addPoint = [&](const Vec3& c)
+    {
+        const double u = g.cx + g.f * c[0] / c[2];
+        const double v = g.cy + g.f * c[1] / c[2];
+        b.umin = std::min(b.umin, u);
+        b.umax = std::max(b.umax, u);
+        b.vmin = std::min(b.vmin, v);
+        b.vmax = std::max(b.vmax, v);
+    };
+    for (int a = 0; a < 8; ++a)
+    {
+        for (int bit = 1; bit < 8; bit <<= 1)
+        {
+            if ((a & bit) != 0)
+            {
+                continue;
+            }
+            const Vec3& ca = corners[a];
+            const Vec3& cb = corners[a | bit];
+            const bool ina = ca[2] >= NEAR;
+            const bool inb = cb[2] >= NEAR;
+            if (ina)
+            {
+                addPoint(ca);
+            }
+            if (inb)
+            {
+                addPoint(cb);
+            }
+            if (ina != inb)
+            {
+                const double s = (NEAR - ca[2]) / (cb[2] - ca[2]);
+                addPoint({ca[0] + s * (cb[0] - ca[0]), ca[1] + s * (cb[1] - ca[1]), NEAR});
+            }
+        }
+    }
+    return b;
+}
 
-    // Elements at time t, and the image rectangle each may cover.
+/** The world's elements at time t that the view may see, and per image
+ * tile (row major, tiles_x per row) the indices of those that may cover it. */
+std::vector<Prepared> binElements(
+    const World& world,
+    const ViewGeometry& g,
+    double t,
+    int tiles_x,
+    std::vector<std::vector<int>>& tiles)
+{
     std::vector<Prepared> els;
-    const int tiles_x = (W + TILE - 1) / TILE;
-    const int tiles_y = (H + TILE - 1) / TILE;
-    std::vector<std::vector<int>> tiles(static_cast<std::size_t>(tiles_x * tiles_y));
     for (const Element& e : world.elements())
     {
         Prepared p{
@@ -73,67 +132,16 @@ void StereoRenderer::renderView(
                 p.hi[a] += e.velocity[a] * (t - e.t0);
             }
         }
-        // Project the box edges, clipped at the near plane.
-        double umin = 1e30;
-        double umax = -1e30;
-        double vmin = 1e30;
-        double vmax = -1e30;
-        Vec3 corners[8];
-        for (int k = 0; k < 8; ++k)
-        {
-            const Vec3 w{
-                k & 1 ? p.hi[0] : p.lo[0], k & 2 ? p.hi[1] : p.lo[1], k & 4 ? p.hi[2] : p.lo[2]};
-            const Vec3 dw{w[0] - o[0], w[1] - o[1], w[2] - o[2]};
-            for (std::size_t i = 0; i < 3; ++i)
-            {
-                corners[k][i] = R[0][i] * dw[0] + R[1][i] * dw[1] + R[2][i] * dw[2];
-            }
-        }
-        auto addPoint = [&](const Vec3& c)
-        {
-            const double u = cx + f * c[0] / c[2];
-            const double v = cy + f * c[1] / c[2];
-            umin = std::min(umin, u);
-            umax = std::max(umax, u);
-            vmin = std::min(vmin, v);
-            vmax = std::max(vmax, v);
-        };
-        for (int a = 0; a < 8; ++a)
-        {
-            for (int bit = 1; bit < 8; bit <<= 1)
-            {
-                if ((a & bit) != 0)
-                {
-                    continue;
-                }
-                const Vec3& ca = corners[a];
-                const Vec3& cb = corners[a | bit];
-                const bool ina = ca[2] >= NEAR;
-                const bool inb = cb[2] >= NEAR;
-                if (ina)
-                {
-                    addPoint(ca);
-                }
-                if (inb)
-                {
-                    addPoint(cb);
-                }
-                if (ina != inb)
-                {
-                    const double s = (NEAR - ca[2]) / (cb[2] - ca[2]);
-                    addPoint({ca[0] + s * (cb[0] - ca[0]), ca[1] + s * (cb[1] - ca[1]), NEAR});
-                }
-            }
-        }
-        if (umin > umax)
+        const ImageBounds b = projectBox(p, g);
+        if (b.umin > b.umax)
         {
             continue;  // entirely behind the camera
         }
-        const int tu0 = static_cast<int>(std::floor(std::max(umin - 1.0, 0.0) / TILE));
-        const int tu1 = static_cast<int>(std::floor(std::min(umax + 1.0, W - 1.0) / TILE));
-        const int tv0 = static_cast<int>(std::floor(std::max(vmin - 1.0, 0.0) / TILE));
-        const int tv1 = static_cast<int>(std::floor(std::min(vmax + 1.0, H - 1.0) / TILE));
-        if (tu0 > tu1 || tv0 > tv1 || umin > W || vmin > H)
+        const int tu0 = static_cast<int>(std::floor(std::max(b.umin - 1.0, 0.0) / TILE));
+        const int tu1 = static_cast<int>(std::floor(std::min(b.umax + 1.0, g.W - 1.0) / TILE));
+        const int tv0 = static_cast<int>(std::floor(std::max(b.vmin - 1.0, 0.0) / TILE));
+        const int tv1 = static_cast<int>(std::floor(std::min(b.vmax + 1.0, g.H - 1.0) / TILE));
+        if (tu0 > tu1 || tv0 > tv1 || b.umin > g.W || b.vmin > g.H)
         {
             continue;
         }
@@ -147,62 +155,101 @@ void StereoRenderer::renderView(
             }
         }
     }
+    return els;
+}
 
-    const RayCaster caster(world, std::move(els), o, m_p.max_range, f);
-    const int n = m_p.supersampling;
+/** Casts the rays of one tile's pixels (n x n per pixel, the depth from
+ * the pixel's centre) against the tile's candidate elements. */
+void renderTile(
+    const RayCaster& caster,
+    const ViewGeometry& g,
+    int n,
+    int tx,
+    int ty,
+    const std::vector<int>& cand,
+    cv::Mat& intensity,
+    cv::Mat* depth)
+{
     const float inv_n2 = 1.0F / static_cast<float>(n * n);
-    intensity.create(H, W, CV_32F);
+    for (int v = ty * TILE; v < std::min(g.H, (ty + 1) * TILE); ++v)
+    {
+        float* row = intensity.ptr<float>(v);
+        float* drow = depth != nullptr ? depth->ptr<float>(v) : nullptr;
+        for (int u = tx * TILE; u < std::min(g.W, (tx + 1) * TILE); ++u)
+        {
+            double t_hit = 0;
+            if (n == 1)
+            {
+                row[u] = caster.cast(g.ray(u, v), cand, t_hit);
+                if (drow != nullptr)
+                {
+                    drow[u] = static_cast<float>(t_hit);
+                }
+                continue;
+            }
+            float acc = 0;
+            for (int sy = 0; sy < n; ++sy)
+            {
+                for (int sx = 0; sx < n; ++sx)
+                {
+                    acc += caster.cast(
+                        g.ray(u + (sx + 0.5) / n - 0.5, v + (sy + 0.5) / n - 0.5), cand, t_hit);
+                }
+            }
+            row[u] = acc * inv_n2;
+            if (drow != nullptr)
+            {
+                caster.cast(g.ray(u, v), cand, t_hit);
+                drow[u] = static_cast<float>(t_hit);
+            }
+        }
+    }
+}
+}  // namespace
+
+void StereoRenderer::renderView(
+    const World& world,
+    const mrpt::poses::CPose3D& T_scene_cam,
+    double t,
+    cv::Mat& intensity,
+    cv::Mat* depth) const
+{
+    ViewGeometry g;
+    g.W = m_p.width;
+    g.H = m_p.height;
+    g.f = m_p.focal_px;
+    g.cx = m_p.cx >= 0 ? m_p.cx : (g.W - 1) / 2.0;
+    g.cy = m_p.cy >= 0 ? m_p.cy : (g.H - 1) / 2.0;
+    mrpt::math::CMatrixDouble33 Rm;
+    T_scene_cam.getRotationMatrix(Rm);
+    for (int i = 0; i < 3; ++i)
+    {
+        for (int j = 0; j < 3; ++j)
+        {
+            g.R[i][j] = Rm(i, j);
+        }
+    }
+    g.o = Vec3{T_scene_cam.x(), T_scene_cam.y(), T_scene_cam.z()};
+
+    // Elements at time t, and the image rectangle each may cover.
+    const int tiles_x = (g.W + TILE - 1) / TILE;
+    const int tiles_y = (g.H + TILE - 1) / TILE;
+    std::vector<std::vector<int>> tiles(static_cast<std::size_t>(tiles_x * tiles_y));
+    std::vector<Prepared> els = binElements(world, g, t, tiles_x, tiles);
+
+    const RayCaster caster(world, std::move(els), g.o, m_p.max_range, g.f);
+    intensity.create(g.H, g.W, CV_32F);
     if (depth != nullptr)
     {
-        depth->create(H, W, CV_32F);
+        depth->create(g.H, g.W, CV_32F);
     }
-    auto ray = [&](double u, double v)
-    {
-        const double xc = (u - cx) / f;
-        const double yc = (v - cy) / f;
-        return Vec3{
-            R[0][0] * xc + R[0][1] * yc + R[0][2], R[1][0] * xc + R[1][1] * yc + R[1][2],
-            R[2][0] * xc + R[2][1] * yc + R[2][2]};
-    };
     for (int ty = 0; ty < tiles_y; ++ty)
     {
         for (int tx = 0; tx < tiles_x; ++tx)
         {
-            const auto& cand = tiles[static_cast<std::size_t>(ty * tiles_x + tx)];
-            for (int v = ty * TILE; v < std::min(H, (ty + 1) * TILE); ++v)
-            {
-                float* row = intensity.ptr<float>(v);
-                float* drow = depth != nullptr ? depth->ptr<float>(v) : nullptr;
-                for (int u = tx * TILE; u < std::min(W, (tx + 1) * TILE); ++u)
-                {
-                    double t_hit = 0;
-                    if (n == 1)
-                    {
-                        row[u] = caster.cast(ray(u, v), cand, t_hit);
-                        if (drow != nullptr)
-                        {
-                            drow[u] = static_cast<float>(t_hit);
-                        }
-                        continue;
-                    }
-                    float acc = 0;
-                    for (int sy = 0; sy < n; ++sy)
-                    {
-                        for (int sx = 0; sx < n; ++sx)
-                        {
-                            acc += caster.cast(
-                                ray(u + (sx + 0.5) / n - 0.5, v + (sy + 0.5) / n - 0.5), cand,
-                                t_hit);
-                        }
-                    }
-                    row[u] = acc * inv_n2;
-                    if (drow != nullptr)
-                    {
-                        caster.cast(ray(u, v), cand, t_hit);
-                        drow[u] = static_cast<float>(t_hit);
-                    }
-                }
-            }
+            renderTile(
+                caster, g, m_p.supersampling, tx, ty,
+                tiles[static_cast<std::size_t>(ty * tiles_x + tx)], intensity, depth);
         }
     }
 }

@@ -57,47 +57,9 @@ std::vector<std::array<double, 3>> parseWaypoints(const std::string& txt)
     }
     return pts;
 }
-}  // namespace
 
-void Trajectory::TParameters::loadFromConfigFile(
-    const mrpt::config::CConfigFileBase& c, const std::string& s)
-{
-    MRPT_LOAD_CONFIG_VAR(type, string, c, s);
-    MRPT_LOAD_CONFIG_VAR(waypoints, string, c, s);
-    MRPT_LOAD_CONFIG_VAR(closed, bool, c, s);
-    MRPT_LOAD_CONFIG_VAR(loops, int, c, s);
-    MRPT_LOAD_CONFIG_VAR(speed, double, c, s);
-    MRPT_LOAD_CONFIG_VAR(angular_speed_deg, double, c, s);
-    MRPT_LOAD_CONFIG_VAR(drive, string, c, s);
-    MRPT_LOAD_CONFIG_VAR(turn_blend, double, c, s);
-    MRPT_LOAD_CONFIG_VAR(camera_height, double, c, s);
-    MRPT_LOAD_CONFIG_VAR(follow_ground, bool, c, s);
-    MRPT_LOAD_CONFIG_VAR(bob_amplitude, double, c, s);
-    MRPT_LOAD_CONFIG_VAR(step_frequency, double, c, s);
-    MRPT_LOAD_CONFIG_VAR(sway_roll_deg, double, c, s);
-    MRPT_LOAD_CONFIG_VAR(sway_pitch_deg, double, c, s);
-}
-
-void Trajectory::TParameters::saveToConfigFile(
-    mrpt::config::CConfigFileBase& c, const std::string& s) const
-{
-    MRPT_SAVE_CONFIG_VAR(type, c, s);
-    MRPT_SAVE_CONFIG_VAR(waypoints, c, s);
-    MRPT_SAVE_CONFIG_VAR(closed, c, s);
-    MRPT_SAVE_CONFIG_VAR(loops, c, s);
-    MRPT_SAVE_CONFIG_VAR(speed, c, s);
-    MRPT_SAVE_CONFIG_VAR(angular_speed_deg, c, s);
-    MRPT_SAVE_CONFIG_VAR(drive, c, s);
-    MRPT_SAVE_CONFIG_VAR(turn_blend, c, s);
-    MRPT_SAVE_CONFIG_VAR(camera_height, c, s);
-    MRPT_SAVE_CONFIG_VAR(follow_ground, c, s);
-    MRPT_SAVE_CONFIG_VAR(bob_amplitude, c, s);
-    MRPT_SAVE_CONFIG_VAR(step_frequency, c, s);
-    MRPT_SAVE_CONFIG_VAR(sway_roll_deg, c, s);
-    MRPT_SAVE_CONFIG_VAR(sway_pitch_deg, c, s);
-}
-
-void Trajectory::setup(const TParameters& p)
+/** Throws std::invalid_argument naming the first key out of range. */
+void checkParameters(const Trajectory::TParameters& p)
 {
     if (p.type != "robot3dof" && p.type != "walker6dof")
     {
@@ -153,6 +115,11 @@ void Trajectory::setup(const TParameters& p)
         bad(inRange(p.sway_roll_deg, -90, 90) ? "sway_pitch_deg" : "sway_roll_deg",
             "must be in [-90, 90] deg");
     }
+}
+
+/** The way-points, checked: at least two, planar for a robot. */
+std::vector<std::array<double, 3>> checkedWaypoints(const Trajectory::TParameters& p)
+{
     auto pts = parseWaypoints(p.waypoints);
     if (pts.empty())
     {
@@ -172,6 +139,52 @@ void Trajectory::setup(const TParameters& p)
             }
         }
     }
+    return pts;
+}
+}  // namespace
+
+void Trajectory::TParameters::loadFromConfigFile(
+    const mrpt::config::CConfigFileBase& c, const std::string& s)
+{
+    MRPT_LOAD_CONFIG_VAR(type, string, c, s);
+    MRPT_LOAD_CONFIG_VAR(waypoints, string, c, s);
+    MRPT_LOAD_CONFIG_VAR(closed, bool, c, s);
+    MRPT_LOAD_CONFIG_VAR(loops, int, c, s);
+    MRPT_LOAD_CONFIG_VAR(speed, double, c, s);
+    MRPT_LOAD_CONFIG_VAR(angular_speed_deg, double, c, s);
+    MRPT_LOAD_CONFIG_VAR(drive, string, c, s);
+    MRPT_LOAD_CONFIG_VAR(turn_blend, double, c, s);
+    MRPT_LOAD_CONFIG_VAR(camera_height, double, c, s);
+    MRPT_LOAD_CONFIG_VAR(follow_ground, bool, c, s);
+    MRPT_LOAD_CONFIG_VAR(bob_amplitude, double, c, s);
+    MRPT_LOAD_CONFIG_VAR(step_frequency, double, c, s);
+    MRPT_LOAD_CONFIG_VAR(sway_roll_deg, double, c, s);
+    MRPT_LOAD_CONFIG_VAR(sway_pitch_deg, double, c, s);
+}
+
+void Trajectory::TParameters::saveToConfigFile(
+    mrpt::config::CConfigFileBase& c, const std::string& s) const
+{
+    MRPT_SAVE_CONFIG_VAR(type, c, s);
+    MRPT_SAVE_CONFIG_VAR(waypoints, c, s);
+    MRPT_SAVE_CONFIG_VAR(closed, c, s);
+    MRPT_SAVE_CONFIG_VAR(loops, c, s);
+    MRPT_SAVE_CONFIG_VAR(speed, c, s);
+    MRPT_SAVE_CONFIG_VAR(angular_speed_deg, c, s);
+    MRPT_SAVE_CONFIG_VAR(drive, c, s);
+    MRPT_SAVE_CONFIG_VAR(turn_blend, c, s);
+    MRPT_SAVE_CONFIG_VAR(camera_height, c, s);
+    MRPT_SAVE_CONFIG_VAR(follow_ground, c, s);
+    MRPT_SAVE_CONFIG_VAR(bob_amplitude, c, s);
+    MRPT_SAVE_CONFIG_VAR(step_frequency, c, s);
+    MRPT_SAVE_CONFIG_VAR(sway_roll_deg, c, s);
+    MRPT_SAVE_CONFIG_VAR(sway_pitch_deg, c, s);
+}
+
+void Trajectory::setup(const TParameters& p)
+{
+    checkParameters(p);
+    const auto pts = checkedWaypoints(p);
     if (p.loops > 1 && !p.closed)
     {
         bad("loops", "loops > 1 needs closed = true");
@@ -205,6 +218,12 @@ void Trajectory::setup(const TParameters& p)
         bad("waypoints", "needs at least two distinct way-points");
     }
 
+    buildSegments();
+}
+
+void Trajectory::buildSegments()
+{
+    const auto& p = m_p;
     const bool differential = p.type == "robot3dof" && p.drive == "differential";
     const double omega = p.angular_speed_deg * M_PI / 180.0;
     m_segments.clear();

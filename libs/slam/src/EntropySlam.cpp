@@ -183,24 +183,11 @@ bool EntropySlam::process(const mrpt::obs::CObservation& obs)
     }
     const auto t0 = Clock::now();
     StereoOdometry::Step step;
-    try
+    if (!runOdometry(obs, step))
     {
-        if (!m_odometry.process(obs, step))
-        {
-            return false;
-        }
-    }
-    catch (const std::bad_alloc&)
-    {
-        throw;  // not the observation's fault
-    }
-    catch (const std::exception& e)
-    {
-        // The front-end changes no mapper state: the caller may skip the frame.
-        throw UnusableObservation(emslam::util::shortExceptionMessage(e));
+        return false;
     }
     const emslam::stereo::StereoFrame& f = step.frame;
-    const auto& ego = step.egomotion;
     FrameRecord r;
     r.index = m_records.size();
     r.timestamp = mrpt::Clock::toDouble(f.timestamp);
@@ -210,31 +197,8 @@ bool EntropySlam::process(const mrpt::obs::CObservation& obs)
     m_image_height = f.intensity.rows;
     m_last_image = f.intensity;
 
-    r.ms_egomotion = ego.ms_total;
     const mrpt::poses::CPose3D& action = step.action;  // identity: the first frame
-    emslam::rectify::ActionCovariance action_cov = m_p.rectifier.odometryPrior().stepCovariance();
-    if (!step.first)
-    {
-        r.initial_matches = ego.initial_matches;
-        r.final_matches = ego.final_matches;
-        r.egomotion_ok = ego.ok;
-        if (step.predicted)
-        {
-            m_predicted_since_keyframe = true;
-            // Constant velocity, with a covariance wide enough for the
-            // rectifier to move the step wherever the map says.
-            action_cov = emslam::rectify::predictionCovariance(
-                action, FAILED_STEP_MIN_SIGMA_XYZ, mrpt::DEG2RAD(FAILED_STEP_MIN_SIGMA_ROT_DEG));
-        }
-        else if (ego.has_covariance)
-        {
-            action_cov = ego.covariance;
-        }
-        for (int k = 0; k < 6; ++k)
-        {
-            r.step_sigma[static_cast<std::size_t>(k)] = std::sqrt(std::max(0.0, action_cov(k, k)));
-        }
-    }
+    const emslam::rectify::ActionCovariance action_cov = recordStep(step, r);
     m_egomotion.push_back({r.timestamp, r.index, m_odometry.pose()});
     // Sparse front-end: the previous keyframe's dense cloud was computed on
     // the other core while this frame's stereo and egomotion ran; it joins
@@ -260,53 +224,110 @@ bool EntropySlam::process(const mrpt::obs::CObservation& obs)
     m_links.push_back({m_last_keyframe, m_T_keyframe_cur});
     if (r.accepted)
     {
-        // What registering this keyframe again needs, kept only for loop closing.
-        m_loops.addKeyframe(
-            r.index, loopClosing() ? m_odometry.estimator().lastDescription() : nullptr,
-            cov_since_keyframe, motion_since_keyframe, m_predicted_since_keyframe);
-        m_predicted_since_keyframe = false;
-        if (loopClosing())
-        {
-            m_loop_worker->notify();
-            const std::size_t lag = m_loops.keyframeCount() - m_loops.processedCount();
-            if (lag > static_cast<std::size_t>(m_p.loop_closer.max_lag))
-            {
-                m_loop_worker->drain();
-            }
-        }
-        PendingKeyframe k;
-        k.index = r.index;
-        k.timestamp = r.timestamp;
-        k.covariance = cov_since_keyframe;
-        // The first accepted frame is the world origin; later ones are placed
-        // by the motion since the previous accepted frame.
-        k.action =
-            m_sampler.accepted() == 1 ? mrpt::poses::CPose3D() : m_sampler.actionSinceAccepted();
-        if (auto task = m_odometry.frontEnd().mapFrameTask(f))
-        {
-            k.cloud = std::async(
-                std::launch::async,
-                [this, task = std::move(task)]
-                {
-                    DenseKeyframe d;
-                    d.frame = task();
-                    d.clouds = mapClouds(d.frame);
-                    return d;
-                });
-            m_pending = std::move(k);
-        }
-        else
-        {
-            const auto t_rect = Clock::now();
-            addAccepted(f, mapClouds(f), k);
-            r.ms_rectification = msSince(t_rect);
-        }
+        addKeyframe(f, cov_since_keyframe, motion_since_keyframe, r);
     }
     r.energy = m_energy;
     r.ms_total = msSince(t0);
     m_records.push_back(r);
     m_online.push_back({r.timestamp, r.index, onlinePose(r.index)});
     return true;
+}
+
+bool EntropySlam::runOdometry(const mrpt::obs::CObservation& obs, StereoOdometry::Step& step)
+{
+    try
+    {
+        return m_odometry.process(obs, step);
+    }
+    catch (const std::bad_alloc&)
+    {
+        throw;  // not the observation's fault
+    }
+    catch (const std::exception& e)
+    {
+        // The front-end changes no mapper state: the caller may skip the frame.
+        throw UnusableObservation(emslam::util::shortExceptionMessage(e));
+    }
+}
+
+emslam::rectify::ActionCovariance EntropySlam::recordStep(
+    const StereoOdometry::Step& step, FrameRecord& r)
+{
+    const auto& ego = step.egomotion;
+    r.ms_egomotion = ego.ms_total;
+    emslam::rectify::ActionCovariance action_cov = m_p.rectifier.odometryPrior().stepCovariance();
+    if (step.first)
+    {
+        return action_cov;
+    }
+    r.initial_matches = ego.initial_matches;
+    r.final_matches = ego.final_matches;
+    r.egomotion_ok = ego.ok;
+    if (step.predicted)
+    {
+        m_predicted_since_keyframe = true;
+        // Constant velocity, with a covariance wide enough for the
+        // rectifier to move the step wherever the map says.
+        action_cov = emslam::rectify::predictionCovariance(
+            step.action, FAILED_STEP_MIN_SIGMA_XYZ, mrpt::DEG2RAD(FAILED_STEP_MIN_SIGMA_ROT_DEG));
+    }
+    else if (ego.has_covariance)
+    {
+        action_cov = ego.covariance;
+    }
+    for (int k = 0; k < 6; ++k)
+    {
+        r.step_sigma[static_cast<std::size_t>(k)] = std::sqrt(std::max(0.0, action_cov(k, k)));
+    }
+    return action_cov;
+}
+
+void EntropySlam::addKeyframe(
+    const emslam::stereo::StereoFrame& f,
+    const emslam::rectify::ActionCovariance& cov_since_keyframe,
+    const mrpt::poses::CPose3D& motion_since_keyframe,
+    FrameRecord& r)
+{
+    // What registering this keyframe again needs, kept only for loop closing.
+    m_loops.addKeyframe(
+        r.index, loopClosing() ? m_odometry.estimator().lastDescription() : nullptr,
+        cov_since_keyframe, motion_since_keyframe, m_predicted_since_keyframe);
+    m_predicted_since_keyframe = false;
+    if (loopClosing())
+    {
+        m_loop_worker->notify();
+        const std::size_t lag = m_loops.keyframeCount() - m_loops.processedCount();
+        if (lag > static_cast<std::size_t>(m_p.loop_closer.max_lag))
+        {
+            m_loop_worker->drain();
+        }
+    }
+    PendingKeyframe k;
+    k.index = r.index;
+    k.timestamp = r.timestamp;
+    k.covariance = cov_since_keyframe;
+    // The first accepted frame is the world origin; later ones are placed
+    // by the motion since the previous accepted frame.
+    k.action = m_sampler.accepted() == 1 ? mrpt::poses::CPose3D() : m_sampler.actionSinceAccepted();
+    if (auto task = m_odometry.frontEnd().mapFrameTask(f))
+    {
+        k.cloud = std::async(
+            std::launch::async,
+            [this, task = std::move(task)]
+            {
+                DenseKeyframe d;
+                d.frame = task();
+                d.clouds = mapClouds(d.frame);
+                return d;
+            });
+        m_pending = std::move(k);
+    }
+    else
+    {
+        const auto t_rect = Clock::now();
+        addAccepted(f, mapClouds(f), k);
+        r.ms_rectification = msSince(t_rect);
+    }
 }
 
 mrpt::poses::CPose3D EntropySlam::onlinePose(std::size_t index)

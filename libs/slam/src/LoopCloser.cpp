@@ -106,6 +106,12 @@ double rotationTrace(const emslam::rectify::ActionCovariance& c)
     return c(3, 3) + c(4, 4) + c(5, 5);
 }
 
+/** The squared norm of d[from .. from + 2] (translation: 0, rotation: 3). */
+double squaredNorm3(const emslam::rectify::ActionDelta& d, int from)
+{
+    return d[from] * d[from] + d[from + 1] * d[from + 1] + d[from + 2] * d[from + 2];
+}
+
 /** How far the egomotion chain between two keyframes may have drifted: its
  * steps' translation variances plus each step's rotation variance times the
  * squared lever arm to the end point (first order), via prefix sums. Once
@@ -307,6 +313,8 @@ struct LoopCloser::Registration
     // At the current poses:
     double normalized{0};  //!< squared correction over its variance
     Vec3 correction;       //!< where i puts j minus where j is (world)
+    /** What the graph disagreed with its edge before the group was solved. */
+    emslam::rectify::ActionDelta misclosure{};
 };
 
 void LoopCloser::TParameters::loadFromConfigFile(
@@ -767,6 +775,50 @@ void LoopCloser::registerCandidates(
 {
     const std::vector<mrpt::poses::CPose3D>& x = m_graph.nodes();
     const Vec3 pj = positionOf(x[j]);
+    const std::vector<std::size_t> order = candidateOrder(j, nearCandidates(j));
+    const auto cur = m_keyframes[j].description;
+    std::size_t gated = 0;
+    for (const std::size_t i : order)
+    {
+        if (gated >= CONSENSUS_MIN)
+        {
+            break;  // enough for a consensus of this keyframe alone: the rest would cost, not add
+        }
+        const auto r = estimator.estimate(descriptionOf(i), cur);
+        ++m_stats.registrations;
+        if (!r.ok)
+        {
+            continue;
+        }
+        auto reg = std::make_unique<Registration>();
+        reg->i = i;
+        reg->j = j;
+        reg->z = r.T_prev_cur;
+        // A registration is one more egomotion step: without a curvature of
+        // its own (e.g. a perfect fit), it gets the keyframe's.
+        reg->covariance = r.has_covariance ? r.covariance : m_keyframes[j].covariance;
+        reg->matches = r.final_matches;
+        // Within three standard deviations of the chain, as it is now.
+        const auto delta = emslam::rectify::actionDifference(x[j] - x[i], reg->z);
+        const double dt2 = squaredNorm3(delta, 0);
+        const double dr2 = squaredNorm3(delta, 3);
+        const double var_t =
+            m_drift->translationVariance(i, j, pj) + translationTrace(reg->covariance);
+        const double var_r = m_drift->rotationVariance(i, j) + rotationTrace(reg->covariance);
+        if (dt2 > GATE_SIGMAS * GATE_SIGMAS * var_t || dr2 > GATE_SIGMAS * GATE_SIGMAS * var_r)
+        {
+            continue;
+        }
+        ++m_stats.registered;
+        ++gated;
+        m_pool.push_back(std::move(reg));
+    }
+}
+
+std::vector<std::pair<double, std::size_t>> LoopCloser::nearCandidates(std::size_t j)
+{
+    const std::vector<mrpt::poses::CPose3D>& x = m_graph.nodes();
+    const Vec3 pj = positionOf(x[j]);
     const Vec3 vj = viewingDirection(x[j]);
     // The viewing directions may differ by the chain's rotation drift too.
     const auto viewsOverlap = [&](std::size_t i)
@@ -805,6 +857,12 @@ void LoopCloser::registerCandidates(
     m_stats.candidates += near.size();
     std::sort(near.begin(), near.end());
     near.resize(std::min(near.size(), static_cast<std::size_t>(m_p.max_candidates)));
+    return near;
+}
+
+std::vector<std::size_t> LoopCloser::candidateOrder(
+    std::size_t j, const std::vector<std::pair<double, std::size_t>>& near)
+{
     // The keyframes that look most like j go first: they are there whatever
     // the drift, when the nearest by the estimate may not be the place.
     std::vector<std::size_t> order;
@@ -847,43 +905,7 @@ void LoopCloser::registerCandidates(
             order.push_back(i);
         }
     }
-    const auto cur = m_keyframes[j].description;
-    std::size_t gated = 0;
-    for (const std::size_t i : order)
-    {
-        if (gated >= CONSENSUS_MIN)
-        {
-            break;  // enough for a consensus of this keyframe alone: the rest would cost, not add
-        }
-        const auto r = estimator.estimate(descriptionOf(i), cur);
-        ++m_stats.registrations;
-        if (!r.ok)
-        {
-            continue;
-        }
-        auto reg = std::make_unique<Registration>();
-        reg->i = i;
-        reg->j = j;
-        reg->z = r.T_prev_cur;
-        // A registration is one more egomotion step: without a curvature of
-        // its own (e.g. a perfect fit), it gets the keyframe's.
-        reg->covariance = r.has_covariance ? r.covariance : m_keyframes[j].covariance;
-        reg->matches = r.final_matches;
-        // Within three standard deviations of the chain, as it is now.
-        const auto delta = emslam::rectify::actionDifference(x[j] - x[i], reg->z);
-        const double dt2 = delta[0] * delta[0] + delta[1] * delta[1] + delta[2] * delta[2];
-        const double dr2 = delta[3] * delta[3] + delta[4] * delta[4] + delta[5] * delta[5];
-        const double var_t =
-            m_drift->translationVariance(i, j, pj) + translationTrace(reg->covariance);
-        const double var_r = m_drift->rotationVariance(i, j) + rotationTrace(reg->covariance);
-        if (dt2 > GATE_SIGMAS * GATE_SIGMAS * var_t || dr2 > GATE_SIGMAS * GATE_SIGMAS * var_r)
-        {
-            continue;
-        }
-        ++m_stats.registered;
-        ++gated;
-        m_pool.push_back(std::move(reg));
-    }
+    return order;
 }
 
 std::vector<std::unique_ptr<LoopCloser::Registration>> LoopCloser::takeConsensusGroup(
@@ -897,19 +919,6 @@ std::vector<std::unique_ptr<LoopCloser::Registration>> LoopCloser::takeConsensus
     {
         return {};
     }
-    const std::vector<mrpt::poses::CPose3D>& x = m_graph.nodes();
-    const auto measure = [&](Registration& r)
-    {
-        const Vec3 pj = positionOf(x[r.j]);
-        const auto delta = emslam::rectify::actionDifference(x[r.j] - x[r.i], r.z);
-        const double dt2 = delta[0] * delta[0] + delta[1] * delta[1] + delta[2] * delta[2];
-        const double dr2 = delta[3] * delta[3] + delta[4] * delta[4] + delta[5] * delta[5];
-        const double var_t =
-            m_drift->translationVariance(r.i, r.j, pj) + translationTrace(r.covariance);
-        const double var_r = m_drift->rotationVariance(r.i, r.j) + rotationTrace(r.covariance);
-        r.normalized = dt2 / var_t + dr2 / var_r;
-        r.correction = positionOf(x[r.i] + r.z) - pj;
-    };
     for (auto& r : m_pool)
     {
         measure(*r);
@@ -918,21 +927,14 @@ std::vector<std::unique_ptr<LoopCloser::Registration>> LoopCloser::takeConsensus
     {
         measure(*r);
     }
-    // A registration asking for a correction c could be a look-alike of a
-    // place truly revisited anywhere within c (plus max_distance) further
-    // on: it is decided on, and leaves the pool, only once the path went
-    // that far past it and the window is over, so that a look-alike seen
-    // first (a repeated corridor ahead of the real revisit) competes with
-    // the revisit, whose correction is the smaller, as it would in a batch.
-    const auto ready = [&](const Registration& r)
-    { return m_path[j] - m_path[r.j] >= r.correction.norm() + m_p.max_distance; };
     // Decided on and still alone: out (after the decision below).
     const auto drop = [&]
     {
         m_pool.erase(
             std::remove_if(
                 m_pool.begin(), m_pool.end(),
-                [&](const std::unique_ptr<Registration>& r) { return expired(r) && ready(*r); }),
+                [&](const std::unique_ptr<Registration>& r)
+                { return expired(r) && readyToDecide(*r, j); }),
             m_pool.end());
     };
     if (m_accepted.empty() && !last_call)
@@ -940,7 +942,7 @@ std::vector<std::unique_ptr<LoopCloser::Registration>> LoopCloser::takeConsensus
         // A new loop (none accepted nearby) waits for its oldest registration.
         const auto oldest = std::min_element(
             m_pool.begin(), m_pool.end(), [](const auto& a, const auto& b) { return a->j < b->j; });
-        if (!ready(**oldest))
+        if (!readyToDecide(**oldest, j))
         {
             return {};
         }
@@ -948,8 +950,72 @@ std::vector<std::unique_ptr<LoopCloser::Registration>> LoopCloser::takeConsensus
     std::sort(
         m_pool.begin(), m_pool.end(),
         [](const auto& a, const auto& b) { return a->normalized < b->normalized; });
-    const auto agree = [&](const Registration& a, const Registration& b)
-    { return correctionsAgree(a, b); };
+    const std::vector<std::size_t> best_group = bestConsensusGroup();
+    // A new loop waits for its own group's oldest registration too: the
+    // wait above may have been ended by an older look-alike, while the
+    // revisit, just begun, has only a few members yet.
+    if (!best_group.empty() && m_accepted.empty() && !last_call)
+    {
+        std::size_t oldest = best_group.front();
+        for (std::size_t n : best_group)
+        {
+            oldest = m_pool[n]->j < m_pool[oldest]->j ? n : oldest;
+        }
+        if (!readyToDecide(*m_pool[oldest], j))
+        {
+            return {};
+        }
+    }
+    std::vector<std::unique_ptr<Registration>> taken;
+    if (!best_group.empty())
+    {
+        std::vector<std::unique_ptr<Registration>> rest;
+        std::size_t g = 0;
+        for (std::size_t n = 0; n < m_pool.size(); ++n)
+        {
+            if (g < best_group.size() && best_group[g] == n)
+            {
+                ++g;
+                taken.push_back(std::move(m_pool[n]));
+            }
+            else
+            {
+                rest.push_back(std::move(m_pool[n]));
+            }
+        }
+        m_pool = std::move(rest);
+    }
+    drop();
+    return taken;
+}
+
+void LoopCloser::measure(Registration& r) const
+{
+    const std::vector<mrpt::poses::CPose3D>& x = m_graph.nodes();
+    const Vec3 pj = positionOf(x[r.j]);
+    const auto delta = emslam::rectify::actionDifference(x[r.j] - x[r.i], r.z);
+    const double dt2 = squaredNorm3(delta, 0);
+    const double dr2 = squaredNorm3(delta, 3);
+    const double var_t =
+        m_drift->translationVariance(r.i, r.j, pj) + translationTrace(r.covariance);
+    const double var_r = m_drift->rotationVariance(r.i, r.j) + rotationTrace(r.covariance);
+    r.normalized = dt2 / var_t + dr2 / var_r;
+    r.correction = positionOf(x[r.i] + r.z) - pj;
+}
+
+bool LoopCloser::readyToDecide(const Registration& r, std::size_t j) const
+{
+    // A registration asking for a correction c could be a look-alike of a
+    // place truly revisited anywhere within c (plus max_distance) further
+    // on: it is decided on, and leaves the pool, only once the path went
+    // that far past it and the window is over, so that a look-alike seen
+    // first (a repeated corridor ahead of the real revisit) competes with
+    // the revisit, whose correction is the smaller, as it would in a batch.
+    return m_path[j] - m_path[r.j] >= r.correction.norm() + m_p.max_distance;
+}
+
+std::vector<std::size_t> LoopCloser::bestConsensusGroup() const
+{
     // The group (the registrations agreeing with one, waiting or accepted
     // in the window) most likely to be the place revisited: the drift makes
     // a correction of normalised size n as likely as exp(-n/2), and each
@@ -966,13 +1032,14 @@ std::vector<std::unique_ptr<LoopCloser::Registration>> LoopCloser::takeConsensus
         std::vector<std::size_t> group;
         for (std::size_t n = 0; n < m_pool.size(); ++n)
         {
-            if (agree(*seed, *m_pool[n]))
+            if (correctionsAgree(*seed, *m_pool[n]))
             {
                 group.push_back(n);
             }
         }
         const auto votes = static_cast<std::size_t>(std::count_if(
-            m_accepted.begin(), m_accepted.end(), [&](const auto& r) { return agree(*seed, *r); }));
+            m_accepted.begin(), m_accepted.end(),
+            [&](const auto& r) { return correctionsAgree(*seed, *r); }));
         const std::size_t support = group.size() + votes;
         const double score = std::log(static_cast<double>(support)) - 0.5 * seed->normalized;
         if (support >= CONSENSUS_MIN && (best_group.empty() || score > best_score))
@@ -981,43 +1048,7 @@ std::vector<std::unique_ptr<LoopCloser::Registration>> LoopCloser::takeConsensus
             best_group = std::move(group);
         }
     }
-    // A new loop waits for its own group's oldest registration too: the
-    // wait above may have been ended by an older look-alike, while the
-    // revisit, just begun, has only a few members yet.
-    if (!best_group.empty() && m_accepted.empty() && !last_call)
-    {
-        std::size_t oldest = best_group.front();
-        for (std::size_t n : best_group)
-        {
-            oldest = m_pool[n]->j < m_pool[oldest]->j ? n : oldest;
-        }
-        if (!ready(*m_pool[oldest]))
-        {
-            return {};
-        }
-    }
-    if (!best_group.empty())
-    {
-        std::vector<std::unique_ptr<Registration>> taken, rest;
-        std::size_t g = 0;
-        for (std::size_t n = 0; n < m_pool.size(); ++n)
-        {
-            if (g < best_group.size() && best_group[g] == n)
-            {
-                ++g;
-                taken.push_back(std::move(m_pool[n]));
-            }
-            else
-            {
-                rest.push_back(std::move(m_pool[n]));
-            }
-        }
-        m_pool = std::move(rest);
-        drop();
-        return taken;
-    }
-    drop();
-    return {};
+    return best_group;
 }
 
 bool LoopCloser::correctionsAgree(const Registration& a, const Registration& b) const
@@ -1069,176 +1100,216 @@ bool LoopCloser::tryAccept(std::vector<std::unique_ptr<Registration>> group)
     {
         return false;  // look-alikes: no loop closes any more
     }
-    const auto squared = [](const emslam::rectify::ActionDelta& d, int from)
-    { return d[from] * d[from] + d[from + 1] * d[from + 1] + d[from + 2] * d[from + 2]; };
-    // What the graph still disagrees with each edge, before it is solved.
-    std::vector<emslam::rectify::ActionDelta> misclosure;
-    bool disagrees = false;
     const double gate = loopEdgeGate();
     const std::size_t first_tag = EDGE_LOOP + m_edges.size();
-    for (std::size_t n = 0; n < group.size(); ++n)
-    {
-        Registration& r = *group[n];
-        misclosure.push_back(
-            emslam::rectify::actionDifference(m_graph.node(r.j) - m_graph.node(r.i), r.z));
-        r.tag = first_tag + n;
-        m_graph.addEdge(r.i, r.j, r.z, r.covariance, r.tag);
-    }
+    addGroupEdges(group, first_tag);
+    bool disagrees = false;
     for (const auto& e : m_graph.edges())
     {
         disagrees = disagrees || (e.tag >= first_tag && 2 * m_graph.edgeCost(e) > gate);
     }
     if (disagrees)
     {
-        // With loop edges accepted in the window, the map behind them is
-        // consistent: only the keyframes since the oldest of them drifted,
-        // and a local solve moves them (its cost follows the window, not the
-        // run). Otherwise a new loop closes: every keyframe may move.
-        std::size_t first_free = 1;
-        if (!m_accepted.empty())
-        {
-            first_free = group.front()->j;
-            for (const auto& r : m_accepted)
-            {
-                first_free = std::min(first_free, r->j);
-            }
-            for (const auto& r : group)
-            {
-                first_free = std::min(first_free, r->j);
-            }
-        }
         // The solved graph must agree with the group and still with the loop
         // edges accepted nearby; a local solve that cannot is tried again
         // with every keyframe free (the correction may need the whole loop),
         // and if that cannot either, the group is a look-alike that got
         // through: out, and the graph back where it was.
-        std::vector<std::size_t> check;
-        for (const auto& r : m_accepted)
-        {
-            check.push_back(r->tag);
-        }
-        // Edges the last solve could not satisfy: tag and cost.
         std::vector<std::pair<std::size_t, double>> offenders;
-        const auto solveConsistently = [&](std::size_t free_from)
-        {
-            offenders.clear();
-            const std::vector<mrpt::poses::CPose3D> before(
-                m_graph.nodes().begin() + static_cast<long>(free_from), m_graph.nodes().end());
-            const auto frame_before = m_graph.directionFrame();
-            const auto solved = m_graph.optimize(ONLINE_ITERATIONS, free_from, SOLVE_TOLERANCE);
-            m_stats.local_solves += free_from > 1 ? 1 : 0;
-            m_solved_upto = m_keyframes.size();
-            if (m_stats.rounds == 0)
-            {
-                m_stats.initial_cost = solved.initial_cost;
-            }
-            m_stats.final_cost = solved.final_cost;
-            ++m_stats.rounds;
-            for (const auto& e : m_graph.edges())
-            {
-                const double cost = m_graph.edgeCost(e);
-                const bool mine = e.tag >= first_tag ||
-                                  (e.tag >= EDGE_LOOP &&
-                                   std::find(check.begin(), check.end(), e.tag) != check.end());
-                if (mine && 2 * cost > gate)
-                {
-                    offenders.emplace_back(e.tag, cost);
-                }
-            }
-            if (offenders.empty())
-            {
-                return true;
-            }
-            for (std::size_t k = 0; k < before.size(); ++k)
-            {
-                m_graph.setNode(free_from + k, before[k]);
-            }
-            m_graph.setDirectionFrame(frame_before);
-            return false;
-        };
-        bool consistent =
-            solveConsistently(first_free) || (first_free != 1 && solveConsistently(1));
-        // A look-alike that agreed with the group closely enough to join it
-        // (with a drift of metres, agreeing is loose) cannot be satisfied by
-        // the solved graph while the rest are: the member it disagrees with
-        // most is taken out and the rest solved again, while the rest are
-        // still the majority of the group and a consensus.
-        const std::size_t majority = group.size() / 2 + 1;
-        while (!consistent && !offenders.empty() &&
-               group.size() > std::max(majority, CONSENSUS_MIN))
-        {
-            const auto worst = std::max_element(
-                offenders.begin(), offenders.end(),
-                [](const auto& a, const auto& b) { return a.second < b.second; });
-            if (worst->first < first_tag)
-            {
-                break;  // a loop edge accepted before disagrees: the group is wrong
-            }
-            const std::size_t out = worst->first - first_tag;
-            group.erase(group.begin() + static_cast<long>(out));
-            misclosure.erase(misclosure.begin() + static_cast<long>(out));
-            m_graph.removeEdgesIf([&](const emslam::rectify::PoseGraph::Edge& e)
-                                  { return e.tag >= first_tag; });
-            for (std::size_t n = 0; n < group.size(); ++n)
-            {
-                group[n]->tag = first_tag + n;
-                m_graph.addEdge(
-                    group[n]->i, group[n]->j, group[n]->z, group[n]->covariance, group[n]->tag);
-            }
-            consistent = solveConsistently(1);
-        }
+        const std::size_t first_free = firstFreeKeyframe(group);
+        bool consistent = solveConsistently(first_free, first_tag, gate, offenders) ||
+                          (first_free != 1 && solveConsistently(1, first_tag, gate, offenders));
+        consistent = consistent || dropDisagreeingMembers(group, first_tag, gate, offenders);
         if (!consistent)
         {
-            m_graph.removeEdgesIf([&](const emslam::rectify::PoseGraph::Edge& e)
-                                  { return e.tag >= first_tag; });
-            m_stats.refused_groups += 1;
-            m_stats.refused_edges += group.size();
-            if (continuesAcceptedLoop(group))
-            {
-                return false;  // the loop followed, beyond its noise: no contradiction
-            }
-            m_stats.contradicting_groups += 1;
-            m_stats.contradicting_edges += group.size();
-            // A look-alike place fools the consensus once per window of
-            // keyframes passing it: a group agreeing over several windows
-            // counts as as many.
-            std::set<std::size_t> keyframes;
-            for (const auto& r : group)
-            {
-                keyframes.insert(r->j);
-            }
-            m_stats.contradicting_keyframes += keyframes.size();
-            const auto window = static_cast<std::size_t>(m_p.consensus_window);
-            m_contradicting_windows += (keyframes.size() + window - 1) / window;
-            return checkContradictions();
+            return refuseGroup(group, first_tag);
         }
     }
-    const double latency_ms =
-        std::chrono::duration<double, std::milli>(
-            std::chrono::steady_clock::now() - m_keyframes[group.front()->j].added)
-            .count();
+    recordLatency(group.front()->j);
+    acceptGroup(group);
+    return disagrees;
+}
+
+void LoopCloser::addGroupEdges(
+    std::vector<std::unique_ptr<Registration>>& group, std::size_t first_tag)
+{
+    for (std::size_t n = 0; n < group.size(); ++n)
+    {
+        Registration& r = *group[n];
+        // What the graph still disagrees with the edge, before it is solved.
+        r.misclosure =
+            emslam::rectify::actionDifference(m_graph.node(r.j) - m_graph.node(r.i), r.z);
+        r.tag = first_tag + n;
+        m_graph.addEdge(r.i, r.j, r.z, r.covariance, r.tag);
+    }
+}
+
+std::size_t LoopCloser::firstFreeKeyframe(
+    const std::vector<std::unique_ptr<Registration>>& group) const
+{
+    // With loop edges accepted in the window, the map behind them is
+    // consistent: only the keyframes since the oldest of them drifted,
+    // and a local solve moves them (its cost follows the window, not the
+    // run). Otherwise a new loop closes: every keyframe may move.
+    if (m_accepted.empty())
+    {
+        return 1;
+    }
+    std::size_t first_free = group.front()->j;
+    for (const auto& r : m_accepted)
+    {
+        first_free = std::min(first_free, r->j);
+    }
+    for (const auto& r : group)
+    {
+        first_free = std::min(first_free, r->j);
+    }
+    return first_free;
+}
+
+bool LoopCloser::solveConsistently(
+    std::size_t free_from,
+    std::size_t first_tag,
+    double gate,
+    std::vector<std::pair<std::size_t, double>>& offenders)
+{
+    std::vector<std::size_t> check;
+    for (const auto& r : m_accepted)
+    {
+        check.push_back(r->tag);
+    }
+    offenders.clear();
+    const std::vector<mrpt::poses::CPose3D> before(
+        m_graph.nodes().begin() + static_cast<long>(free_from), m_graph.nodes().end());
+    const auto frame_before = m_graph.directionFrame();
+    const auto solved = m_graph.optimize(ONLINE_ITERATIONS, free_from, SOLVE_TOLERANCE);
+    m_stats.local_solves += free_from > 1 ? 1 : 0;
+    m_solved_upto = m_keyframes.size();
+    if (m_stats.rounds == 0)
+    {
+        m_stats.initial_cost = solved.initial_cost;
+    }
+    m_stats.final_cost = solved.final_cost;
+    ++m_stats.rounds;
+    for (const auto& e : m_graph.edges())
+    {
+        const double cost = m_graph.edgeCost(e);
+        const bool mine =
+            e.tag >= first_tag ||
+            (e.tag >= EDGE_LOOP && std::find(check.begin(), check.end(), e.tag) != check.end());
+        if (mine && 2 * cost > gate)
+        {
+            offenders.emplace_back(e.tag, cost);
+        }
+    }
+    if (offenders.empty())
+    {
+        return true;
+    }
+    for (std::size_t k = 0; k < before.size(); ++k)
+    {
+        m_graph.setNode(free_from + k, before[k]);
+    }
+    m_graph.setDirectionFrame(frame_before);
+    return false;
+}
+
+bool LoopCloser::dropDisagreeingMembers(
+    std::vector<std::unique_ptr<Registration>>& group,
+    std::size_t first_tag,
+    double gate,
+    std::vector<std::pair<std::size_t, double>>& offenders)
+{
+    // A look-alike that agreed with the group closely enough to join it
+    // (with a drift of metres, agreeing is loose) cannot be satisfied by
+    // the solved graph while the rest are: the member it disagrees with
+    // most is taken out and the rest solved again, while the rest are
+    // still the majority of the group and a consensus.
+    const std::size_t majority = group.size() / 2 + 1;
+    while (!offenders.empty() && group.size() > std::max(majority, CONSENSUS_MIN))
+    {
+        const auto worst = std::max_element(
+            offenders.begin(), offenders.end(),
+            [](const auto& a, const auto& b) { return a.second < b.second; });
+        if (worst->first < first_tag)
+        {
+            return false;  // a loop edge accepted before disagrees: the group is wrong
+        }
+        const std::size_t out = worst->first - first_tag;
+        group.erase(group.begin() + static_cast<long>(out));
+        m_graph.removeEdgesIf([&](const emslam::rectify::PoseGraph::Edge& e)
+                              { return e.tag >= first_tag; });
+        for (std::size_t n = 0; n < group.size(); ++n)
+        {
+            group[n]->tag = first_tag + n;
+            m_graph.addEdge(
+                group[n]->i, group[n]->j, group[n]->z, group[n]->covariance, group[n]->tag);
+        }
+        if (solveConsistently(1, first_tag, gate, offenders))
+        {
+            return true;
+        }
+    }
+    return false;
+}
+
+bool LoopCloser::refuseGroup(
+    const std::vector<std::unique_ptr<Registration>>& group, std::size_t first_tag)
+{
+    m_graph.removeEdgesIf([&](const emslam::rectify::PoseGraph::Edge& e)
+                          { return e.tag >= first_tag; });
+    m_stats.refused_groups += 1;
+    m_stats.refused_edges += group.size();
+    if (continuesAcceptedLoop(group))
+    {
+        return false;  // the loop followed, beyond its noise: no contradiction
+    }
+    m_stats.contradicting_groups += 1;
+    m_stats.contradicting_edges += group.size();
+    // A look-alike place fools the consensus once per window of
+    // keyframes passing it: a group agreeing over several windows
+    // counts as as many.
+    std::set<std::size_t> keyframes;
+    for (const auto& r : group)
+    {
+        keyframes.insert(r->j);
+    }
+    m_stats.contradicting_keyframes += keyframes.size();
+    const auto window = static_cast<std::size_t>(m_p.consensus_window);
+    m_contradicting_windows += (keyframes.size() + window - 1) / window;
+    return checkContradictions();
+}
+
+void LoopCloser::recordLatency(std::size_t j)
+{
+    const double latency_ms = std::chrono::duration<double, std::milli>(
+                                  std::chrono::steady_clock::now() - m_keyframes[j].added)
+                                  .count();
     m_stats.latency_ms_mean =
         (m_stats.latency_ms_mean * static_cast<double>(m_stats.latency_count) + latency_ms) /
         static_cast<double>(m_stats.latency_count + 1);
     m_stats.latency_ms_max = std::max(m_stats.latency_ms_max, latency_ms);
     ++m_stats.latency_count;
-    for (std::size_t n = 0; n < group.size(); ++n)
+}
+
+void LoopCloser::acceptGroup(std::vector<std::unique_ptr<Registration>>& group)
+{
+    for (auto& reg : group)
     {
-        Registration& r = *group[n];
+        const Registration& r = *reg;
         // A shortcut of the drift, as uncertain as the edge plus the
         // misclosure it had to absorb: the egomotion drifted that much
         // beyond what its covariance said (KITTI: corrections 3-4 sigma of
         // it), and may again on the way from here.
         m_drift->addShortcut(
-            r.i, r.j, translationTrace(r.covariance) + squared(misclosure[n], 0),
-            rotationTrace(r.covariance) + squared(misclosure[n], 3));
+            r.i, r.j, translationTrace(r.covariance) + squaredNorm3(r.misclosure, 0),
+            rotationTrace(r.covariance) + squaredNorm3(r.misclosure, 3));
         m_dropped.push_back(false);
         m_edges.push_back(
             {m_keyframes[r.i].frame_index, m_keyframes[r.j].frame_index, r.z, r.matches});
         ++m_stats.loop_edges;
-        m_accepted.push_back(std::move(group[n]));
+        m_accepted.push_back(std::move(reg));
     }
-    return disagrees;
 }
 
 void LoopCloser::solve(int max_iterations, std::size_t first_free)

@@ -69,6 +69,11 @@ protected:
     void execute() override;
 
 private:
+    struct Arguments;
+    /** The inputs named (GT EST, --map/--map-gt, --grid/--grid-gt), checked to come in pairs. */
+    void takeInputs(Arguments& args);
+    /** The measuring options, checked. */
+    void takeOptions(Arguments& args);
     /** Trajectory part of execute(): prints the metrics, returns their JSON. */
     std::string evaluateTrajectory();
     /** --map / --grid parts: print the figures, return their JSON members. */

@@ -116,6 +116,14 @@ protected:
     void execute() override;
 
 private:
+    struct Arguments;
+    /** The dataset, folders, files and labels, and the options only some
+     * datasets take. */
+    void takeDataset(Arguments& args);
+    /** The frames to import (--first/--last/--step or --frames), the
+     * compression and --gt-out, checked. */
+    void takeSelection(Arguments& args);
+
     bool m_initialized{false};
 };
 

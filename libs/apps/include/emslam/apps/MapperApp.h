@@ -13,8 +13,14 @@
 
 #include <mrpt/config/CConfigFileMemory.h>
 
+#include <chrono>
 #include <memory>
 #include <string>
+
+namespace emslam::io
+{
+class ObservationSource;
+}  // namespace emslam::io
 
 namespace emslam::apps
 {
@@ -100,7 +106,26 @@ protected:
     void execute() override;
 
 private:
+    /** Maps the input's frames until its end, a signal, --max-frames or an
+     * error (m_info.stopped_by_error). */
+    void mapInput(io::FrameStreamGuard& guard);
+    /** One observation to the mapper; false if it did not take it (`stop`
+     * set: an error ended the run). */
+    bool mapObservation(
+        const mrpt::obs::CObservation& o,
+        std::size_t record,
+        io::FrameStreamGuard& guard,
+        ProgressLine& progress,
+        bool& stop);
+    /** An input that ended early: a warning, or an error to fail the run with. */
+    void checkInputEnd(const io::ObservationSource& reader);
+    /** Throws: no frame was mapped. */
+    [[noreturn]] void failWithoutFrames(const io::FrameStreamGuard& guard) const;
+    /** The mapper's finish() and every output. */
+    void finishAndWrite(std::chrono::steady_clock::time_point t_start);
     void writeOutputs(const emslam::io::TumTrajectory& ground_truth);
+    /** The run in a few lines on stdout (and unreliable-estimate warnings). */
+    void printSummary(const emslam::io::TumTrajectory& ground_truth) const;
     /** Prints a skipped frame's warning (none once its cause was named often enough). */
     void warnSkipped(const std::string& warning, ProgressLine& progress);
     /** Copies what `guard` skipped into the run info. */

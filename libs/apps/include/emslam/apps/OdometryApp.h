@@ -13,6 +13,11 @@
 #include <string>
 #include <vector>
 
+namespace emslam::slam
+{
+class StereoOdometry;
+}  // namespace emslam::slam
+
 namespace emslam::apps
 {
 /** `emslam-odometry`: stereo visual odometry alone (paper §2.1, no global
@@ -81,6 +86,10 @@ protected:
     void execute() override;
 
 private:
+    /** The guided matching counts, the means and the final pose; `written`
+     * names the trajectory files. */
+    void printSummary(const slam::StereoOdometry& odometry, const std::string& written) const;
+
     std::string m_rawlog, m_output;
     emslam::io::TrajectoryOutput m_trajectory_output{emslam::io::TrajectoryOutput::Tum};
 };

@@ -106,6 +106,13 @@ protected:
     void execute() override;
 
 private:
+    struct Arguments;
+    /** The world, the rawlog and the optional image, video and ground-truth outputs. */
+    void takeOutputs(Arguments& args);
+    /** --map-gt-out and --grid-gt-out with their options, checked. */
+    void takeReferences(Arguments& args);
+    /** Usage error if two outputs name the same file. */
+    void requireDistinctOutputs() const;
     /** Writes map_gt_out_file and grid_gt_out_file from the frames [0, frames). */
     void writeReferences(const emslam::sim::StereoSimulator& sim, std::size_t frames);
 };

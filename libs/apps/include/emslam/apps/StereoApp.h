@@ -7,8 +7,15 @@
 #include <mrpt/config/CConfigFileMemory.h>
 
 #include <cstddef>
+#include <functional>
 #include <string>
 #include <vector>
+
+namespace emslam::stereo
+{
+struct StereoFrame;
+class StereoFrontEnd;
+}  // namespace emslam::stereo
 
 namespace emslam::apps
 {
@@ -66,6 +73,15 @@ protected:
     void execute() override;
 
 private:
+    /** Takes each frame and the milliseconds the front-end took for it. */
+    using FrameHandler = std::function<void(const emslam::stereo::StereoFrame&, double)>;
+    /** --ply, --disparity and the comparison with --gt-disparity. */
+    void writeFirstFrameOutputs(const emslam::stereo::StereoFrame& f);
+    /** The one frame of --left/--right/--calib. */
+    void processImagePair(emslam::stereo::StereoFrontEnd& front, const FrameHandler& handle) const;
+    /** The frames of --rawlog, as the mapper would take them, until a signal. */
+    void processRawlog(emslam::stereo::StereoFrontEnd& front, const FrameHandler& handle);
+
     std::string m_left, m_right, m_calib, m_calib_section{"CAMERA"};
     std::string m_rawlog, m_out_rawlog, m_ply, m_disparity_png, m_gt_disparity;
     double m_gt_scale{1.0};

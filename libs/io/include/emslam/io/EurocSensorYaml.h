@@ -81,6 +81,8 @@ private:
         std::size_t line{0};
     };
 
+    class Parser;
+
     const Entry& entry(const std::string& key) const;
     [[noreturn]] void fail(
         std::size_t line, const std::string& key, const std::string& problem) const;

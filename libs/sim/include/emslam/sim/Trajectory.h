@@ -92,6 +92,8 @@ private:
         double yaw0, yaw1;
         double s0;  // arc length at start
     };
+    /** The timed segments (and corners) along m_pts, with m_p. */
+    void buildSegments();
     TParameters m_p;
     std::vector<std::array<double, 3>> m_pts;
     std::vector<Segment> m_segments;

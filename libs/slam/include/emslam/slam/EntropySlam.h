@@ -281,6 +281,20 @@ private:
     /** Waits for the pending keyframe's cloud (if any) and adds it; its
      * times go to `record` (if given). */
     void completePendingKeyframe(FrameRecord* record);
+    /** The front-end's step; false: no frame yet. Throws UnusableObservation
+     * for what the front-end cannot use. */
+    bool runOdometry(const mrpt::obs::CObservation& obs, StereoOdometry::Step& step);
+    /** The step's matches, success and sigmas go to `r` (a predicted step
+     * marks the keyframe interval); returns the step's covariance (the
+     * prior's, a failed step's wide one, or the Dpp's). */
+    emslam::rectify::ActionCovariance recordStep(const StereoOdometry::Step& step, FrameRecord& r);
+    /** Frame `r` was accepted: to the loop closer, then to the map (now, or
+     * when the front-end's map task ends). */
+    void addKeyframe(
+        const emslam::stereo::StereoFrame& f,
+        const emslam::rectify::ActionCovariance& cov_since_keyframe,
+        const mrpt::poses::CPose3D& motion_since_keyframe,
+        FrameRecord& r);
     void addAccepted(
         const emslam::stereo::StereoFrame& f, MapClouds clouds, const PendingKeyframe& k);
     bool loopClosing() const { return m_loop_worker != nullptr; }

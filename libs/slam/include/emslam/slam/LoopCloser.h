@@ -367,18 +367,65 @@ private:
         const emslam::egomotion::EgomotionEstimator& estimator,
         bool work);
     void addLocalEdges(std::size_t j, const emslam::egomotion::EgomotionEstimator& estimator);
+    /** Step 4: registers keyframe j with its candidates; those within the
+     * drift of the chain join the pool. */
     void registerCandidates(std::size_t j, const emslam::egomotion::EgomotionEstimator& estimator);
+    /** The keyframes near enough to j, by the drift, facing its way: the
+     * nearest max_candidates (distance, keyframe), nearest first. */
+    std::vector<std::pair<double, std::size_t>> nearCandidates(std::size_t j);
+    /** The order to register j's candidates in: those that look like it
+     * (place recognition), then the near ones. */
+    std::vector<std::size_t> candidateOrder(
+        std::size_t j, const std::vector<std::pair<double, std::size_t>>& near);
     /** A local registration's Mahalanobis² to the chain: calibrates the
      * drift (Drift::setScale()). */
     void recordLocalMisclosure(double d2);
     /** Step 5 on the pool: the winning group, taken out of it (or none);
      * a new loop waits for the window to end unless `last_call`. */
     std::vector<std::unique_ptr<Registration>> takeConsensusGroup(std::size_t j, bool last_call);
+    /** A registration's normalised correction and correction, at the
+     * current poses. */
+    void measure(Registration& r) const;
+    /** Whether the path at keyframe j went far enough past r to decide on it. */
+    bool readyToDecide(const Registration& r, std::size_t j) const;
+    /** The pool's indices of the group with the largest support x
+     * exp(-n/2) (empty: no consensus). */
+    std::vector<std::size_t> bestConsensusGroup() const;
     /** Step 6 for a group: its edges join the graph, solved if it disagrees;
      * a group the solved graph refuses (it, or the loop edges accepted in
      * the window) is taken out again. Returns true if the graph was solved
      * and kept. */
     bool tryAccept(std::vector<std::unique_ptr<Registration>> group);
+    /** The group's edges join the graph, tagged from `first_tag` on, each
+     * registration keeping its misclosure before the solve. */
+    void addGroupEdges(std::vector<std::unique_ptr<Registration>>& group, std::size_t first_tag);
+    /** The first keyframe a solve for the group may move. */
+    std::size_t firstFreeKeyframe(const std::vector<std::unique_ptr<Registration>>& group) const;
+    /** Solves with the keyframes from `free_from` on free; keeps the
+     * solution if it satisfies (within `gate`) every edge from `first_tag`
+     * on and every loop edge accepted in the window, else puts the graph
+     * back and lists the edges it could not satisfy (tag, cost). */
+    bool solveConsistently(
+        std::size_t free_from,
+        std::size_t first_tag,
+        double gate,
+        std::vector<std::pair<std::size_t, double>>& offenders);
+    /** Takes the group's worst offender out and solves again while the rest
+     * are a consensus; true once the solution is consistent. */
+    bool dropDisagreeingMembers(
+        std::vector<std::unique_ptr<Registration>>& group,
+        std::size_t first_tag,
+        double gate,
+        std::vector<std::pair<std::size_t, double>>& offenders);
+    /** The refused group's edges leave the graph and it is counted (a
+     * contradiction unless it continues the loop accepted); returns
+     * checkContradictions()'s answer, or false. */
+    bool refuseGroup(
+        const std::vector<std::unique_ptr<Registration>>& group, std::size_t first_tag);
+    /** Time from keyframe j's arrival to its loop edges' acceptance. */
+    void recordLatency(std::size_t j);
+    /** The group's registrations become loop edges (and drift shortcuts). */
+    void acceptGroup(std::vector<std::unique_ptr<Registration>>& group);
     /** The χ² gate a loop edge's cost (times 2) must pass in the solved
      * graph, scaled by the drift scale. */
     double loopEdgeGate() const;
