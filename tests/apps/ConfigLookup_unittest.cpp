@@ -82,7 +82,7 @@ TEST(ConfigLookup, unknownNameListsTheShippedOnes)
 {
     emslam::test::expectThrowContaining(
         [] { findConfigFile("kiti", "mapper"); },
-        {"no mapper config 'kiti'", "3dof-low-structured, ", ", euroc, kitti in ",
+        {"no mapper config 'kiti'", "3dof-low-structured, ", ", euroc, kitti, paper in ",
          shippedDir("mapper")});
     emslam::test::expectThrowContaining(
         [] { findConfigFile("kitti", "no-such-kind"); },

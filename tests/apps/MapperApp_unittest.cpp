@@ -1027,7 +1027,7 @@ TEST(MapperApp, configIsAFileOrAShippedNameGivenOnce)
         args.insert(args.begin(), {"--out", dir + "/o"});
         emslam::test::expectThrowContaining([&] { initApp(app, args); }, parts);
     };
-    initFails({"--config=kiti", rawlog}, {"no mapper config 'kiti'", "euroc, kitti in "});
+    initFails({"--config=kiti", rawlog}, {"no mapper config 'kiti'", "euroc, kitti, paper in "});
     initFails({"-c", "kitti", config("kitti"), rawlog}, {"give the config once"});
     initFails({"-c", "kitti", "-c", "euroc", rawlog}, {"-c / --config given 2 times"});
     initFails({rawlog, "-c"}, {"-c needs a value"});

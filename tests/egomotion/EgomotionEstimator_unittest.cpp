@@ -47,8 +47,8 @@ reprojection_refinement = true
 max_lwo_matches = 1500
 guided_matching = true
 guided_radius = 0.25
-covariance_lwo_truncation = true
-match_distinctiveness = 1.5
+experimental_covariance_lwo_truncation = true
+experimental_match_distinctiveness = 1.5
 )";
 
 void expectEqualParams(
@@ -68,8 +68,8 @@ void expectEqualParams(
     EXPECT_EQ(a.max_lwo_matches, b.max_lwo_matches);
     EXPECT_EQ(a.guided_matching, b.guided_matching);
     EXPECT_DOUBLE_EQ(a.guided_radius, b.guided_radius);
-    EXPECT_EQ(a.covariance_lwo_truncation, b.covariance_lwo_truncation);
-    EXPECT_DOUBLE_EQ(a.match_distinctiveness, b.match_distinctiveness);
+    EXPECT_EQ(a.experimental_covariance_lwo_truncation, b.experimental_covariance_lwo_truncation);
+    EXPECT_DOUBLE_EQ(a.experimental_match_distinctiveness, b.experimental_match_distinctiveness);
 }
 
 /** KITTI-style translational drift [fraction]: the relative translation
@@ -134,8 +134,8 @@ TEST(EgomotionEstimator, loadsNonDefaultValues)
     EXPECT_EQ(p.max_lwo_matches, 1500);
     EXPECT_TRUE(p.guided_matching);
     EXPECT_DOUBLE_EQ(p.guided_radius, 0.25);
-    EXPECT_TRUE(p.covariance_lwo_truncation);
-    EXPECT_DOUBLE_EQ(p.match_distinctiveness, 1.5);
+    EXPECT_TRUE(p.experimental_covariance_lwo_truncation);
+    EXPECT_DOUBLE_EQ(p.experimental_match_distinctiveness, 1.5);
 }
 
 TEST(EgomotionEstimator, lwoTruncationFactorMatchesTheSpreadOfACentralSample)
@@ -198,8 +198,8 @@ TEST(EgomotionEstimator, invalidValuesThrow)
         {"lp_num_rings", "1"},
         {"lp_radius", "0.5"},
         {"max_lwo_matches", "5"},
-        {"match_distinctiveness", "0.5"},
-        {"match_distinctiveness", "nan"},
+        {"experimental_match_distinctiveness", "0.5"},
+        {"experimental_match_distinctiveness", "nan"},
         // Sizes that ran out of memory or for minutes after the work started:
         {"window_size", "2147483647"},
         {"lp_num_rings", "70000"},

@@ -1,6 +1,7 @@
 // SPDX-License-Identifier: BSD-3-Clause
 // AnyTime mode: rectification in a second thread (also run under
 // ThreadSanitizer, see tests/tsan).
+#include "PaperRectifierOptions.h"
 #include "SimulatedDrive.h"
 
 #include <emslam/rectify/AnyTimeRectification.h>
@@ -31,7 +32,7 @@ Result runMode(RectificationMode mode, const std::vector<test::DrivenFrame>& fra
     CEntropyVoxelMap::TCreationOptions map;
     map.energy = maps::EnergyType::PlanarLowStructured;
     map.dof = 3;
-    TRectifierOptions opt;
+    TRectifierOptions opt = emslam::test::paperRectifierOptions();
     opt.mode = mode;
     opt.vertical_band = true;
     auto runner = createRectificationRunner(opt, map);
@@ -110,7 +111,7 @@ TEST(AnyTimeRectification, reachesResultsComparableToSerial)
 TEST(AnyTimeRectification, destructorStopsTheThreadWithoutFinish)
 {
     CEntropyVoxelMap::TCreationOptions map;
-    TRectifierOptions opt;
+    TRectifierOptions opt = emslam::test::paperRectifierOptions();
     opt.buffer_size = 2;
     {
         AnyTimeRectification a(opt, map);
@@ -135,7 +136,7 @@ TEST(AnyTimeRectification, coarseLevelsAreWalkedDownToTheFineGrid)
     CEntropyVoxelMap::TCreationOptions map;
     map.energy = maps::EnergyType::PlanarLowStructured;
     map.dof = 3;
-    TRectifierOptions opt;
+    TRectifierOptions opt = emslam::test::paperRectifierOptions();
     opt.mode = RectificationMode::AnyTime;
     opt.vertical_band = true;
     opt.coarse_levels = 1;

@@ -1,6 +1,7 @@
 // SPDX-License-Identifier: BSD-3-Clause
 // chains = K: K independent serial rectifications of the same frames,
 // averaged pose by pose.
+#include "PaperRectifierOptions.h"
 #include "SimulatedDrive.h"
 
 #include <emslam/rectify/AveragedChainsRectification.h>
@@ -29,7 +30,7 @@ CEntropyVoxelMap::TCreationOptions hallMap()
 
 TRectifierOptions hallOptions()
 {
-    TRectifierOptions opt;
+    TRectifierOptions opt = emslam::test::paperRectifierOptions();
     opt.vertical_band = true;
     opt.n_max = 8;  // compressions happen: elements hold several frames
     return opt;

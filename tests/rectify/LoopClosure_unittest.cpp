@@ -1,6 +1,7 @@
 // SPDX-License-Identifier: BSD-3-Clause
 // Global rectification closes the simulated double loop of the paper's
 // Fig. 17 (3DOF robot in a hall) from drifting odometry.
+#include "PaperRectifierOptions.h"
 #include "SimulatedDrive.h"
 
 #include <emslam/rectify/SerialRectification.h>
@@ -44,7 +45,7 @@ TEST(LoopClosure, hallDoubleLoopGapShrinksFiveFold)
     map.cell_size = 0.15;
     map.energy = maps::EnergyType::PlanarLowStructured;
     map.dof = 3;
-    TRectifierOptions opt;  // the paper's defaults
+    TRectifierOptions opt = emslam::test::paperRectifierOptions();  // the paper's defaults
     // Floor and ceiling carry no alignment information in the XZ plane and
     // reward shrinking the map onto itself: keep the walls (camera 1 m high).
     opt.vertical_band = true;

@@ -1,4 +1,6 @@
 // SPDX-License-Identifier: BSD-3-Clause
+#include "PaperRectifierOptions.h"
+
 #include <emslam/rectify/AnyTimeRectification.h>
 #include <emslam/rectify/Revisit.h>
 #include <emslam/rectify/TrajectoryRectifier.h>
@@ -135,7 +137,7 @@ TEST(Revisit, comingBackDownTheCorridorIsARevisit)
 
 TEST(Revisit, confirmAllBeforeRevisitChecksEverySuccessOnlyOnAnOpenWalk)
 {
-    TRectifierOptions search;
+    TRectifierOptions search = emslam::test::paperRectifierOptions();
     search.eps_xyz = 0.05;
     search.eps_rot_deg = 0.3;
     search.select_fraction = 0.1;
@@ -182,7 +184,7 @@ TEST(Revisit, confirmAllBeforeRevisitChecksEverySuccessOnlyOnAnOpenWalk)
 
 TEST(Revisit, holdBeforeRevisitLeavesAnOpenWalkAloneAndIsInertAfterARevisit)
 {
-    TRectifierOptions free;
+    TRectifierOptions free = emslam::test::paperRectifierOptions();
     free.eps_xyz = 0.05;
     free.eps_rot_deg = 0.3;
     free.max_attempts = 150;
@@ -218,7 +220,7 @@ TEST(Revisit, holdBeforeRevisitLeavesAnOpenWalkAloneAndIsInertAfterARevisit)
 // synchronisation before a revisit is held, and the walk stays as fed.
 TEST(Revisit, anyTimeHoldsEverySynchronisationOfAnOpenWalk)
 {
-    TRectifierOptions hold;
+    TRectifierOptions hold = emslam::test::paperRectifierOptions();
     hold.mode = RectificationMode::AnyTime;
     hold.eps_xyz = 0.05;
     hold.eps_rot_deg = 0.3;

@@ -2,6 +2,7 @@
 // The Manhattan-world energy straightens an acyclic trajectory (paper
 // Fig. 18, top): along three corridors with heading drift, the first and the
 // last corridors come out parallel.
+#include "PaperRectifierOptions.h"
 #include "SimulatedDrive.h"
 
 #include <emslam/rectify/SerialRectification.h>
@@ -99,7 +100,7 @@ std::vector<mrpt::poses::CPose3D> rectifiedPoses(
     map.cell_size = 0.15;
     map.energy = energy;
     map.dof = 3;
-    TRectifierOptions opt;
+    TRectifierOptions opt = emslam::test::paperRectifierOptions();
     opt.seed = seed;
     // Floor and ceiling carry no alignment information in the XZ plane and
     // reward folding the corridors onto each other: keep the walls.

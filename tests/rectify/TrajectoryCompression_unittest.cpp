@@ -1,5 +1,7 @@
 // SPDX-License-Identifier: BSD-3-Clause
 // Trajectory compression (§2.2.4, Eq. 13-14).
+#include "PaperRectifierOptions.h"
+
 #include <emslam/rectify/SerialRectification.h>
 #include <emslam/rectify/Trajectory.h>
 
@@ -109,7 +111,7 @@ TEST(TrajectoryCompression, fusedMapIsTheUnionOfItsPartsUpToTheCellSize)
 
 TEST(TrajectoryCompression, elementCountStaysWithinHalfAndFullNmax)
 {
-    TRectifierOptions opt;
+    TRectifierOptions opt = emslam::test::paperRectifierOptions();
     opt.n_max = 10;
     opt.rectify_every = 1000;  // compression only
     SerialRectification slam(opt, mapOptions());

@@ -1,4 +1,5 @@
 // SPDX-License-Identifier: BSD-3-Clause
+#include "PaperRectifierOptions.h"
 #include "SimulatedDrive.h"
 
 #include <emslam/rectify/ActionCovariance.h>
@@ -60,7 +61,7 @@ Trajectory drifted(
 TEST(TrajectoryRectifier, bestEnergyNeverIncreasesAndStopsAfterNcMaxFailures)
 {
     Trajectory t = drifted(hallStart());
-    TRectifierOptions opt;
+    TRectifierOptions opt = emslam::test::paperRectifierOptions();
     opt.eps_xyz = 0.01;
     opt.eps_rot_deg = 0.5;
     TrajectoryRectifier r(opt);
@@ -93,7 +94,7 @@ TEST(TrajectoryRectifier, anchoredEnergyPerturbsAZeroAndAtLeastOneOtherAction)
     map.energy = maps::EnergyType::PlanarStructured;  // Exp. 12: depends on a_0
     Trajectory t = drifted(hallStart(), map);
     ASSERT_TRUE(t.dependsOnGlobalAlignment());
-    TRectifierOptions opt;
+    TRectifierOptions opt = emslam::test::paperRectifierOptions();
     opt.select_fraction = 0.001;         // S_sel = 1
     opt.acceptance = Acceptance::Ratio;  // nearly every change is kept: each one is visible
     TrajectoryRectifier r(opt);
@@ -124,7 +125,7 @@ TEST(TrajectoryRectifier, coarseToFineEndsOnTheFineGridBelowItsStart)
 {
     Trajectory t = drifted(hallStart());
     const double cell = t.map().creationOptions().cell_size;
-    TRectifierOptions opt;
+    TRectifierOptions opt = emslam::test::paperRectifierOptions();
     opt.eps_xyz = 0.01;
     opt.eps_rot_deg = 0.5;
     opt.coarse_levels = 2;
@@ -197,7 +198,9 @@ double fourGridEntropy(const Trajectory& t, const std::vector<mrpt::poses::CPose
 TEST(TrajectoryRectifier, shiftedGridsKeepARealGainAndUndoAGridOne)
 {
     const Trajectory& truth = hallTruth();
-    TRectifierOptions opt;  // one action per attempt, so the search finds the kink below
+    TRectifierOptions opt =
+        emslam::test::paperRectifierOptions();  // one action per attempt, so the search finds the
+                                                // kink below
     opt.select_fraction = 0.03;
     opt.eps_xyz = 0.1;
     opt.eps_rot_deg = 4.0;
@@ -240,7 +243,8 @@ TEST(TrajectoryRectifier, shiftedGridsKeepARealGainAndUndoAGridOne)
 
 TEST(TrajectoryRectifier, confirmPhasesRefuseLongMovesTheShiftedGridsDoNotSee)
 {
-    TRectifierOptions paper;  // one action by up to 0.6 m and 4 degrees
+    TRectifierOptions paper =
+        emslam::test::paperRectifierOptions();  // one action by up to 0.6 m and 4 degrees
     paper.select_fraction = 0.03;
     paper.eps_xyz = 0.6;
     paper.eps_rot_deg = 4.0;
@@ -296,7 +300,7 @@ TEST(TrajectoryRectifier, confirmMinMoveZeroChecksTheSmallMovesToo)
     // On the true trajectory every gain is the grid's. Moves of a few
     // centimetres and a tenth of a degree move no map point by a cell, so
     // only confirm_min_move = 0 checks them.
-    TRectifierOptions small;
+    TRectifierOptions small = emslam::test::paperRectifierOptions();
     small.select_fraction = 0.03;
     small.eps_xyz = 0.03;
     small.eps_rot_deg = 0.1;
@@ -332,7 +336,7 @@ TEST(TrajectoryRectifier, confirmMinMoveZeroChecksTheSmallMovesToo)
 TEST(TrajectoryRectifier, paperRatioRuleKeepsTheBestStateSeen)
 {
     Trajectory t = drifted(hallStart());
-    TRectifierOptions opt;
+    TRectifierOptions opt = emslam::test::paperRectifierOptions();
     opt.acceptance = Acceptance::Ratio;  // the paper's rule
     opt.max_attempts = 300;
     TrajectoryRectifier r(opt);
@@ -347,7 +351,7 @@ TEST(TrajectoryRectifier, paperRatioRuleKeepsTheBestStateSeen)
 
 TEST(TrajectoryRectifier, sameSeedSameResult)
 {
-    TRectifierOptions opt;
+    TRectifierOptions opt = emslam::test::paperRectifierOptions();
     opt.seed = 42;
     opt.vertical_band = true;
     const auto run = [&]
@@ -388,8 +392,8 @@ TEST(TrajectoryRectifier, optionsRoundTripAndRejectBadValues)
     o.seed = 1234567890123ULL;
     o.prior_weight = 3e-7;
     o.prior_sigma_rot_deg = 0.25;
-    o.grid_phases = 3;
-    o.prior_covariance = PriorCovariance::Egomotion;
+    o.experimental_grid_phases = 3;
+    o.prior_covariance = PriorCovariance::Fixed;
     o.proposal = ProposalShape::Coherent;
     o.proposal_scale = 0.5;
     o.coarse_levels = 2;
@@ -411,9 +415,9 @@ TEST(TrajectoryRectifier, optionsRoundTripAndRejectBadValues)
     EXPECT_EQ(back.nc_max, 50);
     EXPECT_DOUBLE_EQ(back.prior_weight, 3e-7);  // not rounded to 0
     EXPECT_DOUBLE_EQ(back.prior_sigma_rot_deg, 0.25);
-    EXPECT_EQ(back.grid_phases, 3);
+    EXPECT_EQ(back.experimental_grid_phases, 3);
     EXPECT_DOUBLE_EQ(back.odometryPrior().sigma_xyz, 0.02);
-    EXPECT_EQ(back.odometryPrior().covariance, PriorCovariance::Egomotion);
+    EXPECT_EQ(back.odometryPrior().covariance, PriorCovariance::Fixed);
     EXPECT_EQ(back.proposal, ProposalShape::Coherent);
     EXPECT_DOUBLE_EQ(back.proposal_scale, 0.5);
     EXPECT_EQ(back.coarse_levels, 2);
@@ -443,8 +447,10 @@ TEST(TrajectoryRectifier, optionsRoundTripAndRejectBadValues)
     test::expectThrowContaining([&] { load("prior_sigma_xyz = 0"); }, {"prior_sigma_xyz"});
     test::expectThrowContaining(
         [&] { load("prior_sigma_rot_deg = nan"); }, {"prior_sigma_rot_deg"});
-    test::expectThrowContaining([&] { load("grid_phases = 0"); }, {"grid_phases", "1..8"});
-    test::expectThrowContaining([&] { load("grid_phases = 9"); }, {"grid_phases", "1..8"});
+    test::expectThrowContaining(
+        [&] { load("experimental_grid_phases = 0"); }, {"experimental_grid_phases", "1..8"});
+    test::expectThrowContaining(
+        [&] { load("experimental_grid_phases = 9"); }, {"experimental_grid_phases", "1..8"});
     test::expectThrowContaining([&] { load("coarse_levels = -1"); }, {"coarse_levels", "0..4"});
     test::expectThrowContaining([&] { load("coarse_levels = 5"); }, {"coarse_levels", "0..4"});
     test::expectThrowContaining([&] { load("validate_phases = 1"); }, {"validate_phases", "2..8"});
@@ -462,10 +468,10 @@ TEST(TrajectoryRectifier, optionsRoundTripAndRejectBadValues)
     test::expectThrowContaining([&] { load("threads = 0"); }, {"threads", "1 or 2"});
 }
 
-TEST(TrajectoryRectifier, shippedConfigLoadsWithThePaperDefaults)
+TEST(TrajectoryRectifier, paperConfigLoadsThePaperValues)
 {
     mrpt::config::CConfigFileMemory c(
-        mrpt::io::file_get_contents(test::sourceDir() + "/config/rectify/rectifier.ini"));
+        mrpt::io::file_get_contents(test::sourceDir() + "/config/mapper/paper.ini"));
     TRectifierOptions o;
     o.loadFromConfigFile(c, "Rectifier");
     EXPECT_DOUBLE_EQ(o.eps_xyz, 0.05);
@@ -476,6 +482,8 @@ TEST(TrajectoryRectifier, shippedConfigLoadsWithThePaperDefaults)
     EXPECT_EQ(o.buffer_size, 10);
     EXPECT_EQ(o.n_max, 60);
     EXPECT_EQ(o.mode, RectificationMode::Serial);
+    EXPECT_EQ(o.acceptance, Acceptance::Ratio);
+    EXPECT_EQ(o.proposal, ProposalShape::Box);
     EXPECT_FALSE(o.odometryPrior().enabled());  // the paper's energy
     SpaceSampler::TParameters sp;
     sp.loadFromConfigFile(c, "SpaceSampling");
@@ -487,7 +495,7 @@ TEST(TrajectoryRectifier, covarianceProposalsMoveOnlyWhatTheEgomotionLeftUncerta
 {
     // Every step is certain except along x: Gaussian proposals drawn from
     // that covariance may change δx only.
-    TRectifierOptions opt;
+    TRectifierOptions opt = emslam::test::paperRectifierOptions();
     opt.proposal = ProposalShape::Covariance;
     opt.max_attempts = 300;
     CEntropyVoxelMap::TCreationOptions map;
@@ -527,7 +535,7 @@ TEST(TrajectoryRectifier, alignmentTurnMovesNoPointByMoreThanACell)
     // first camera, in every attempt. With the egomotion's proposals that
     // turn is capped so that no map point moves by more than a cell, whatever
     // eps_rot_deg says.
-    TRectifierOptions opt;
+    TRectifierOptions opt = emslam::test::paperRectifierOptions();
     opt.proposal = ProposalShape::Covariance;
     opt.acceptance = Acceptance::Ratio;  // nearly every change is kept: each one is visible
     opt.eps_rot_deg = 10;

@@ -1,6 +1,8 @@
 // SPDX-License-Identifier: BSD-3-Clause
 // The map cloud kept per trajectory element: it follows the trajectory's
 // compression, stays bounded, and its points land at their frames' final poses.
+#include "PaperRectifierOptions.h"
+
 #include <emslam/rectify/RectificationRunner.h>
 #include <emslam/rectify/Trajectory.h>
 #include <emslam/slam/ElementClouds.h>
@@ -330,7 +332,7 @@ TEST(ElementClouds, followsAnAnyTimeRunnerWhileItRectifies)
     // arrive; fusing an element before the runner compressed it would freeze
     // a relative pose the rectifier changes afterwards.
     const auto landmarks = wallLandmarks();
-    emslam::rectify::TRectifierOptions opt;
+    emslam::rectify::TRectifierOptions opt = emslam::test::paperRectifierOptions();
     opt.mode = emslam::rectify::RectificationMode::AnyTime;
     opt.n_max = 4;
     opt.buffer_size = 3;

@@ -32,6 +32,16 @@ using mrpt::poses::CPose3D;
 
 namespace
 {
+/** Loop closing by proximity alone, without local edges: what these tests
+ * measure unless they say otherwise (the defaults add both). */
+LoopCloser::TParameters proximityOnly()
+{
+    LoopCloser::TParameters p;
+    p.local_edges = 0;
+    p.place_candidates = 0;
+    return p;
+}
+
 /** The description of a frame showing texture `seed` (a tilted plane). */
 EgomotionEstimator::Description describe(EgomotionEstimator& e, unsigned seed)
 {
@@ -78,7 +88,7 @@ LoopRun runLoop(LoopCloser& closer, const std::map<std::size_t, unsigned>& textu
 
 TEST(LoopCloser, closesTheLoopWhereTheFirstPlacesAreSeenAgain)
 {
-    LoopCloser::TParameters p;
+    LoopCloser::TParameters p = proximityOnly();
     p.enabled = true;
     LoopCloser closer(p);
     // Keyframes 0 and 40 see one place, 1 and 41 another; every other
@@ -115,7 +125,7 @@ TEST(LoopCloser, closesTheLoopWhereTheFirstPlacesAreSeenAgain)
 
 TEST(LoopCloser, refusesALookAlikePlaceThatDisagreesWithTheRealRevisit)
 {
-    LoopCloser::TParameters p;
+    LoopCloser::TParameters p = proximityOnly();
     p.enabled = true;
     p.max_candidates = 6;  // so that the look-alikes are registered too
     LoopCloser closer(p);
@@ -154,7 +164,7 @@ TEST(LoopCloser, refusesALookAlikePlaceThatDisagreesWithTheRealRevisit)
 // loop edge.
 TEST(LoopCloser, aPeriodicWorldIsUnreliableAndClosesNoLoop)
 {
-    LoopCloser::TParameters p;
+    LoopCloser::TParameters p = proximityOnly();
     p.enabled = true;
     p.max_candidates = 6;
     LoopCloser closer(p);
@@ -182,7 +192,7 @@ TEST(LoopCloser, aPeriodicWorldIsUnreliableAndClosesNoLoop)
 
 TEST(LoopCloser, withoutRevisitsThePosesStay)
 {
-    LoopCloser::TParameters p;
+    LoopCloser::TParameters p = proximityOnly();
     p.enabled = true;
     LoopCloser closer(p);
     std::map<std::size_t, unsigned> textures;
@@ -254,7 +264,7 @@ TEST(LoopCloser, localEdgesRepairABadStepOfAnOpenPath)
     const ActionCovariance failed = diagonalCovariance(0.5, mrpt::DEG2RAD(10.0));
     for (auto local : {0, 2})
     {
-        LoopCloser::TParameters p;
+        LoopCloser::TParameters p = proximityOnly();
         p.enabled = true;
         p.local_edges = local;
         LoopCloser closer(p);
@@ -295,7 +305,7 @@ TEST(LoopCloser, localEdgesUndoAStepTheRectifierBent)
     const CorridorKeyframes kf = renderCorridorKeyframes(e, KEYFRAMES);
     const std::vector<CPose3D> rectified = withOneBentStep(kf.truth, 5);
     const ActionCovariance tight = diagonalCovariance(0.01, mrpt::DEG2RAD(0.3));
-    LoopCloser::TParameters p;
+    LoopCloser::TParameters p = proximityOnly();
     p.enabled = true;
     p.local_edges = 2;
     LoopCloser closer(p);
@@ -318,7 +328,7 @@ TEST(LoopCloser, localEdgesUndoAStepTheRectifierBent)
 TEST(LoopCloser, parametersRoundTripAndBadValuesThrow)
 {
     LoopCloser::TParameters p;
-    p.enabled = true;
+    p.enabled = false;
     p.min_path_length = 7;
     p.max_distance = 1.5;
     p.max_angle_deg = 20;
@@ -337,7 +347,7 @@ TEST(LoopCloser, parametersRoundTripAndBadValuesThrow)
     mrpt::config::CConfigFileMemory reparsed(c.getContent());
     LoopCloser::TParameters q;
     q.loadFromConfigFile(reparsed, "LoopCloser");
-    EXPECT_TRUE(q.enabled);
+    EXPECT_FALSE(q.enabled);
     EXPECT_DOUBLE_EQ(q.min_path_length, 7);
     EXPECT_DOUBLE_EQ(q.max_distance, 1.5);
     EXPECT_DOUBLE_EQ(q.max_angle_deg, 20);
@@ -365,7 +375,7 @@ TEST(LoopCloser, closesTheLoopOnlineBeforeTheEnd)
 {
     // The square loop fed as a mapper feeds it: each keyframe with its
     // (drifting) motion, update() after each, as the background thread does.
-    LoopCloser::TParameters p;
+    LoopCloser::TParameters p = proximityOnly();
     p.enabled = true;
     p.consensus_window = 3;  // the new loop is decided two keyframes after its first registration
     LoopCloser closer(p);
@@ -420,7 +430,7 @@ TEST(LoopCloser, closesTheLoopOnlineBeforeTheEnd)
 
 TEST(LoopCloser, aStopMakesUpdatePlaceKeyframesWithoutWork)
 {
-    LoopCloser::TParameters p;
+    LoopCloser::TParameters p = proximityOnly();
     p.enabled = true;
     p.local_edges = 3;
     LoopCloser closer(p);

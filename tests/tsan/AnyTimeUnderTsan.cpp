@@ -19,6 +19,10 @@ TEST(AnyTimeUnderTsan, producerReaderAndRectificationThreadsDoNotRace)
     map.energy = maps::EnergyType::PlanarStructured;
     map.dof = 3;
     TRectifierOptions opt;
+    // The paper's search: the entropy alone, box proposals.
+    opt.prior_weight = 0;
+    opt.prior_covariance = emslam::rectify::PriorCovariance::Fixed;
+    opt.proposal = emslam::rectify::ProposalShape::Box;
     opt.mode = RectificationMode::AnyTime;
     opt.buffer_size = 5;
     opt.n_max = 12;  // compressions happen during the run

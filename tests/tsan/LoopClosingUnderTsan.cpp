@@ -49,6 +49,7 @@ TEST(LoopClosingUnderTsan, producerWorkerAndReaderDoNotRace)
     LoopCloser::TParameters p;
     p.enabled = true;
     p.local_edges = 2;
+    p.place_candidates = 0;
     p.min_path_length = 3;
     LoopCloser closer(p);
     EgomotionEstimator producer_estimator, worker_estimator;

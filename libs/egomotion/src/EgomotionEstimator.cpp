@@ -69,8 +69,8 @@ void EgomotionEstimator::TParameters::loadFromConfigFile(
     MRPT_LOAD_CONFIG_VAR(max_lwo_matches, int, c, s);
     MRPT_LOAD_CONFIG_VAR(guided_matching, bool, c, s);
     MRPT_LOAD_CONFIG_VAR(guided_radius, double, c, s);
-    MRPT_LOAD_CONFIG_VAR(covariance_lwo_truncation, bool, c, s);
-    MRPT_LOAD_CONFIG_VAR(match_distinctiveness, double, c, s);
+    MRPT_LOAD_CONFIG_VAR(experimental_covariance_lwo_truncation, bool, c, s);
+    MRPT_LOAD_CONFIG_VAR(experimental_match_distinctiveness, double, c, s);
     validate();
 }
 
@@ -97,9 +97,10 @@ void EgomotionEstimator::TParameters::saveToConfigFile(
     MRPT_SAVE_CONFIG_VAR_COMMENT(
         guided_radius, "guided search radius, fraction of the image width");
     MRPT_SAVE_CONFIG_VAR_COMMENT(
-        covariance_lwo_truncation, "widen the pose covariance for the residuals LWO cut off");
+        experimental_covariance_lwo_truncation,
+        "widen the pose covariance for the residuals LWO cut off");
     MRPT_SAVE_CONFIG_VAR_COMMENT(
-        match_distinctiveness,
+        experimental_match_distinctiveness,
         "a match's runner-up elsewhere must be this times as far (Pearson distance); 1: off");
 }
 
@@ -140,8 +141,10 @@ void EgomotionEstimator::TParameters::validate() const
         guided_radius > 0 && guided_radius <= 1, "guided_radius",
         "must be in (0, 1] of the image width (got " + std::to_string(guided_radius) + ")");
     require(
-        match_distinctiveness >= 1 && match_distinctiveness <= 100, "match_distinctiveness",
-        "must be in [1, 100] (1: off; got " + std::to_string(match_distinctiveness) + ")");
+        experimental_match_distinctiveness >= 1 && experimental_match_distinctiveness <= 100,
+        "experimental_match_distinctiveness",
+        "must be in [1, 100] (1: off; got " + std::to_string(experimental_match_distinctiveness) +
+            ")");
 }
 
 double lwoTruncationVarianceFactor(double q)
@@ -254,7 +257,7 @@ Distinctiveness EgomotionEstimator::distinctiveness(
     const Described& prev, const Described& cur) const
 {
     Distinctiveness d;
-    d.ratio = static_cast<float>(m_params.match_distinctiveness);
+    d.ratio = static_cast<float>(m_params.experimental_match_distinctiveness);
     // A candidate within the descriptor window of the best describes much
     // of the same pixels: the best shifted, not a look-alike.
     d.same_place_px = static_cast<float>(m_params.lp_radius);
@@ -269,7 +272,7 @@ EgomotionResult EgomotionEstimator::estimateDescribed(
     const mrpt::poses::CPose3D* prediction,
     bool fall_back_to_paper) const
 {
-    const bool distinct = m_params.match_distinctiveness > 1;
+    const bool distinct = m_params.experimental_match_distinctiveness > 1;
     EgomotionResult r = estimateMatching(prev, cur, prediction, distinct);
     if (!r.ok && distinct && fall_back_to_paper)
     {
@@ -460,7 +463,8 @@ EgomotionResult EgomotionEstimator::estimateWithMatches(
         }
     }
     r.ms_pose = msSince(t0);
-    if (r.has_covariance && m_params.covariance_lwo_truncation && r.initial_matches > 0)
+    if (r.has_covariance && m_params.experimental_covariance_lwo_truncation &&
+        r.initial_matches > 0)
     {
         r.covariance *= lwoTruncationVarianceFactor(
             static_cast<double>(r.final_matches) / static_cast<double>(r.initial_matches));

@@ -13,7 +13,7 @@ AnyTimeRectification::AnyTimeRectification(
     : m_options(options), m_trajectory(map_options, insertion_options), m_rectifier(options)
 {
     m_trajectory.setOdometryPrior(options.odometryPrior());
-    m_trajectory.setGridPhases(options.grid_phases);
+    m_trajectory.setGridPhases(options.experimental_grid_phases);
     m_trajectory.setThreads(options.threads);
     m_thread = std::thread([this] { run(); });
 }

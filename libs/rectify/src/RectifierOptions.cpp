@@ -96,7 +96,7 @@ void TRectifierOptions::loadFromConfigFile(
     MRPT_LOAD_CONFIG_VAR(prior_weight, double, c, s);
     MRPT_LOAD_CONFIG_VAR(prior_sigma_xyz, double, c, s);
     MRPT_LOAD_CONFIG_VAR(prior_sigma_rot_deg, double, c, s);
-    MRPT_LOAD_CONFIG_VAR(grid_phases, int, c, s);
+    MRPT_LOAD_CONFIG_VAR(experimental_grid_phases, int, c, s);
     MRPT_LOAD_CONFIG_VAR(coarse_levels, int, c, s);
     MRPT_LOAD_CONFIG_VAR(validate_phases, int, c, s);
     MRPT_LOAD_CONFIG_VAR(confirm_phases, int, c, s);
@@ -142,7 +142,7 @@ void TRectifierOptions::saveToConfigFile(
     MRPT_SAVE_CONFIG_VAR_COMMENT(prior_sigma_xyz, "odometry prior, one step [m]");
     MRPT_SAVE_CONFIG_VAR_COMMENT(prior_sigma_rot_deg, "odometry prior, one step [deg]");
     MRPT_SAVE_CONFIG_VAR_COMMENT(
-        grid_phases, "entropy averaged over shifted voxel grids (1: the paper)");
+        experimental_grid_phases, "entropy averaged over shifted voxel grids (1: the paper)");
     MRPT_SAVE_CONFIG_VAR_COMMENT(
         coarse_levels, "each rectification first runs on cells 2^L..2 l_d (0: the paper)");
     MRPT_SAVE_CONFIG_VAR_COMMENT(
@@ -220,7 +220,9 @@ void TRectifierOptions::validate() const
             prior_sigma_rot_deg <= 180,
         "prior_sigma_rot_deg",
         "= " + std::to_string(prior_sigma_rot_deg) + ": must be in [1e-6, 180] deg");
-    require(grid_phases >= 1 && grid_phases <= 8, "grid_phases", "must be in 1..8");
+    require(
+        experimental_grid_phases >= 1 && experimental_grid_phases <= 8, "experimental_grid_phases",
+        "must be in 1..8");
     require(coarse_levels >= 0 && coarse_levels <= 4, "coarse_levels", "must be in 0..4");
     require(
         validate_phases == 0 || (validate_phases >= 2 && validate_phases <= 8), "validate_phases",

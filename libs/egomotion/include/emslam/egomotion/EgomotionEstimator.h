@@ -52,7 +52,7 @@ struct EgomotionResult
     ///@{
     bool guided{false}, guided_fallback{false};
     ///@}
-    /** Too few distinct matches (match_distinctiveness): this result is the
+    /** Too few distinct matches (experimental_match_distinctiveness): this result is the
      * paper's matching's. */
     bool distinct_fallback{false};
 
@@ -89,17 +89,14 @@ double lwoTruncationVarianceFactor(double q);
  * max_lwo_matches   = 2000   ; most similar matches kept for LWO (O(M^2) memory/time)
  * guided_matching   = false  ; match near the constant-velocity prediction first
  * guided_radius     = 0.1    ; its search radius, fraction of the image width, (0, 1]
- * covariance_lwo_truncation = false ; widen the covariance for the residuals LWO cut off
- * match_distinctiveness = 1 ; runner-up's Pearson distance / the best's, at least (1: off)
- * \endcode
- * Guided matching (not in the paper; process() only): the last step's motion
- * predicts where each previous feature appears, and only current features
- * within guided_radius of that are compared, which costs O(N k) instead of
- * O(N^2) and keeps far look-alikes out. If that step fails (a stop, a sudden
- * turn), the paper's full search runs on the same frames.
- * Distinctiveness (not in the paper; every matching, loop registrations
- * too): with match_distinctiveness > 1 a mutual best is kept only if it
- * stands clear of the best candidate elsewhere in the image
+ * experimental_covariance_lwo_truncation = false ; widen the covariance for what LWO cut off
+ * experimental_match_distinctiveness = 1 ; runner-up's Pearson distance / the best's, at least (1:
+ * off) \endcode Guided matching (not in the paper; process() only): the last step's motion predicts
+ * where each previous feature appears, and only current features within guided_radius of that are
+ * compared, which costs O(N k) instead of O(N^2) and keeps far look-alikes out. If that step fails
+ * (a stop, a sudden turn), the paper's full search runs on the same frames. Distinctiveness (not in
+ * the paper; every matching, loop registrations too): with experimental_match_distinctiveness > 1 a
+ * mutual best is kept only if it stands clear of the best candidate elsewhere in the image
  * (emslam::egomotion::Distinctiveness, candidates beyond lp_radius of it):
  * on a periodic texture the look-alikes a period away are refused instead
  * of left to the noise. A sequential step (process(), and estimate() of two
@@ -160,12 +157,20 @@ public:
         /** The pose covariance's residual scale comes from the matches LWO
          * kept, the best fraction q of them: read as a Gaussian truncated to
          * its central q, it is multiplied by lwoTruncationVarianceFactor(q).
+         * Experimental: on KITTI 06 it puts the prior's minimum near the
+         * truth (0.54 -> 0.07 nats there), but the one-grid search then
+         * drifts (pseudo-loop end error 0.22-0.33 -> 0.47-1.49 m;
+         * doc/notes/2026-12-02-lwo-truncation-coarse-levels-validation.md).
          * (Default: false: the kept residuals as they are) */
-        bool covariance_lwo_truncation{false};
+        bool experimental_covariance_lwo_truncation{false};
         /** Distinctiveness::ratio: a match's runner-up elsewhere in the
          * image (beyond lp_radius of it) must have at least this times its
-         * Pearson distance 1 - S, in [1, 100]. (Default: 1, off: the paper) */
-        double match_distinctiveness{1};
+         * Pearson distance 1 - S, in [1, 100]. Experimental: with 2 the
+         * periodic world's egomotion barely changed (lookalike_periodic seed
+         * 62: ATE 0.86 -> 0.85 m) and the hall's end error grew 0.14 -> 0.37 m
+         * (doc/apps/emslam-odometry.md, "Distinctiveness").
+         * (Default: 1, off: the paper) */
+        double experimental_match_distinctiveness{1};
     };
 
     EgomotionEstimator() = default;
@@ -232,7 +237,7 @@ public:
 
 private:
     Described describe(const emslam::stereo::StereoFrame& f) const;
-    /** estimateMatching(), distinct if match_distinctiveness is on; if that
+    /** estimateMatching(), distinct if experimental_match_distinctiveness is on; if that
      * fails and `fall_back_to_paper`, again with the paper's matching. */
     EgomotionResult estimateDescribed(
         const Described& prev,
@@ -268,7 +273,7 @@ private:
         bool distinct) const;
 
     /** The Distinctiveness of matching `prev` to `cur` (off unless
-     * match_distinctiveness > 1). */
+     * experimental_match_distinctiveness > 1). */
     Distinctiveness distinctiveness(const Described& prev, const Described& cur) const;
 
     TParameters m_params;

@@ -44,8 +44,9 @@ enum class ProposalShape : std::uint8_t
     Coherent
 };
 
-/** Parameters of the global rectification, section `[Rectifier]` (paper §2.2.3-2.2.4
- * and §3.2 defaults). The degrees of freedom (3DOF [δx, δz, δθ_y] or 6DOF)
+/** Parameters of the global rectification, section `[Rectifier]` (paper
+ * §2.2.3-2.2.4). The defaults are the shipped tuning; the paper's own values
+ * (§3.2) are config/mapper/paper.ini. The degrees of freedom (3DOF [δx, δz, δθ_y] or 6DOF)
  * follow the map's energy (`[EntropyVoxelMap]` `energy` / `dof`).
  *
  * \code
@@ -66,13 +67,13 @@ enum class ProposalShape : std::uint8_t
  * vertical_band    = false   ; keep only points with band_min_y <= y <= band_max_y
  * band_min_y       = -1.5    ; [m] camera frame, y down (above the camera is < 0)
  * band_max_y       = 0.8     ; [m]
- * prior_weight     = 0       ; odometry prior (0: off, the paper's energy)
+ * prior_weight     = 0.001   ; odometry prior (0: off, the paper's energy)
  * prior_sigma_xyz  = 0.02    ; [m] per accepted step
  * prior_sigma_rot_deg = 0.5  ; [deg] per accepted step
- * prior_covariance = fixed   ; fixed (the sigmas above) | egomotion (Dpp curvature)
- * proposal         = box     ; box (the paper's ε) | covariance | coherent (egomotion's)
+ * prior_covariance = egomotion ; fixed (the sigmas above) | egomotion (Dpp curvature)
+ * proposal         = covariance ; box (the paper's ε) | covariance | coherent (egomotion's)
  * proposal_scale   = 1       ; σ multiplier of the covariance proposal
- * grid_phases      = 1       ; entropy averaged over shifted voxel grids (1: the paper)
+ * experimental_grid_phases = 1 ; entropy averaged over shifted voxel grids (1: the paper)
  * coarse_levels    = 0       ; each rectification first runs on cells 2^L..2 l_d (0: the paper)
  * validate_phases  = 0       ; keep a rectification only if K shifted grids agree (0: the paper)
  * confirm_phases   = 0       ; a success that moves a point > a cell needs K shifted grids (0: off)
@@ -119,17 +120,26 @@ struct TRectifierOptions : public mrpt::config::CLoadableOptions
     bool vertical_band{false};  //!< filter points by camera-frame y (Default: false)
     double band_min_y{-1.5};    //!< [m] (Default: -1.5)
     double band_max_y{0.8};     //!< [m] (Default: 0.8)
-    /** OdometryPrior weight [nats]; 0: off, the paper's energy (Default: 0) */
-    double prior_weight{0.0};
+    /** OdometryPrior weight [nats]; 0: off, the paper's energy. Shipped on:
+     * where the entropy is flat (a corridor, a straight drive) it keeps the
+     * actions near the egomotion's. (Default: 0.001) */
+    double prior_weight{0.001};
     double prior_sigma_xyz{0.02};     //!< [m] one accepted step (Default: 0.02)
     double prior_sigma_rot_deg{0.5};  //!< [deg] one accepted step (Default: 0.5)
-    /** Where the prior's covariance comes from (Default: fixed) */
-    PriorCovariance prior_covariance{PriorCovariance::Fixed};
-    ProposalShape proposal{ProposalShape::Box};  //!< (Default: box, the paper)
-    double proposal_scale{1.0};                  //!< (Default: 1)
+    /** Where the prior's covariance comes from: each step's own
+     * (egomotion), or the sigmas above (fixed). (Default: egomotion) */
+    PriorCovariance prior_covariance{PriorCovariance::Egomotion};
+    /** Covariance: a box move costs tens of σ under the prior; the paper's
+     * box is `box`. (Default: covariance) */
+    ProposalShape proposal{ProposalShape::Covariance};
+    double proposal_scale{1.0};  //!< (Default: 1)
     /** Grid phases the entropy is averaged over (Trajectory::setGridPhases());
-     * 1: the paper's single voxel grid (Default: 1) */
-    int grid_phases{1};
+     * 1: the paper's single voxel grid. Experimental: with 4, the 3DOF
+     * Manhattan energy (Exp. 12) closed the hall and the corridors with a
+     * smaller gap and ATE on every seed, at 3-4x the time per call, and the
+     * other energies got no better (doc/notes/2026-12-01-grid-phases.md).
+     * (Default: 1) */
+    int experimental_grid_phases{1};
     /** Coarse to fine: each rectification first runs to convergence on
      * cells of 2^L·l_d, then 2^(L-1)·l_d, ..., then l_d; 0: only l_d, the
      * paper (Default: 0) */

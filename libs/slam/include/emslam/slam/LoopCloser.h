@@ -133,8 +133,9 @@ public:
         /** Throws std::invalid_argument naming the key of a bad value. */
         void validate() const;
 
-        /** Close loops after the rectification. (Default: false, the paper) */
-        bool enabled{false};
+        /** Close loops beside the rectification (false: the paper's result
+         * alone). (Default: true) */
+        bool enabled{true};
         /** [m] path between two keyframes before they may close a loop:
          * shorter detours are the egomotion's. (Default: 10) */
         double min_path_length{10.0};
@@ -151,14 +152,14 @@ public:
         /** Keyframes that look most like the new one (PlaceRecognition, an
          * inverted index of the kept descriptors), registered before the
          * nearest by the estimate: they are proposed whatever the drift. 0:
-         * proximity alone. (Default: 0) */
-        int place_candidates{0};
+         * proximity alone. (Default: 4) */
+        int place_candidates{4};
         /** Each keyframe is also registered directly against this many
          * keyframes before it, and those registrations join the pose graph:
          * one registration in place of a chain of frame-to-frame steps, so
          * the chain's errors average out along the whole path, loop or not.
-         * 0: off. A few ms per registration. (Default: 0) */
-        int local_edges{0};
+         * 0: off. A few ms per registration. (Default: 3) */
+        int local_edges{3};
         /** Level the floors: each keyframe's dense cloud says where up is
          * (emslam::stereo::VerticalFromPlanes), and those that agree join
          * the pose graph as priors on its tilt, online (relevelFloors()). For
