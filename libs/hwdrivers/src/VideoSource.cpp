@@ -184,12 +184,15 @@ VideoSource::VideoSource(
         else
         {
             opened = m_cap.open(m_source, api, props);
-            // An image sequence, or a file FFmpeg does not read: any other backend.
+            // An image sequence, or a file FFmpeg does not read: the other file
+            // decoder. Not CAP_ANY: it also probes camera backends (gphoto2 walks
+            // the USB bus and leaks), which never read a file.
             if (!opened && m_kind == VideoSourceKind::FILE && request.backend == "auto")
             {
                 opened = m_cap.open(
                     m_source,
-                    m_source.find('%') != std::string::npos ? cv::CAP_IMAGES : cv::CAP_ANY, props);
+                    m_source.find('%') != std::string::npos ? cv::CAP_IMAGES : cv::CAP_GSTREAMER,
+                    props);
             }
         }
     }
