@@ -18,6 +18,9 @@
 
 #include <gtest/gtest.h>
 
+#include <opencv2/core.hpp>
+#include <opencv2/imgcodecs.hpp>
+
 using emslam::apps::MapViewApp;
 
 TEST(MapViewApp, opensEntropyMapBinAndScenes)
@@ -108,5 +111,28 @@ TEST(MapViewApp, noOpenGlWindowExitsNonZeroWithTheReason)
             "emslam-mapview: error: cannot show '" + file + "': no window opened on display"),
         std::string::npos)
         << run.stderr_text;
+}
+// --screenshot draws off-screen: an image of the scene without any display.
+TEST(MapViewApp, screenshotNeedsNoDisplay)
+{
+    const std::string file = sceneFile("mapview_screenshot");
+    const std::string png = file + ".png";
+    const auto run = emslam::test::runProgram(
+        "/usr/bin/env", {"-u", "DISPLAY", EMSLAM_MAPVIEW_EXE, file, "--screenshot", png});
+    ASSERT_EQ(run.exit_code, 0) << run.stderr_text;
+    const cv::Mat image = cv::imread(png, cv::IMREAD_COLOR);
+    ASSERT_FALSE(image.empty()) << png;
+    EXPECT_EQ(image.cols, 1000);
+    EXPECT_EQ(image.rows, 700);
+    // Something drawn on the background, not one flat colour.
+    cv::Scalar mean, stddev;
+    cv::meanStdDev(image, mean, stddev);
+    EXPECT_GT(stddev[0] + stddev[1] + stddev[2], 10.0);
+    const auto bad = emslam::test::runProgram(
+        "/usr/bin/env",
+        {"-u", "DISPLAY", EMSLAM_MAPVIEW_EXE, file, "--screenshot", file + "/no/such/dir.png"});
+    EXPECT_EQ(bad.exit_code, 1) << bad.stderr_text;
+    EXPECT_NE(bad.stderr_text.find("cannot write the screenshot"), std::string::npos)
+        << bad.stderr_text;
 }
 #endif

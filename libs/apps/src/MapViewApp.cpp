@@ -11,6 +11,7 @@
 #include <mrpt/gui/CDisplayWindow3D.h>
 #include <mrpt/io/CFileGZInputStream.h>
 #include <mrpt/maps/CMetricMap.h>
+#include <mrpt/opengl/CFBORender.h>
 #include <mrpt/opengl/CSetOfObjects.h>
 #include <mrpt/serialization/CArchive.h>
 #include <mrpt/system/filesystem.h>
@@ -25,6 +26,8 @@ namespace emslam::apps
 namespace
 {
 constexpr const char* PROGRAM = "emslam-mapview";
+/** The window and --screenshot image size [px]. */
+constexpr unsigned WINDOW_WIDTH = 1000, WINDOW_HEIGHT = 700;
 
 bool endsWith(const std::string& s, const std::string& tail)
 {
@@ -45,6 +48,11 @@ bool MapViewApp::parseArguments(int argc, const char** argv)
     TCLAP::ValueArg<long long> max_cells(
         "", "max-cells", "Entropy cells drawn at most (the heaviest; default 50000)", false, 50000,
         "N", cmd);
+    TCLAP::ValueArg<std::string> screenshot(
+        "", "screenshot",
+        "Draws the view off-screen (no display needed) into this image file (PNG by its "
+        "extension) instead of opening the window",
+        false, "", "FILE", cmd);
     if (!parseCommandLine(cmd, argc, argv))
     {
         return false;
@@ -55,6 +63,7 @@ bool MapViewApp::parseArguments(int argc, const char** argv)
     }
     m_file = file.getValue();
     m_max_cells = static_cast<std::size_t>(max_cells.getValue());
+    m_screenshot = screenshot.getValue();
     return true;
 }
 
@@ -101,15 +110,34 @@ mrpt::opengl::COpenGLScene::Ptr MapViewApp::loadScene(
         ", not a metric map or a 3D scene");
 }
 
+void MapViewApp::saveScreenshot(const mrpt::opengl::COpenGLScene& scene) const
+{
+    // Off-screen (EGL): no display needed, the scene's own camera.
+    mrpt::opengl::CFBORender render(WINDOW_WIDTH, WINDOW_HEIGHT);
+    render.setCamera(scene, scene.getViewport()->getCamera());
+    mrpt::img::CImage image;
+    render.render_RGB(scene, image);
+    if (!image.saveToFile(m_screenshot))
+    {
+        throw std::runtime_error("cannot write the screenshot '" + m_screenshot + "'");
+    }
+}
+
 void MapViewApp::execute()
 {
     auto scene = loadScene(m_file, m_max_cells);
+    if (!m_screenshot.empty())
+    {
+        saveScreenshot(*scene);
+        return;
+    }
     const std::string problem = LiveViewer::displayProblem();
     if (!problem.empty())
     {
         throw std::runtime_error("cannot show '" + m_file + "': " + problem);
     }
-    mrpt::gui::CDisplayWindow3D win(std::string(PROGRAM) + ": " + m_file, 1000, 700);
+    mrpt::gui::CDisplayWindow3D win(
+        std::string(PROGRAM) + ": " + m_file, WINDOW_WIDTH, WINDOW_HEIGHT);
     // The toolkit only prints why a window failed (no GLX on the display, a
     // GL context refused) and times out: nothing would be shown, so fail.
     if (!win.isOpen())

@@ -13,12 +13,14 @@ namespace emslam::apps
  * stock SceneViewer3D cannot (it takes entropy_map.bin for a mesh).
  *
  * \code
- * emslam-mapview FILE [--max-cells N]
+ * emslam-mapview FILE [--max-cells N] [--screenshot IMAGE]
  * \endcode
  * FILE: `entropy_map.bin` (a serialized CEntropyVoxelMap: its heaviest N
  * cells, default 50000), any other serialized MRPT metric map (its own
  * drawing), or a `.3Dscene` (map.3Dscene, entropy_map.3Dscene). The window
- * stays until it is closed. Without a display it fails naming the cause.
+ * stays until it is closed. Without a display it fails naming the cause;
+ * `--screenshot` needs none: it draws the view off-screen into IMAGE
+ * instead of opening the window.
  * \ingroup emslam_apps_grp \sa entropyVoxelObject(), LiveViewer */
 class MapViewApp : public App
 {
@@ -37,7 +39,11 @@ protected:
     void execute() override;
 
 private:
+    /** Draws `scene` off-screen from its camera into m_screenshot. */
+    void saveScreenshot(const mrpt::opengl::COpenGLScene& scene) const;
+
     std::string m_file;
+    std::string m_screenshot;
     std::size_t m_max_cells{50000};
 };
 
