@@ -35,9 +35,9 @@ protected:
         std::size_t frame_index,
         const std::optional<ActionCovariance>& covariance);
 
-    TRectifierOptions m_options;
-    Trajectory m_trajectory;
-    TrajectoryRectifier m_rectifier;
+    TRectifierOptions m_options;      //!< the options the runner was made with
+    Trajectory m_trajectory;          //!< the frames so far, as elements
+    TrajectoryRectifier m_rectifier;  //!< the chain that rectifies m_trajectory
 };
 
 }  // namespace emslam::rectify
