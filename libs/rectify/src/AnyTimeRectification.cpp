@@ -1,6 +1,5 @@
 // SPDX-License-Identifier: BSD-3-Clause
 #include <emslam/rectify/AnyTimeRectification.h>
-#include <emslam/rectify/VerticalBand.h>
 
 #include <stdexcept>
 
@@ -10,11 +9,8 @@ AnyTimeRectification::AnyTimeRectification(
     const TRectifierOptions& options,
     const emslam::CEntropyVoxelMap::TCreationOptions& map_options,
     const emslam::CEntropyVoxelMap::TInsertionOptions& insertion_options)
-    : m_options(options), m_trajectory(map_options, insertion_options), m_rectifier(options)
+    : SingleChainRunner(options, map_options, insertion_options)
 {
-    m_trajectory.setOdometryPrior(options.odometryPrior());
-    m_trajectory.setGridPhases(options.experimental_grid_phases);
-    m_trajectory.setThreads(options.threads);
     m_thread = std::thread([this] { run(); });
 }
 
@@ -89,12 +85,7 @@ void AnyTimeRectification::synchronise()
         closeRun();
         for (BufferedFrame& f : m_buffer)
         {
-            m_trajectory.append(f.action, f.cloud, f.timestamp, f.frame_index, f.covariance);
-            if (m_options.n_max > 0 &&
-                m_trajectory.size() > static_cast<std::size_t>(m_options.n_max))
-            {
-                m_trajectory.compress();
-            }
+            appendFrame(f.action, f.cloud, f.timestamp, f.frame_index, f.covariance);
         }
         m_buffer.clear();
         if (m_trajectory.size() >= 2)
@@ -118,36 +109,23 @@ void AnyTimeRectification::rethrowWorkerError()
     }
 }
 
-void AnyTimeRectification::addFrame(
+void AnyTimeRectification::internalAddFrame(
     const mrpt::poses::CPose3D& action,
     const emslam::maps::WeightedPointCloud& cloud,
     double timestamp,
     std::size_t frame_index,
     const std::optional<ActionCovariance>& covariance)
 {
-    if (m_finished)
-    {
-        throw std::logic_error("AnyTimeRectification::addFrame after finish()");
-    }
     rethrowWorkerError();
-    m_buffer.push_back(
-        {action,
-         m_options.vertical_band
-             ? keepVerticalBand(cloud, m_options.band_min_y, m_options.band_max_y)
-             : cloud,
-         timestamp, frame_index, covariance});
+    m_buffer.push_back({action, keptPart(cloud), timestamp, frame_index, covariance});
     if (m_buffer.size() >= static_cast<std::size_t>(m_options.buffer_size))
     {
         synchronise();
     }
 }
 
-void AnyTimeRectification::finish()
+void AnyTimeRectification::internalFinish()
 {
-    if (m_finished)
-    {
-        return;
-    }
     rethrowWorkerError();
     if (!m_buffer.empty())
     {
@@ -170,7 +148,6 @@ void AnyTimeRectification::finish()
             m_stable = s.converged;
         }
     }
-    m_finished = true;
 }
 
 std::vector<RectificationStats> AnyTimeRectification::statistics() const
@@ -193,7 +170,7 @@ std::vector<TimedPose> AnyTimeRectification::framePoses() const
 
 const Trajectory& AnyTimeRectification::trajectory() const
 {
-    if (!m_finished)
+    if (!finished())
     {
         throw std::logic_error("AnyTimeRectification::trajectory() before finish()");
     }

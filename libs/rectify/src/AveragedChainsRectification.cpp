@@ -32,17 +32,13 @@ AveragedChainsRectification::AveragedChainsRectification(
     }
 }
 
-void AveragedChainsRectification::addFrame(
+void AveragedChainsRectification::internalAddFrame(
     const mrpt::poses::CPose3D& action,
     const emslam::maps::WeightedPointCloud& cloud,
     double timestamp,
     std::size_t frame_index,
     const std::optional<ActionCovariance>& covariance)
 {
-    if (m_finished)
-    {
-        throw std::logic_error("AveragedChainsRectification::addFrame after finish()");
-    }
     timedForEachChain([&](SerialRectification& c)
                       { c.addFrame(action, cloud, timestamp, frame_index, covariance); });
 }
@@ -81,16 +77,11 @@ void AveragedChainsRectification::forEachChain(const std::function<void(SerialRe
     odd.get();
 }
 
-void AveragedChainsRectification::finish()
+void AveragedChainsRectification::internalFinish()
 {
-    if (m_finished)
-    {
-        return;
-    }
     timedForEachChain([](SerialRectification& c) { c.finish(); });
     m_mean_frames = meanFramePoses();
     averageIntoFirstChain();
-    m_finished = true;
 }
 
 void AveragedChainsRectification::averageIntoFirstChain()
@@ -152,7 +143,7 @@ std::vector<RectificationStats> AveragedChainsRectification::statistics() const
 
 std::vector<TimedPose> AveragedChainsRectification::framePoses() const
 {
-    return m_finished ? m_mean_frames : meanFramePoses();
+    return finished() ? m_mean_frames : meanFramePoses();
 }
 
 std::vector<TimedPose> AveragedChainsRectification::meanFramePoses() const

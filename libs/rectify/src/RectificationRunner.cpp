@@ -4,8 +4,34 @@
 #include <emslam/rectify/RectificationRunner.h>
 #include <emslam/rectify/SerialRectification.h>
 
+#include <stdexcept>
+
 namespace emslam::rectify
 {
+void RectificationRunner::addFrame(
+    const mrpt::poses::CPose3D& action,
+    const emslam::maps::WeightedPointCloud& cloud,
+    double timestamp,
+    std::size_t frame_index,
+    const std::optional<ActionCovariance>& covariance)
+{
+    if (m_finished)
+    {
+        throw std::logic_error("RectificationRunner::addFrame after finish()");
+    }
+    internalAddFrame(action, cloud, timestamp, frame_index, covariance);
+}
+
+void RectificationRunner::finish()
+{
+    if (m_finished)
+    {
+        return;
+    }
+    internalFinish();
+    m_finished = true;
+}
+
 std::unique_ptr<RectificationRunner> createRectificationRunner(
     const TRectifierOptions& options,
     const emslam::CEntropyVoxelMap::TCreationOptions& map_options,

@@ -65,6 +65,11 @@ std::vector<ActionCovariance> composeCovariancePairs(
 }
 }  // namespace
 
+bool Trajectory::needsCompression(int n_max) const
+{
+    return n_max > 0 && size() > static_cast<std::size_t>(n_max);
+}
+
 void Trajectory::compress()
 {
     const std::size_t n = m_actions.size();

@@ -1,8 +1,7 @@
 // SPDX-License-Identifier: BSD-3-Clause
 #pragma once
 
-#include <emslam/rectify/RectificationRunner.h>
-#include <emslam/rectify/TrajectoryRectifier.h>
+#include <emslam/rectify/SingleChainRunner.h>
 
 #include <atomic>
 #include <condition_variable>
@@ -20,8 +19,10 @@ namespace emslam::rectify
  * Thread safety: addFrame() and finish() from one producer thread;
  * mapStable(), statistics() and framePoses() from any thread. An exception
  * in the rectification thread is rethrown by the next addFrame()/finish().
- * \ingroup emslam_rectify_grp \sa RectificationRunner */
-class AnyTimeRectification : public RectificationRunner
+ * The trajectory and the rectifier (SingleChainRunner's m_trajectory and
+ * m_rectifier) are guarded by m_mutex; the worker uses the rectifier.
+ * \ingroup emslam_rectify_grp \sa RectificationRunner, SingleChainRunner */
+class AnyTimeRectification : public SingleChainRunner
 {
 public:
     /** Starts the rectification thread over an empty trajectory whose map has `map_options` and
@@ -36,13 +37,6 @@ public:
     AnyTimeRectification(const AnyTimeRectification&) = delete;
     AnyTimeRectification& operator=(const AnyTimeRectification&) = delete;
 
-    void addFrame(
-        const mrpt::poses::CPose3D& action,
-        const emslam::maps::WeightedPointCloud& cloud,
-        double timestamp,
-        std::size_t frame_index,
-        const std::optional<ActionCovariance>& covariance = std::nullopt) override;
-    void finish() override;
     bool mapStable() const override { return m_stable.load(); }
     std::vector<RectificationStats> statistics() const override;
     Progress progress() const override;
@@ -51,6 +45,15 @@ public:
 
     /** Synchronisations so far. */
     std::size_t synchronisations() const { return m_syncs.load(); }
+
+protected:
+    void internalAddFrame(
+        const mrpt::poses::CPose3D& action,
+        const emslam::maps::WeightedPointCloud& cloud,
+        double timestamp,
+        std::size_t frame_index,
+        const std::optional<ActionCovariance>& covariance) override;
+    void internalFinish() override;
 
 private:
     struct BufferedFrame
@@ -70,9 +73,6 @@ private:
     void stopThread();
     void rethrowWorkerError();
 
-    TRectifierOptions m_options;
-    Trajectory m_trajectory;                  //!< guarded by m_mutex
-    TrajectoryRectifier m_rectifier;          //!< guarded by m_mutex; used by the worker
     RectificationStats m_current;             //!< guarded by m_mutex
     bool m_run_open{false};                   //!< guarded by m_mutex
     std::vector<RectificationStats> m_stats;  //!< guarded by m_mutex
@@ -85,7 +85,6 @@ private:
     std::atomic<bool> m_stable{false};
     std::atomic<std::size_t> m_syncs{0};
     std::exception_ptr m_worker_error;  //!< guarded by m_mutex
-    bool m_finished{false};
     std::thread m_thread;
 };
 

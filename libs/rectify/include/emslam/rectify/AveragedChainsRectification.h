@@ -41,13 +41,6 @@ public:
         const emslam::CEntropyVoxelMap::TCreationOptions& map_options,
         const emslam::CEntropyVoxelMap::TInsertionOptions& insertion_options = {});
 
-    void addFrame(
-        const mrpt::poses::CPose3D& action,
-        const emslam::maps::WeightedPointCloud& cloud,
-        double timestamp,
-        std::size_t frame_index,
-        const std::optional<ActionCovariance>& covariance = std::nullopt) override;
-    void finish() override;
     bool mapStable() const override;
     Progress progress() const override;
     std::vector<RectificationStats> statistics() const override;
@@ -58,6 +51,15 @@ public:
     std::size_t chainCount() const { return m_chains.size(); }
     /** Chain k's own trajectory (before finish(), or k > 0: not averaged). */
     const Trajectory& chainTrajectory(std::size_t k) const { return m_chains.at(k)->trajectory(); }
+
+protected:
+    void internalAddFrame(
+        const mrpt::poses::CPose3D& action,
+        const emslam::maps::WeightedPointCloud& cloud,
+        double timestamp,
+        std::size_t frame_index,
+        const std::optional<ActionCovariance>& covariance) override;
+    void internalFinish() override;
 
 private:
     /** Calls `fn` on every chain (odd ones in a second thread if m_stride is 2). */
@@ -75,7 +77,6 @@ private:
     std::size_t m_stride{1};               //!< 2: odd chains in a second thread
     std::vector<double> m_wall_seconds;    //!< per rectification, all chains [s]
     std::vector<TimedPose> m_mean_frames;  //!< framePoses() after finish()
-    bool m_finished{false};
 };
 
 }  // namespace emslam::rectify

@@ -39,18 +39,20 @@ public:
     /** Adds an accepted frame: `action` = its pose in the previous accepted
      * frame (first frame: its world pose, usually the identity), `cloud` in
      * its own camera frame, `covariance` the egomotion's uncertainty of
-     * `action` if known (Trajectory::append()). */
-    virtual void addFrame(
+     * `action` if known (Trajectory::append()). Throws std::logic_error
+     * after finish(). */
+    void addFrame(
         const mrpt::poses::CPose3D& action,
         const emslam::maps::WeightedPointCloud& cloud,
         double timestamp,
         std::size_t frame_index,
-        const std::optional<ActionCovariance>& covariance = std::nullopt) = 0;
+        const std::optional<ActionCovariance>& covariance = std::nullopt);
 
     /** Syncs pending frames, runs the final rectification and stops any
      * thread. The trajectory is final afterwards; further addFrame() calls
-     * throw. Idempotent. */
-    virtual void finish() = 0;
+     * throw. Idempotent (once it has returned; a finish() that threw may be
+     * called again). */
+    void finish();
 
     /** INC ≥ NC_max: the last rectification converged and nothing changed
      * since (AnyTime: the thread's current view). Thread-safe. */
@@ -74,6 +76,22 @@ public:
 
     /** The trajectory; only valid after finish(). */
     virtual const Trajectory& trajectory() const = 0;
+
+protected:
+    /** The mode's addFrame(), called only before finish(). */
+    virtual void internalAddFrame(
+        const mrpt::poses::CPose3D& action,
+        const emslam::maps::WeightedPointCloud& cloud,
+        double timestamp,
+        std::size_t frame_index,
+        const std::optional<ActionCovariance>& covariance) = 0;
+    /** The mode's finish(), called until one call returns. */
+    virtual void internalFinish() = 0;
+    /** True once finish() has returned. */
+    bool finished() const { return m_finished; }
+
+private:
+    bool m_finished{false};
 };
 
 /** Creates the runner of `options.mode` on a trajectory whose map has

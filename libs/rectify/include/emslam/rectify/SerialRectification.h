@@ -1,14 +1,13 @@
 // SPDX-License-Identifier: BSD-3-Clause
 #pragma once
 
-#include <emslam/rectify/RectificationRunner.h>
-#include <emslam/rectify/TrajectoryRectifier.h>
+#include <emslam/rectify/SingleChainRunner.h>
 
 namespace emslam::rectify
 {
 /** Serial mode: rectify every S_rec accepted frames, in the caller's thread.
- * \ingroup emslam_rectify_grp \sa RectificationRunner */
-class SerialRectification : public RectificationRunner
+ * \ingroup emslam_rectify_grp \sa RectificationRunner, SingleChainRunner */
+class SerialRectification : public SingleChainRunner
 {
 public:
     /** An empty trajectory whose map has `map_options` and `insertion_options`, rectified with
@@ -18,13 +17,6 @@ public:
         const emslam::CEntropyVoxelMap::TCreationOptions& map_options,
         const emslam::CEntropyVoxelMap::TInsertionOptions& insertion_options = {});
 
-    void addFrame(
-        const mrpt::poses::CPose3D& action,
-        const emslam::maps::WeightedPointCloud& cloud,
-        double timestamp,
-        std::size_t frame_index,
-        const std::optional<ActionCovariance>& covariance = std::nullopt) override;
-    void finish() override;
     bool mapStable() const override;
     std::vector<RectificationStats> statistics() const override { return m_stats; }
     Progress progress() const override
@@ -38,15 +30,20 @@ public:
      * keeps the change (AveragedChainsRectification). */
     void replaceActions(const std::vector<mrpt::poses::CPose3D>& actions);
 
+protected:
+    void internalAddFrame(
+        const mrpt::poses::CPose3D& action,
+        const emslam::maps::WeightedPointCloud& cloud,
+        double timestamp,
+        std::size_t frame_index,
+        const std::optional<ActionCovariance>& covariance) override;
+    void internalFinish() override;
+
 private:
     void rectifyNow();
 
-    TRectifierOptions m_options;
-    Trajectory m_trajectory;
-    TrajectoryRectifier m_rectifier;
     std::vector<RectificationStats> m_stats;
     std::size_t m_since_rectification{0};
-    bool m_finished{false};
 };
 
 }  // namespace emslam::rectify

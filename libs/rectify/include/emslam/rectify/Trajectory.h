@@ -174,6 +174,9 @@ public:
      * a'_0 = a_0, a'_i = a_{2i-1} ⊕ a_{2i}); an odd last element stays
      * alone. Poses of the kept elements do not change. N becomes ⌈N/2⌉. */
     void compress();
+    /** True when compress() is due: N > `n_max` > 0 (N_max, §2.2.4; `n_max`
+     * ≤ 0: never). */
+    bool needsCompression(int n_max) const;
     /** Number of compress() calls so far. */
     std::size_t compressionCount() const { return m_compressions; }
 

@@ -5,7 +5,6 @@
 
 #include "GrabberSensors.h"
 
-#include <emslam/apps/GrabberApp.h>
 #include <emslam/apps/LiveViewer.h>
 #include <emslam/hwdrivers/SensorStatus.h>
 #include <emslam/io/RawlogOutput.h>
@@ -21,6 +20,7 @@
 #include <filesystem>
 #include <map>
 #include <memory>
+#include <optional>
 #include <string>
 #include <utility>
 #include <vector>
@@ -31,12 +31,16 @@ namespace emslam::apps::grabber
  * them with the other sensors' [s]. */
 constexpr double MAX_REORDER_DELAY = 2.0;
 
-/** The grabbing session of one run(): sensors, pending observations, output. */
+/** The grabbing session of one run(): sensors, pending observations, output.
+ * It stops writing stereo frames after `max_frames` of them, if given. */
 class Session
 {
 public:
-    Session(GrabberApp& app, std::vector<std::unique_ptr<Slot>>& slots, io::RawlogOutput& out)
-        : m_app(app), m_slots(slots), m_out(out)
+    Session(
+        std::vector<std::unique_ptr<Slot>>& slots,
+        io::RawlogOutput& out,
+        std::optional<std::size_t> max_frames)
+        : m_slots(slots), m_out(out), m_max_frames(max_frames)
     {
     }
 
@@ -96,6 +100,10 @@ public:
     }
 
     bool frameLimitReached() const { return m_limit_reached; }
+    /** CObservationStereoImages written so far. */
+    std::size_t framesWritten() const { return m_frames_written; }
+    /** Observations of any kind written so far. */
+    std::size_t objectsWritten() const { return m_objects_written; }
     void setViewer(LiveViewer* viewer) { m_viewer = viewer; }
 
 private:
@@ -108,19 +116,19 @@ private:
             return;  // after the last requested frame
         }
         m_out.archive() << obj;
-        ++m_app.objects_written;
+        ++m_objects_written;
         ++m_slots[slot]->written;
         if (is_stereo)
         {
-            ++m_app.frames_written;
+            ++m_frames_written;
             if (m_viewer && m_viewer->wantsSnapshot())
             {
                 LiveViewSnapshot snap;
                 snap.image = dynamic_cast<mrpt::obs::CObservationStereoImages&>(obj).imageLeft;
-                snap.status = "stereo frames written: " + std::to_string(m_app.frames_written);
+                snap.status = "stereo frames written: " + std::to_string(m_frames_written);
                 m_viewer->push(std::move(snap));
             }
-            if (m_app.max_frames && m_app.frames_written >= *m_app.max_frames)
+            if (m_max_frames && m_frames_written >= *m_max_frames)
             {
                 m_limit_reached = true;
                 m_cutoff = ts;
@@ -128,9 +136,11 @@ private:
         }
     }
 
-    GrabberApp& m_app;
     std::vector<std::unique_ptr<Slot>>& m_slots;
     io::RawlogOutput& m_out;
+    std::optional<std::size_t> m_max_frames;
+    std::size_t m_frames_written{0};
+    std::size_t m_objects_written{0};
     std::multimap<
         mrpt::Clock::time_point,
         std::pair<std::size_t, mrpt::serialization::CSerializable::Ptr>>

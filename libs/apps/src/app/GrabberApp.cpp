@@ -226,7 +226,7 @@ std::string grabUntilStop(
         Slot& slot = *s;
         slot.thread = std::thread([&slot, &stop_threads] { sensorThread(slot, stop_threads); });
     }
-    Session session(app, slots, out);
+    Session session(slots, out, app.max_frames);
     if (live != nullptr)
     {
         session.setViewer(live);
@@ -274,6 +274,8 @@ std::string grabUntilStop(
         app.stop_reason = "writing failed";
         joinAll(slots, stop_threads);
     }
+    app.frames_written = session.framesWritten();
+    app.objects_written = session.objectsWritten();
     status.update(slots, secondsSince(t_start), partial, true);
     status.finish();
     return write_error;
