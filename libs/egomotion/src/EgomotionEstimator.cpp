@@ -4,6 +4,7 @@
 #include <emslam/egomotion/LwoRefinement.h>
 #include <emslam/egomotion/StereoReprojectionRefinement.h>
 #include <emslam/stereo/StereoCalibration.h>
+#include <emslam/util/ConfigVisitor.h>
 
 #include <mrpt/config/CConfigFileBase.h>
 #include <mrpt/core/exceptions.h>
@@ -52,56 +53,51 @@ struct EgomotionEstimator::Described
     double ms_features{0}, ms_descriptors{0};
 };
 
+namespace
+{
+/** Every key of the section, once for load and save. */
+void visit(EgomotionEstimator::TParameters& p, emslam::util::ConfigVisitor& v)
+{
+    v.field("window_size", p.window_size, "|W|, GLM non-maximum window [px]");
+    v.field("min_gradient", p.min_gradient, "gradient magnitude floor for features");
+    v.field("similarity_min", p.similarity_min, "S_min, in (0, 1]");
+    v.field("lwo_sigma_min", p.lwo_sigma_min, "sigma_min of LWO");
+    v.field("min_final_matches", p.min_final_matches, "fewer matches after LWO: the step failed");
+    v.field("lp_num_rings", p.lp_num_rings, "log-polar descriptor rings");
+    v.field("lp_num_angles", p.lp_num_angles, "log-polar descriptor angles");
+    v.field("lp_radius", p.lp_radius, "log-polar window radius [px]");
+    v.field("euclidean_init", p.euclidean_init, "closed-form start of the Dpp minimisation");
+    v.field(
+        "joint_refinement", p.joint_refinement,
+        "Levenberg-Marquardt on all six parameters after the alternating CG");
+    v.field(
+        "reprojection_refinement", p.reprojection_refinement,
+        "polish the pose by the stereo reprojection error (stereo only)");
+    v.field("max_lwo_matches", p.max_lwo_matches, "most similar matches kept for LWO");
+    v.field(
+        "guided_matching", p.guided_matching,
+        "match near the constant-velocity prediction first (full search if it fails)");
+    v.field("guided_radius", p.guided_radius, "guided search radius, fraction of the image width");
+    v.field(
+        "experimental_covariance_lwo_truncation", p.experimental_covariance_lwo_truncation,
+        "widen the pose covariance for the residuals LWO cut off");
+    v.field(
+        "experimental_match_distinctiveness", p.experimental_match_distinctiveness,
+        "a match's runner-up elsewhere must be this times as far (Pearson distance); 1: off");
+}
+}  // namespace
+
 void EgomotionEstimator::TParameters::loadFromConfigFile(
     const mrpt::config::CConfigFileBase& c, const std::string& s)
 {
-    MRPT_LOAD_CONFIG_VAR(window_size, int, c, s);
-    MRPT_LOAD_CONFIG_VAR(min_gradient, double, c, s);
-    MRPT_LOAD_CONFIG_VAR(similarity_min, double, c, s);
-    MRPT_LOAD_CONFIG_VAR(lwo_sigma_min, double, c, s);
-    MRPT_LOAD_CONFIG_VAR(min_final_matches, int, c, s);
-    MRPT_LOAD_CONFIG_VAR(lp_num_rings, int, c, s);
-    MRPT_LOAD_CONFIG_VAR(lp_num_angles, int, c, s);
-    MRPT_LOAD_CONFIG_VAR(lp_radius, double, c, s);
-    MRPT_LOAD_CONFIG_VAR(euclidean_init, bool, c, s);
-    MRPT_LOAD_CONFIG_VAR(joint_refinement, bool, c, s);
-    MRPT_LOAD_CONFIG_VAR(reprojection_refinement, bool, c, s);
-    MRPT_LOAD_CONFIG_VAR(max_lwo_matches, int, c, s);
-    MRPT_LOAD_CONFIG_VAR(guided_matching, bool, c, s);
-    MRPT_LOAD_CONFIG_VAR(guided_radius, double, c, s);
-    MRPT_LOAD_CONFIG_VAR(experimental_covariance_lwo_truncation, bool, c, s);
-    MRPT_LOAD_CONFIG_VAR(experimental_match_distinctiveness, double, c, s);
+    emslam::util::loadByVisit(*this, c, s, visit);
     validate();
 }
 
 void EgomotionEstimator::TParameters::saveToConfigFile(
     mrpt::config::CConfigFileBase& c, const std::string& s) const
 {
-    MRPT_SAVE_CONFIG_VAR_COMMENT(window_size, "|W|, GLM non-maximum window [px]");
-    MRPT_SAVE_CONFIG_VAR_COMMENT(min_gradient, "gradient magnitude floor for features");
-    MRPT_SAVE_CONFIG_VAR_COMMENT(similarity_min, "S_min, in (0, 1]");
-    MRPT_SAVE_CONFIG_VAR_COMMENT(lwo_sigma_min, "sigma_min of LWO");
-    MRPT_SAVE_CONFIG_VAR_COMMENT(min_final_matches, "fewer matches after LWO: the step failed");
-    MRPT_SAVE_CONFIG_VAR_COMMENT(lp_num_rings, "log-polar descriptor rings");
-    MRPT_SAVE_CONFIG_VAR_COMMENT(lp_num_angles, "log-polar descriptor angles");
-    MRPT_SAVE_CONFIG_VAR_COMMENT(lp_radius, "log-polar window radius [px]");
-    MRPT_SAVE_CONFIG_VAR_COMMENT(euclidean_init, "closed-form start of the Dpp minimisation");
-    MRPT_SAVE_CONFIG_VAR_COMMENT(
-        joint_refinement, "Levenberg-Marquardt on all six parameters after the alternating CG");
-    MRPT_SAVE_CONFIG_VAR_COMMENT(
-        reprojection_refinement, "polish the pose by the stereo reprojection error (stereo only)");
-    MRPT_SAVE_CONFIG_VAR_COMMENT(max_lwo_matches, "most similar matches kept for LWO");
-    MRPT_SAVE_CONFIG_VAR_COMMENT(
-        guided_matching,
-        "match near the constant-velocity prediction first (full search if it fails)");
-    MRPT_SAVE_CONFIG_VAR_COMMENT(
-        guided_radius, "guided search radius, fraction of the image width");
-    MRPT_SAVE_CONFIG_VAR_COMMENT(
-        experimental_covariance_lwo_truncation,
-        "widen the pose covariance for the residuals LWO cut off");
-    MRPT_SAVE_CONFIG_VAR_COMMENT(
-        experimental_match_distinctiveness,
-        "a match's runner-up elsewhere must be this times as far (Pearson distance); 1: off");
+    emslam::util::saveByVisit(*this, c, s, visit);
 }
 
 void EgomotionEstimator::TParameters::validate() const

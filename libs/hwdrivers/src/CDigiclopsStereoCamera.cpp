@@ -2,6 +2,7 @@
 #include <emslam/hwdrivers/CDigiclopsStereoCamera.h>
 #include <emslam/stereo/RangeScanConversion.h>
 #include <emslam/stereo/StereoCalibration.h>
+#include <emslam/util/ConfigVisitor.h>
 #include <emslam/util/ExceptionMessage.h>
 
 #include <mrpt/config/CConfigFileBase.h>
@@ -90,34 +91,47 @@ PackedFrameFormat CDigiclopsStereoCamera::TParameters::frameFormat() const
     return f;
 }
 
+namespace
+{
+/** Every key of the sensor's own, once for load and save. */
+void visit(CDigiclopsStereoCamera::TParameters& p, emslam::util::ConfigVisitor& v)
+{
+    // "0x..." so that the key reads as hexadecimal text, not as an int key.
+    v.text(
+        "camera_guid", p.camera_guid,
+        [](std::uint64_t g) { return mrpt::format("0x%llx", static_cast<unsigned long long>(g)); },
+        parseGuid);
+    v.field("camera_index", p.camera_index);
+    v.field("video_mode", p.video_mode);
+    v.field("framerate", p.framerate);
+    v.field("iso_speed", p.iso_speed);
+    v.field("shutter", p.shutter);
+    v.field("gain", p.gain);
+    v.field("exposure", p.exposure);
+    v.field("dma_buffers", p.dma_buffers);
+    v.field("pixel_layout", p.pixel_layout);
+    v.field("planar_channels", p.planar_channels);
+    v.field("channel_left", p.channel_left);
+    v.field("channel_right", p.channel_right);
+    v.field("channel_third", p.channel_third);
+    v.field("calibration_section", p.calibration_section);
+    v.field("rectify", p.rectify);
+    v.field("rectify_alpha", p.rectify_alpha);
+    v.field("pose_x", p.pose_x);
+    v.field("pose_y", p.pose_y);
+    v.field("pose_z", p.pose_z);
+    v.field("pose_yaw_deg", p.pose_yaw_deg);
+    v.field("pose_pitch_deg", p.pose_pitch_deg);
+    v.field("pose_roll_deg", p.pose_roll_deg);
+    v.field("compute_range_scan", p.compute_range_scan);
+    v.field("stereo_section", p.stereo_section);
+}
+}  // namespace
+
 void CDigiclopsStereoCamera::TParameters::loadFromConfigFile(
     const mrpt::config::CConfigFileBase& c, const std::string& s)
 {
-    camera_guid = parseGuid(c.read_string(s, "camera_guid", mrpt::format("%llx", 0ULL)));
-    camera_index = c.read_int(s, "camera_index", camera_index);
-    video_mode = c.read_string(s, "video_mode", video_mode);
-    framerate = c.read_double(s, "framerate", framerate);
-    iso_speed = c.read_int(s, "iso_speed", iso_speed);
-    shutter = c.read_int(s, "shutter", shutter);
-    gain = c.read_int(s, "gain", gain);
-    exposure = c.read_int(s, "exposure", exposure);
-    dma_buffers = c.read_int(s, "dma_buffers", dma_buffers);
-    pixel_layout = c.read_string(s, "pixel_layout", pixel_layout);
-    planar_channels = c.read_int(s, "planar_channels", planar_channels);
-    channel_left = c.read_int(s, "channel_left", channel_left);
-    channel_right = c.read_int(s, "channel_right", channel_right);
-    channel_third = c.read_int(s, "channel_third", channel_third);
-    calibration_section = c.read_string(s, "calibration_section", calibration_section);
-    rectify = c.read_bool(s, "rectify", rectify);
-    rectify_alpha = c.read_double(s, "rectify_alpha", rectify_alpha);
-    pose_x = c.read_double(s, "pose_x", pose_x);
-    pose_y = c.read_double(s, "pose_y", pose_y);
-    pose_z = c.read_double(s, "pose_z", pose_z);
-    pose_yaw_deg = c.read_double(s, "pose_yaw_deg", pose_yaw_deg);
-    pose_pitch_deg = c.read_double(s, "pose_pitch_deg", pose_pitch_deg);
-    pose_roll_deg = c.read_double(s, "pose_roll_deg", pose_roll_deg);
-    compute_range_scan = c.read_bool(s, "compute_range_scan", compute_range_scan);
-    stereo_section = c.read_string(s, "stereo_section", stereo_section);
+    emslam::util::loadByVisit(*this, c, s, visit);
 
     const std::string& cs = calibration_section;
     try
@@ -176,32 +190,7 @@ void CDigiclopsStereoCamera::TParameters::loadFromConfigFile(
 void CDigiclopsStereoCamera::TParameters::saveToConfigFile(
     mrpt::config::CConfigFileBase& c, const std::string& s) const
 {
-    // "0x..." so that the key reads as hexadecimal text, not as an int key.
-    c.write(s, "camera_guid", mrpt::format("0x%llx", static_cast<unsigned long long>(camera_guid)));
-    c.write(s, "camera_index", camera_index);
-    c.write(s, "video_mode", video_mode);
-    c.write(s, "framerate", framerate);
-    c.write(s, "iso_speed", iso_speed);
-    c.write(s, "shutter", shutter);
-    c.write(s, "gain", gain);
-    c.write(s, "exposure", exposure);
-    c.write(s, "dma_buffers", dma_buffers);
-    c.write(s, "pixel_layout", pixel_layout);
-    c.write(s, "planar_channels", planar_channels);
-    c.write(s, "channel_left", channel_left);
-    c.write(s, "channel_right", channel_right);
-    c.write(s, "channel_third", channel_third);
-    c.write(s, "calibration_section", calibration_section);
-    c.write(s, "rectify", rectify);
-    c.write(s, "rectify_alpha", rectify_alpha);
-    c.write(s, "pose_x", pose_x);
-    c.write(s, "pose_y", pose_y);
-    c.write(s, "pose_z", pose_z);
-    c.write(s, "pose_yaw_deg", pose_yaw_deg);
-    c.write(s, "pose_pitch_deg", pose_pitch_deg);
-    c.write(s, "pose_roll_deg", pose_roll_deg);
-    c.write(s, "compute_range_scan", compute_range_scan);
-    c.write(s, "stereo_section", stereo_section);
+    emslam::util::saveByVisit(*this, c, s, visit);
     stereo_camera.saveToConfigFile(calibration_section, c);
     if (frameFormat().channels() == 3)
     {

@@ -4,6 +4,7 @@
 #include <emslam/io/CalibrationFiles.h>
 #include <emslam/io/OpenCvStereoCalibration.h>
 #include <emslam/stereo/StereoCalibration.h>
+#include <emslam/util/ConfigVisitor.h>
 #include <emslam/util/ExceptionMessage.h>
 
 #include <mrpt/config/CConfigFileBase.h>
@@ -12,6 +13,7 @@
 #include <mrpt/poses/CPose3DQuat.h>
 
 #include <cmath>
+#include <cstdlib>
 #include <opencv2/imgproc.hpp>
 #include <stdexcept>
 #include <tuple>
@@ -56,35 +58,48 @@ cv::Mat toGrey(const cv::Mat& m)
     cv::cvtColor(m, g, m.channels() == 4 ? cv::COLOR_BGRA2GRAY : cv::COLOR_BGR2GRAY);
     return g;
 }
+/** A number key saved with all its digits and a decimal point: not an
+ * integer key. */
+void number(emslam::util::ConfigVisitor& v, const std::string& key, double& value)
+{
+    v.text(
+        key, value, [](double x) { return mrpt::format("%#.17g", x); },
+        [](const std::string& t) { return std::atof(t.c_str()); });
+}
+
+/** Every key of the sensor's own, once for load and save. */
+void visit(CVideoStereoCamera::TParameters& p, emslam::util::ConfigVisitor& v)
+{
+    v.field("source", p.source);
+    v.field("source_right", p.source_right);
+    v.field("backend", p.backend);
+    v.field("capture_width", p.capture_width);
+    v.field("capture_height", p.capture_height);
+    number(v, "capture_fps", p.capture_fps);
+    v.field("fourcc", p.fourcc);
+    v.field("timestamps", p.timestamps);
+    number(v, "start_time", p.start_time);
+    number(v, "video_fps", p.video_fps);
+    v.field("grayscale", p.grayscale);
+    v.field("calibration_file", p.calibration_file);
+    v.field("calibration_extrinsics_file", p.calibration_extrinsics_file);
+    v.field("calibration_section", p.calibration_section);
+    number(v, "translation_scale", p.translation_scale);
+    v.field("rectify", p.rectify);
+    number(v, "rectify_alpha", p.rectify_alpha);
+    number(v, "pose_x", p.pose_x);
+    number(v, "pose_y", p.pose_y);
+    number(v, "pose_z", p.pose_z);
+    number(v, "pose_yaw_deg", p.pose_yaw_deg);
+    number(v, "pose_pitch_deg", p.pose_pitch_deg);
+    number(v, "pose_roll_deg", p.pose_roll_deg);
+}
 }  // namespace
 
 void CVideoStereoCamera::TParameters::loadFromConfigFile(
     const mrpt::config::CConfigFileBase& c, const std::string& s)
 {
-    source = c.read_string(s, "source", source);
-    source_right = c.read_string(s, "source_right", source_right);
-    backend = c.read_string(s, "backend", backend);
-    capture_width = c.read_int(s, "capture_width", capture_width);
-    capture_height = c.read_int(s, "capture_height", capture_height);
-    capture_fps = c.read_double(s, "capture_fps", capture_fps);
-    fourcc = c.read_string(s, "fourcc", fourcc);
-    timestamps = c.read_string(s, "timestamps", timestamps);
-    start_time = c.read_double(s, "start_time", start_time);
-    video_fps = c.read_double(s, "video_fps", video_fps);
-    grayscale = c.read_bool(s, "grayscale", grayscale);
-    calibration_file = c.read_string(s, "calibration_file", calibration_file);
-    calibration_extrinsics_file =
-        c.read_string(s, "calibration_extrinsics_file", calibration_extrinsics_file);
-    calibration_section = c.read_string(s, "calibration_section", calibration_section);
-    translation_scale = c.read_double(s, "translation_scale", translation_scale);
-    rectify = c.read_bool(s, "rectify", rectify);
-    rectify_alpha = c.read_double(s, "rectify_alpha", rectify_alpha);
-    pose_x = c.read_double(s, "pose_x", pose_x);
-    pose_y = c.read_double(s, "pose_y", pose_y);
-    pose_z = c.read_double(s, "pose_z", pose_z);
-    pose_yaw_deg = c.read_double(s, "pose_yaw_deg", pose_yaw_deg);
-    pose_pitch_deg = c.read_double(s, "pose_pitch_deg", pose_pitch_deg);
-    pose_roll_deg = c.read_double(s, "pose_roll_deg", pose_roll_deg);
+    emslam::util::loadByVisit(*this, c, s, visit);
     loadCalibration(c, s);
     validate();
 }
@@ -139,30 +154,7 @@ void CVideoStereoCamera::TParameters::loadCalibration(
 void CVideoStereoCamera::TParameters::saveToConfigFile(
     mrpt::config::CConfigFileBase& c, const std::string& s) const
 {
-    c.write(s, "source", source);
-    c.write(s, "source_right", source_right);
-    c.write(s, "backend", backend);
-    c.write(s, "capture_width", capture_width);
-    c.write(s, "capture_height", capture_height);
-    // Number keys keep a decimal point: they are not integer keys.
-    c.write(s, "capture_fps", mrpt::format("%#.17g", capture_fps));
-    c.write(s, "fourcc", fourcc);
-    c.write(s, "timestamps", timestamps);
-    c.write(s, "start_time", mrpt::format("%#.17g", start_time));
-    c.write(s, "video_fps", mrpt::format("%#.17g", video_fps));
-    c.write(s, "grayscale", grayscale);
-    c.write(s, "calibration_file", calibration_file);
-    c.write(s, "calibration_extrinsics_file", calibration_extrinsics_file);
-    c.write(s, "calibration_section", calibration_section);
-    c.write(s, "translation_scale", mrpt::format("%#.17g", translation_scale));
-    c.write(s, "rectify", rectify);
-    c.write(s, "rectify_alpha", mrpt::format("%#.17g", rectify_alpha));
-    c.write(s, "pose_x", mrpt::format("%#.17g", pose_x));
-    c.write(s, "pose_y", mrpt::format("%#.17g", pose_y));
-    c.write(s, "pose_z", mrpt::format("%#.17g", pose_z));
-    c.write(s, "pose_yaw_deg", mrpt::format("%#.17g", pose_yaw_deg));
-    c.write(s, "pose_pitch_deg", mrpt::format("%#.17g", pose_pitch_deg));
-    c.write(s, "pose_roll_deg", mrpt::format("%#.17g", pose_roll_deg));
+    emslam::util::saveByVisit(*this, c, s, visit);
     if (calibration_file.empty() && stereo_camera.leftCamera.ncols > 0)
     {
         stereo_camera.saveToConfigFile(calibration_section, c);

@@ -2,6 +2,7 @@
 // CEntropyVoxelMap: construction, options, INI map definition, insertion, and
 // the observation API forwarded to the engine.
 #include <emslam/maps/CEntropyVoxelMap.h>
+#include <emslam/util/ConfigVisitor.h>
 
 #include <mrpt/config/CConfigFileBase.h>
 #include <mrpt/core/exceptions.h>
@@ -63,29 +64,39 @@ void requireNumberText(
 }
 }  // namespace
 
+namespace
+{
+/** Every key of the section, once for load and save. */
+void visit(CEntropyVoxelMap::TCreationOptions& p, emslam::util::ConfigVisitor& v)
+{
+    v.field("cell_size", p.cell_size, "Cell size l_d [m] (paper: 0.15 indoor, 0.35 outdoor)");
+    v.text(
+        "energy", p.energy, [](emslam::maps::EnergyType e) { return emslam::maps::toString(e); },
+        [](const std::string& t) { return emslam::maps::energyTypeFromString(t, "energy"); },
+        "unstructured|low_structured|structured (6DOF), planar_low_structured|"
+        "planar_structured (3DOF)");
+    // Without a `dof` key the energy decides (3DOF energies imply dof = 3).
+    if (v.loading() && !v.input().keyExists(v.section(), "dof"))
+    {
+        p.dof = emslam::maps::energyDof(p.energy);
+    }
+    v.field("dof", p.dof, "Degrees of freedom: 3 or 6 (must match the energy)");
+}
+}  // namespace
+
 void CEntropyVoxelMap::TCreationOptions::loadFromConfigFile(
     const mrpt::config::CConfigFileBase& c, const std::string& s)
 {
     requireNumberText(c, s, "cell_size", false);
     requireNumberText(c, s, "dof", true);
-    MRPT_LOAD_CONFIG_VAR(cell_size, double, c, s);
-    energy = emslam::maps::energyTypeFromString(
-        c.read_string(s, "energy", emslam::maps::toString(energy)), "energy");
-    // Without a `dof` key the energy decides (3DOF energies imply dof = 3).
-    dof = c.keyExists(s, "dof") ? c.read_int(s, "dof", dof) : emslam::maps::energyDof(energy);
+    emslam::util::loadByVisit(*this, c, s, visit);
     validate();
 }
 
 void CEntropyVoxelMap::TCreationOptions::saveToConfigFile(
     mrpt::config::CConfigFileBase& c, const std::string& s) const
 {
-    MRPT_SAVE_CONFIG_VAR_COMMENT(cell_size, "Cell size l_d [m] (paper: 0.15 indoor, 0.35 outdoor)");
-    c.write(
-        s, "energy", emslam::maps::toString(energy), mrpt::config::MRPT_SAVE_NAME_PADDING(),
-        mrpt::config::MRPT_SAVE_VALUE_PADDING(),
-        "unstructured|low_structured|structured (6DOF), planar_low_structured|"
-        "planar_structured (3DOF)");
-    MRPT_SAVE_CONFIG_VAR_COMMENT(dof, "Degrees of freedom: 3 or 6 (must match the energy)");
+    emslam::util::saveByVisit(*this, c, s, visit);
 }
 
 void CEntropyVoxelMap::TCreationOptions::validate() const
@@ -111,24 +122,31 @@ void CEntropyVoxelMap::TCreationOptions::validate() const
     }
 }
 
+namespace
+{
+/** Every key of the section, once for load and save. */
+void visit(CEntropyVoxelMap::TInsertionOptions& p, emslam::util::ConfigVisitor& v)
+{
+    v.field("max_range", p.max_range, "Farther points are dropped [m]; 0 = no limit");
+    v.field("min_range", p.min_range, "Nearer points are dropped [m]");
+    v.field("decimation", p.decimation, "Use one point in N (>= 1)");
+}
+}  // namespace
+
 void CEntropyVoxelMap::TInsertionOptions::loadFromConfigFile(
     const mrpt::config::CConfigFileBase& c, const std::string& s)
 {
     requireNumberText(c, s, "max_range", false);
     requireNumberText(c, s, "min_range", false);
     requireNumberText(c, s, "decimation", true);
-    MRPT_LOAD_CONFIG_VAR(max_range, double, c, s);
-    MRPT_LOAD_CONFIG_VAR(min_range, double, c, s);
-    MRPT_LOAD_CONFIG_VAR(decimation, int, c, s);
+    emslam::util::loadByVisit(*this, c, s, visit);
     validate();
 }
 
 void CEntropyVoxelMap::TInsertionOptions::saveToConfigFile(
     mrpt::config::CConfigFileBase& c, const std::string& s) const
 {
-    MRPT_SAVE_CONFIG_VAR_COMMENT(max_range, "Farther points are dropped [m]; 0 = no limit");
-    MRPT_SAVE_CONFIG_VAR_COMMENT(min_range, "Nearer points are dropped [m]");
-    MRPT_SAVE_CONFIG_VAR_COMMENT(decimation, "Use one point in N (>= 1)");
+    emslam::util::saveByVisit(*this, c, s, visit);
 }
 
 void CEntropyVoxelMap::TInsertionOptions::validate() const
@@ -152,21 +170,29 @@ void CEntropyVoxelMap::TInsertionOptions::validate() const
     }
 }
 
+namespace
+{
+/** Every key of the section, once for load and save. */
+void visit(CEntropyVoxelMap::TDrawOptions& p, emslam::util::ConfigVisitor& v)
+{
+    v.field("max_cubes", p.max_cubes, "Draw at most this many (densest) cells");
+    v.field("min_cube_size", p.min_cube_size, "Edge of the sparsest cube / l_d, in (0,1]");
+}
+}  // namespace
+
 void CEntropyVoxelMap::TDrawOptions::loadFromConfigFile(
     const mrpt::config::CConfigFileBase& c, const std::string& s)
 {
     requireNumberText(c, s, "max_cubes", true);
     requireNumberText(c, s, "min_cube_size", false);
-    MRPT_LOAD_CONFIG_VAR(max_cubes, int, c, s);
-    MRPT_LOAD_CONFIG_VAR(min_cube_size, double, c, s);
+    emslam::util::loadByVisit(*this, c, s, visit);
     validate();
 }
 
 void CEntropyVoxelMap::TDrawOptions::saveToConfigFile(
     mrpt::config::CConfigFileBase& c, const std::string& s) const
 {
-    MRPT_SAVE_CONFIG_VAR_COMMENT(max_cubes, "Draw at most this many (densest) cells");
-    MRPT_SAVE_CONFIG_VAR_COMMENT(min_cube_size, "Edge of the sparsest cube / l_d, in (0,1]");
+    emslam::util::saveByVisit(*this, c, s, visit);
 }
 
 void CEntropyVoxelMap::TDrawOptions::validate() const

@@ -1,10 +1,12 @@
 // SPDX-License-Identifier: BSD-3-Clause
 #include <emslam/rectify/RectifierOptions.h>
+#include <emslam/util/ConfigVisitor.h>
 
 #include <mrpt/config/CConfigFileBase.h>
 #include <mrpt/core/format.h>
 
 #include <cmath>
+#include <cstdlib>
 #include <initializer_list>
 #include <stdexcept>
 
@@ -20,29 +22,6 @@ void require(bool ok, const std::string& key, const std::string& msg)
     }
 }
 
-/** The value named `name` among `choices` of `[Rectifier] key`; throws naming
- * the key and the valid names otherwise. */
-template <class Enum>
-Enum readChoice(
-    const mrpt::config::CConfigFileBase& c,
-    const std::string& section,
-    const std::string& key,
-    Enum current,
-    std::initializer_list<Enum> choices)
-{
-    const std::string name = c.read_string(section, key, toString(current));
-    std::string valid;
-    for (Enum e : choices)
-    {
-        if (name == toString(e))
-        {
-            return e;
-        }
-        valid += (valid.empty() ? "" : ", ") + toString(e);
-    }
-    throw std::invalid_argument(
-        "[Rectifier] " + key + ": unknown value '" + name + "' (valid: " + valid + ")");
-}
 }  // namespace
 
 std::string toString(ProposalShape p)
@@ -68,103 +47,135 @@ std::string toString(RectificationMode m)
     return m == RectificationMode::Serial ? "serial" : "anytime";
 }
 
+namespace
+{
+/** The value named `name` among `choices` of `[Rectifier] key`; throws naming
+ * the key and the valid names otherwise. */
+template <class Enum>
+Enum parseChoice(
+    const std::string& key, const std::string& name, std::initializer_list<Enum> choices)
+{
+    std::string valid;
+    for (Enum e : choices)
+    {
+        if (name == toString(e))
+        {
+            return e;
+        }
+        valid += (valid.empty() ? "" : ", ") + toString(e);
+    }
+    throw std::invalid_argument(
+        "[Rectifier] " + key + ": unknown value '" + name + "' (valid: " + valid + ")");
+}
+
+/** `key` as one of `choices`, saved by its name. */
+template <class Enum>
+void choice(
+    emslam::util::ConfigVisitor& v,
+    const std::string& key,
+    Enum& value,
+    std::initializer_list<Enum> choices,
+    const std::string& doc)
+{
+    v.text(
+        key, value, [](Enum e) { return toString(e); },
+        [&](const std::string& name) { return parseChoice(key, name, choices); }, doc);
+}
+
+std::string seedText(std::uint64_t seed)
+{
+    return std::to_string(seed);
+}
+
+std::uint64_t parseSeed(const std::string& text)
+{
+    // As read_double() reads it: a seed may be written 1e6.
+    const double value = std::atof(text.c_str());
+    // 2^53: every whole number up to it is exact in a double.
+    require(
+        value >= 0 && value <= 9007199254740992.0 && std::floor(value) == value, "seed",
+        "must be a whole number in [0, 2^53]");
+    return static_cast<std::uint64_t>(value);
+}
+
+/** Every key of [Rectifier], once for load and save. */
+void visit(TRectifierOptions& p, emslam::util::ConfigVisitor& v)
+{
+    v.field("eps_xyz", p.eps_xyz, "epsilon of each translation component [m]");
+    v.field("eps_rot_deg", p.eps_rot_deg, "epsilon of each rotation component [deg]");
+    v.field("select_fraction", p.select_fraction, "S_sel, fraction of the actions perturbed");
+    v.field("nc_max", p.nc_max, "NC_max, consecutive failures that end a rectification");
+    v.field("max_attempts", p.max_attempts, "cap of attempts per rectification (0: none)");
+    v.field("min_improvement", p.min_improvement, "relative energy drop of a success");
+    choice(
+        v, "acceptance", p.acceptance, {Acceptance::Ratio, Acceptance::Greedy},
+        "ratio (paper) | greedy");
+    v.field("reuse_success", p.reuse_success, "try a successful change again");
+    v.field("rectify_every", p.rectify_every, "S_rec, serial mode");
+    choice(
+        v, "mode", p.mode, {RectificationMode::Serial, RectificationMode::AnyTime},
+        "serial | anytime");
+    v.field("buffer_size", p.buffer_size, "S_buf, AnyTime mode");
+    v.field("n_max", p.n_max, "N_max, trajectory compression (0: never)");
+    v.text("seed", p.seed, seedText, parseSeed, "random seed");
+    v.field("vertical_band", p.vertical_band, "keep only points in [band_min_y, band_max_y]");
+    v.field("band_min_y", p.band_min_y, "camera-frame y, down [m]");
+    v.field("band_max_y", p.band_max_y, "camera-frame y, down [m]");
+    // %e: small weights must survive the round trip, and the value must read
+    // as a number, not a whole one (see emslam::apps::findMalformedConfigValues()).
+    v.text(
+        "prior_weight", p.prior_weight, [](double w) { return mrpt::format("%.10e", w); },
+        [](const std::string& t) { return std::atof(t.c_str()); },
+        "odometry prior weight (0: off, the paper)");
+    v.field("prior_sigma_xyz", p.prior_sigma_xyz, "odometry prior, one step [m]");
+    v.field("prior_sigma_rot_deg", p.prior_sigma_rot_deg, "odometry prior, one step [deg]");
+    v.field(
+        "experimental_grid_phases", p.experimental_grid_phases,
+        "entropy averaged over shifted voxel grids (1: the paper)");
+    v.field(
+        "coarse_levels", p.coarse_levels,
+        "each rectification first runs on cells 2^L..2 l_d (0: the paper)");
+    v.field(
+        "validate_phases", p.validate_phases,
+        "keep a rectification only if K shifted grids agree (0: the paper)");
+    v.field(
+        "confirm_phases", p.confirm_phases,
+        "a success moving a point > a cell needs K shifted grids (0: off)");
+    v.field(
+        "confirm_min_move", p.confirm_min_move,
+        "[cells] moves confirm_phases checks beyond (0: every success)");
+    v.field(
+        "confirm_all_before_revisit", p.confirm_all_before_revisit,
+        "confirm_phases checks every success until a revisit");
+    v.field(
+        "hold_before_revisit", p.hold_before_revisit,
+        "no change at all until a revisit (energies blind to a_0)");
+    choice(
+        v, "prior_covariance", p.prior_covariance,
+        {PriorCovariance::Fixed, PriorCovariance::Egomotion},
+        "fixed (prior_sigma_*) | egomotion (Dpp curvature)");
+    choice(
+        v, "proposal", p.proposal,
+        {ProposalShape::Box, ProposalShape::Covariance, ProposalShape::Coherent},
+        "box (the paper's eps) | covariance | coherent");
+    v.field("proposal_scale", p.proposal_scale, "sigma multiplier of the covariance proposal");
+    v.field("threads", p.threads, "threads of one attempt's map update: 1 | 2 (same result)");
+    v.field(
+        "chains", p.chains, "serial mode, K independent searches, poses averaged (1 = the paper)");
+}
+}  // namespace
+
 void TRectifierOptions::loadFromConfigFile(
     const mrpt::config::CConfigFileBase& c, const std::string& s)
 {
-    MRPT_LOAD_CONFIG_VAR(eps_xyz, double, c, s);
-    MRPT_LOAD_CONFIG_VAR(eps_rot_deg, double, c, s);
-    MRPT_LOAD_CONFIG_VAR(select_fraction, double, c, s);
-    MRPT_LOAD_CONFIG_VAR(nc_max, int, c, s);
-    MRPT_LOAD_CONFIG_VAR(max_attempts, int, c, s);
-    MRPT_LOAD_CONFIG_VAR(min_improvement, double, c, s);
-    acceptance =
-        readChoice(c, s, "acceptance", acceptance, {Acceptance::Ratio, Acceptance::Greedy});
-    MRPT_LOAD_CONFIG_VAR(reuse_success, bool, c, s);
-    MRPT_LOAD_CONFIG_VAR(rectify_every, int, c, s);
-    mode = readChoice(c, s, "mode", mode, {RectificationMode::Serial, RectificationMode::AnyTime});
-    MRPT_LOAD_CONFIG_VAR(buffer_size, int, c, s);
-    MRPT_LOAD_CONFIG_VAR(n_max, int, c, s);
-    const double seed_value = c.read_double(s, "seed", static_cast<double>(seed));
-    // 2^53: every whole number up to it is exact in a double.
-    require(
-        seed_value >= 0 && seed_value <= 9007199254740992.0 && std::floor(seed_value) == seed_value,
-        "seed", "must be a whole number in [0, 2^53]");
-    seed = static_cast<std::uint64_t>(seed_value);
-    MRPT_LOAD_CONFIG_VAR(vertical_band, bool, c, s);
-    MRPT_LOAD_CONFIG_VAR(band_min_y, double, c, s);
-    MRPT_LOAD_CONFIG_VAR(band_max_y, double, c, s);
-    MRPT_LOAD_CONFIG_VAR(prior_weight, double, c, s);
-    MRPT_LOAD_CONFIG_VAR(prior_sigma_xyz, double, c, s);
-    MRPT_LOAD_CONFIG_VAR(prior_sigma_rot_deg, double, c, s);
-    MRPT_LOAD_CONFIG_VAR(experimental_grid_phases, int, c, s);
-    MRPT_LOAD_CONFIG_VAR(coarse_levels, int, c, s);
-    MRPT_LOAD_CONFIG_VAR(validate_phases, int, c, s);
-    MRPT_LOAD_CONFIG_VAR(confirm_phases, int, c, s);
-    MRPT_LOAD_CONFIG_VAR(confirm_min_move, double, c, s);
-    MRPT_LOAD_CONFIG_VAR(confirm_all_before_revisit, bool, c, s);
-    MRPT_LOAD_CONFIG_VAR(hold_before_revisit, bool, c, s);
-    prior_covariance = readChoice(
-        c, s, "prior_covariance", prior_covariance,
-        {PriorCovariance::Fixed, PriorCovariance::Egomotion});
-    proposal = readChoice(
-        c, s, "proposal", proposal,
-        {ProposalShape::Box, ProposalShape::Covariance, ProposalShape::Coherent});
-    MRPT_LOAD_CONFIG_VAR(proposal_scale, double, c, s);
-    MRPT_LOAD_CONFIG_VAR(threads, int, c, s);
-    MRPT_LOAD_CONFIG_VAR(chains, int, c, s);
+    emslam::util::loadByVisit(*this, c, s, visit);
     validate();
 }
 
 void TRectifierOptions::saveToConfigFile(
     mrpt::config::CConfigFileBase& c, const std::string& s) const
 {
-    MRPT_SAVE_CONFIG_VAR_COMMENT(eps_xyz, "epsilon of each translation component [m]");
-    MRPT_SAVE_CONFIG_VAR_COMMENT(eps_rot_deg, "epsilon of each rotation component [deg]");
-    MRPT_SAVE_CONFIG_VAR_COMMENT(select_fraction, "S_sel, fraction of the actions perturbed");
-    MRPT_SAVE_CONFIG_VAR_COMMENT(nc_max, "NC_max, consecutive failures that end a rectification");
-    MRPT_SAVE_CONFIG_VAR_COMMENT(max_attempts, "cap of attempts per rectification (0: none)");
-    MRPT_SAVE_CONFIG_VAR_COMMENT(min_improvement, "relative energy drop of a success");
-    c.write(s, "acceptance", toString(acceptance), -1, -1, "ratio (paper) | greedy");
-    MRPT_SAVE_CONFIG_VAR_COMMENT(reuse_success, "try a successful change again");
-    MRPT_SAVE_CONFIG_VAR_COMMENT(rectify_every, "S_rec, serial mode");
-    c.write(s, "mode", toString(mode), -1, -1, "serial | anytime");
-    MRPT_SAVE_CONFIG_VAR_COMMENT(buffer_size, "S_buf, AnyTime mode");
-    MRPT_SAVE_CONFIG_VAR_COMMENT(n_max, "N_max, trajectory compression (0: never)");
-    c.write(s, "seed", std::to_string(seed), -1, -1, "random seed");
-    MRPT_SAVE_CONFIG_VAR_COMMENT(vertical_band, "keep only points in [band_min_y, band_max_y]");
-    MRPT_SAVE_CONFIG_VAR_COMMENT(band_min_y, "camera-frame y, down [m]");
-    MRPT_SAVE_CONFIG_VAR_COMMENT(band_max_y, "camera-frame y, down [m]");
-    // %e: small weights must survive the round trip, and the value must read
-    // as a number, not a whole one (see emslam::apps::findMalformedConfigValues()).
-    c.write(
-        s, "prior_weight", mrpt::format("%.10e", prior_weight), -1, -1,
-        "odometry prior weight (0: off, the paper)");
-    MRPT_SAVE_CONFIG_VAR_COMMENT(prior_sigma_xyz, "odometry prior, one step [m]");
-    MRPT_SAVE_CONFIG_VAR_COMMENT(prior_sigma_rot_deg, "odometry prior, one step [deg]");
-    MRPT_SAVE_CONFIG_VAR_COMMENT(
-        experimental_grid_phases, "entropy averaged over shifted voxel grids (1: the paper)");
-    MRPT_SAVE_CONFIG_VAR_COMMENT(
-        coarse_levels, "each rectification first runs on cells 2^L..2 l_d (0: the paper)");
-    MRPT_SAVE_CONFIG_VAR_COMMENT(
-        validate_phases, "keep a rectification only if K shifted grids agree (0: the paper)");
-    MRPT_SAVE_CONFIG_VAR_COMMENT(
-        confirm_phases, "a success moving a point > a cell needs K shifted grids (0: off)");
-    MRPT_SAVE_CONFIG_VAR_COMMENT(
-        confirm_min_move, "[cells] moves confirm_phases checks beyond (0: every success)");
-    MRPT_SAVE_CONFIG_VAR_COMMENT(
-        confirm_all_before_revisit, "confirm_phases checks every success until a revisit");
-    MRPT_SAVE_CONFIG_VAR_COMMENT(
-        hold_before_revisit, "no change at all until a revisit (energies blind to a_0)");
-    c.write(
-        s, "prior_covariance", toString(prior_covariance), -1, -1,
-        "fixed (prior_sigma_*) | egomotion (Dpp curvature)");
-    c.write(
-        s, "proposal", toString(proposal), -1, -1, "box (the paper's eps) | covariance | coherent");
-    MRPT_SAVE_CONFIG_VAR_COMMENT(proposal_scale, "sigma multiplier of the covariance proposal");
-    MRPT_SAVE_CONFIG_VAR_COMMENT(
-        threads, "threads of one attempt's map update: 1 | 2 (same result)");
-    MRPT_SAVE_CONFIG_VAR_COMMENT(
-        chains, "serial mode, K independent searches, poses averaged (1 = the paper)");
+    emslam::util::saveByVisit(*this, c, s, visit);
 }
 
 void TRectifierOptions::validate() const

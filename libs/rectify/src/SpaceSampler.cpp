@@ -1,5 +1,6 @@
 // SPDX-License-Identifier: BSD-3-Clause
 #include <emslam/rectify/SpaceSampler.h>
+#include <emslam/util/ConfigVisitor.h>
 
 #include <mrpt/config/CConfigFileBase.h>
 #include <mrpt/core/bits_math.h>
@@ -10,21 +11,28 @@
 
 namespace emslam::rectify
 {
+namespace
+{
+/** Every key of the section, once for load and save. */
+void visit(SpaceSampler::TParameters& p, emslam::util::ConfigVisitor& v)
+{
+    v.field("enabled", p.enabled, "false: every frame joins the trajectory");
+    v.field("t_min", p.t_min, "t_min, translation since the last accepted frame [m]");
+    v.field("theta_min_deg", p.theta_min_deg, "theta_min, rotation since it [deg]");
+}
+}  // namespace
+
 void SpaceSampler::TParameters::loadFromConfigFile(
     const mrpt::config::CConfigFileBase& c, const std::string& s)
 {
-    MRPT_LOAD_CONFIG_VAR(enabled, bool, c, s);
-    MRPT_LOAD_CONFIG_VAR(t_min, double, c, s);
-    MRPT_LOAD_CONFIG_VAR(theta_min_deg, double, c, s);
+    emslam::util::loadByVisit(*this, c, s, visit);
     validate();
 }
 
 void SpaceSampler::TParameters::saveToConfigFile(
     mrpt::config::CConfigFileBase& c, const std::string& s) const
 {
-    MRPT_SAVE_CONFIG_VAR_COMMENT(enabled, "false: every frame joins the trajectory");
-    MRPT_SAVE_CONFIG_VAR_COMMENT(t_min, "t_min, translation since the last accepted frame [m]");
-    MRPT_SAVE_CONFIG_VAR_COMMENT(theta_min_deg, "theta_min, rotation since it [deg]");
+    emslam::util::saveByVisit(*this, c, s, visit);
 }
 
 void SpaceSampler::TParameters::validate() const

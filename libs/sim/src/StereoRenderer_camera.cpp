@@ -2,6 +2,7 @@
 // StereoRenderer: the [Camera] parameters, their checks, and the calibration
 // of the rendered pair.
 #include <emslam/sim/StereoRenderer.h>
+#include <emslam/util/ConfigVisitor.h>
 
 #include <cmath>
 #include <stdexcept>
@@ -19,33 +20,34 @@ constexpr const char* SECTION = "Camera";
 }
 }  // namespace
 
+namespace
+{
+/** Every key of the section, once for load and save. */
+void visit(StereoRenderer::TParameters& p, emslam::util::ConfigVisitor& v)
+{
+    v.field("width", p.width);
+    v.field("height", p.height);
+    v.field("focal_px", p.focal_px);
+    v.field("cx", p.cx);
+    v.field("cy", p.cy);
+    v.field("baseline", p.baseline);
+    v.field("supersampling", p.supersampling);
+    v.field("noise_sigma", p.noise_sigma);
+    v.field("max_range", p.max_range);
+}
+}  // namespace
+
 void StereoRenderer::TParameters::loadFromConfigFile(
     const mrpt::config::CConfigFileBase& c, const std::string& s)
 {
-    MRPT_LOAD_CONFIG_VAR(width, int, c, s);
-    MRPT_LOAD_CONFIG_VAR(height, int, c, s);
-    MRPT_LOAD_CONFIG_VAR(focal_px, double, c, s);
-    MRPT_LOAD_CONFIG_VAR(cx, double, c, s);
-    MRPT_LOAD_CONFIG_VAR(cy, double, c, s);
-    MRPT_LOAD_CONFIG_VAR(baseline, double, c, s);
-    MRPT_LOAD_CONFIG_VAR(supersampling, int, c, s);
-    MRPT_LOAD_CONFIG_VAR(noise_sigma, double, c, s);
-    MRPT_LOAD_CONFIG_VAR(max_range, double, c, s);
+    emslam::util::loadByVisit(*this, c, s, visit);
     validate();
 }
 
 void StereoRenderer::TParameters::saveToConfigFile(
     mrpt::config::CConfigFileBase& c, const std::string& s) const
 {
-    MRPT_SAVE_CONFIG_VAR(width, c, s);
-    MRPT_SAVE_CONFIG_VAR(height, c, s);
-    MRPT_SAVE_CONFIG_VAR(focal_px, c, s);
-    MRPT_SAVE_CONFIG_VAR(cx, c, s);
-    MRPT_SAVE_CONFIG_VAR(cy, c, s);
-    MRPT_SAVE_CONFIG_VAR(baseline, c, s);
-    MRPT_SAVE_CONFIG_VAR(supersampling, c, s);
-    MRPT_SAVE_CONFIG_VAR(noise_sigma, c, s);
-    MRPT_SAVE_CONFIG_VAR(max_range, c, s);
+    emslam::util::saveByVisit(*this, c, s, visit);
 }
 
 void StereoRenderer::TParameters::validate() const

@@ -1,6 +1,7 @@
 // SPDX-License-Identifier: BSD-3-Clause
 #include <emslam/io/IniFile.h>
 #include <emslam/sim/StereoSimulator.h>
+#include <emslam/util/ConfigVisitor.h>
 
 #include <mrpt/config/CConfigFileMemory.h>
 #include <mrpt/core/Clock.h>
@@ -23,16 +24,25 @@ constexpr const char* SECTION = "Simulation";
 }
 }  // namespace
 
+namespace
+{
+/** Every key of the section, once for load and save. */
+void visit(StereoSimulator::TParameters& p, emslam::util::ConfigVisitor& v)
+{
+    v.field("fps", p.fps);
+    v.field("start_time", p.start_time);
+    v.field("sensor_label", p.sensor_label);
+    v.field("exposure_amplitude", p.exposure_amplitude);
+    v.field("exposure_period", p.exposure_period);
+    v.field("max_step", p.max_step);
+    v.field("max_step_deg", p.max_step_deg);
+}
+}  // namespace
+
 void StereoSimulator::TParameters::loadFromConfigFile(
     const mrpt::config::CConfigFileBase& c, const std::string& s)
 {
-    MRPT_LOAD_CONFIG_VAR(fps, double, c, s);
-    MRPT_LOAD_CONFIG_VAR(start_time, double, c, s);
-    MRPT_LOAD_CONFIG_VAR(sensor_label, string, c, s);
-    MRPT_LOAD_CONFIG_VAR(exposure_amplitude, double, c, s);
-    MRPT_LOAD_CONFIG_VAR(exposure_period, double, c, s);
-    MRPT_LOAD_CONFIG_VAR(max_step, double, c, s);
-    MRPT_LOAD_CONFIG_VAR(max_step_deg, double, c, s);
+    emslam::util::loadByVisit(*this, c, s, visit);
     if (!(fps > 0 && fps <= 10000))
     {
         bad("fps", "must be in (0, 10000] (got " + std::to_string(fps) + ")");
@@ -67,13 +77,7 @@ void StereoSimulator::TParameters::loadFromConfigFile(
 void StereoSimulator::TParameters::saveToConfigFile(
     mrpt::config::CConfigFileBase& c, const std::string& s) const
 {
-    MRPT_SAVE_CONFIG_VAR(fps, c, s);
-    MRPT_SAVE_CONFIG_VAR(start_time, c, s);
-    MRPT_SAVE_CONFIG_VAR(sensor_label, c, s);
-    MRPT_SAVE_CONFIG_VAR(exposure_amplitude, c, s);
-    MRPT_SAVE_CONFIG_VAR(exposure_period, c, s);
-    MRPT_SAVE_CONFIG_VAR(max_step, c, s);
-    MRPT_SAVE_CONFIG_VAR(max_step_deg, c, s);
+    emslam::util::saveByVisit(*this, c, s, visit);
 }
 
 void StereoSimulator::loadFile(const std::string& ini_file)

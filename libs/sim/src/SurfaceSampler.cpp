@@ -2,6 +2,7 @@
 // SurfaceSampler: samples of every static face of a World, and the ones the
 // trajectory's cameras saw (a depth test against the renderer's exact depth).
 #include <emslam/sim/SurfaceSampler.h>
+#include <emslam/util/ConfigVisitor.h>
 
 #include <mrpt/config/CConfigFileBase.h>
 #include <mrpt/core/bits_math.h>
@@ -12,24 +13,29 @@
 
 namespace emslam::sim
 {
+namespace
+{
+/** Every key of the section, once for load and save. */
+void visit(SurfaceSampler::TParameters& p, emslam::util::ConfigVisitor& v)
+{
+    v.field("spacing", p.spacing, "[m] distance between samples");
+    v.field("max_range", p.max_range, "[m] farthest depth a sample is seen at");
+    v.field("min_range", p.min_range, "[m] nearest depth a sample is seen at");
+    v.field("pose_step", p.pose_step, "[m] camera motion between tested frames");
+    v.field("pose_step_deg", p.pose_step_deg, "[deg] camera turn between tested frames");
+}
+}  // namespace
+
 void SurfaceSampler::TParameters::loadFromConfigFile(
     const mrpt::config::CConfigFileBase& c, const std::string& s)
 {
-    MRPT_LOAD_CONFIG_VAR(spacing, double, c, s);
-    MRPT_LOAD_CONFIG_VAR(max_range, double, c, s);
-    MRPT_LOAD_CONFIG_VAR(min_range, double, c, s);
-    MRPT_LOAD_CONFIG_VAR(pose_step, double, c, s);
-    MRPT_LOAD_CONFIG_VAR(pose_step_deg, double, c, s);
+    emslam::util::loadByVisit(*this, c, s, visit);
 }
 
 void SurfaceSampler::TParameters::saveToConfigFile(
     mrpt::config::CConfigFileBase& c, const std::string& s) const
 {
-    MRPT_SAVE_CONFIG_VAR_COMMENT(spacing, "[m] distance between samples");
-    MRPT_SAVE_CONFIG_VAR_COMMENT(max_range, "[m] farthest depth a sample is seen at");
-    MRPT_SAVE_CONFIG_VAR_COMMENT(min_range, "[m] nearest depth a sample is seen at");
-    MRPT_SAVE_CONFIG_VAR_COMMENT(pose_step, "[m] camera motion between tested frames");
-    MRPT_SAVE_CONFIG_VAR_COMMENT(pose_step_deg, "[deg] camera turn between tested frames");
+    emslam::util::saveByVisit(*this, c, s, visit);
 }
 
 void SurfaceSampler::TParameters::validate() const

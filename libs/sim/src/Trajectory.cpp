@@ -1,5 +1,6 @@
 // SPDX-License-Identifier: BSD-3-Clause
 #include <emslam/sim/Trajectory.h>
+#include <emslam/util/ConfigVisitor.h>
 
 #include <mrpt/math/CMatrixFixed.h>
 #include <mrpt/math/CVectorFixed.h>
@@ -143,42 +144,38 @@ std::vector<std::array<double, 3>> checkedWaypoints(const Trajectory::TParameter
 }
 }  // namespace
 
+namespace
+{
+/** Every key of the section, once for load and save. */
+void visit(Trajectory::TParameters& p, emslam::util::ConfigVisitor& v)
+{
+    v.field("type", p.type);
+    v.field("waypoints", p.waypoints);
+    v.field("closed", p.closed);
+    v.field("loops", p.loops);
+    v.field("speed", p.speed);
+    v.field("angular_speed_deg", p.angular_speed_deg);
+    v.field("drive", p.drive);
+    v.field("turn_blend", p.turn_blend);
+    v.field("camera_height", p.camera_height);
+    v.field("follow_ground", p.follow_ground);
+    v.field("bob_amplitude", p.bob_amplitude);
+    v.field("step_frequency", p.step_frequency);
+    v.field("sway_roll_deg", p.sway_roll_deg);
+    v.field("sway_pitch_deg", p.sway_pitch_deg);
+}
+}  // namespace
+
 void Trajectory::TParameters::loadFromConfigFile(
     const mrpt::config::CConfigFileBase& c, const std::string& s)
 {
-    MRPT_LOAD_CONFIG_VAR(type, string, c, s);
-    MRPT_LOAD_CONFIG_VAR(waypoints, string, c, s);
-    MRPT_LOAD_CONFIG_VAR(closed, bool, c, s);
-    MRPT_LOAD_CONFIG_VAR(loops, int, c, s);
-    MRPT_LOAD_CONFIG_VAR(speed, double, c, s);
-    MRPT_LOAD_CONFIG_VAR(angular_speed_deg, double, c, s);
-    MRPT_LOAD_CONFIG_VAR(drive, string, c, s);
-    MRPT_LOAD_CONFIG_VAR(turn_blend, double, c, s);
-    MRPT_LOAD_CONFIG_VAR(camera_height, double, c, s);
-    MRPT_LOAD_CONFIG_VAR(follow_ground, bool, c, s);
-    MRPT_LOAD_CONFIG_VAR(bob_amplitude, double, c, s);
-    MRPT_LOAD_CONFIG_VAR(step_frequency, double, c, s);
-    MRPT_LOAD_CONFIG_VAR(sway_roll_deg, double, c, s);
-    MRPT_LOAD_CONFIG_VAR(sway_pitch_deg, double, c, s);
+    emslam::util::loadByVisit(*this, c, s, visit);
 }
 
 void Trajectory::TParameters::saveToConfigFile(
     mrpt::config::CConfigFileBase& c, const std::string& s) const
 {
-    MRPT_SAVE_CONFIG_VAR(type, c, s);
-    MRPT_SAVE_CONFIG_VAR(waypoints, c, s);
-    MRPT_SAVE_CONFIG_VAR(closed, c, s);
-    MRPT_SAVE_CONFIG_VAR(loops, c, s);
-    MRPT_SAVE_CONFIG_VAR(speed, c, s);
-    MRPT_SAVE_CONFIG_VAR(angular_speed_deg, c, s);
-    MRPT_SAVE_CONFIG_VAR(drive, c, s);
-    MRPT_SAVE_CONFIG_VAR(turn_blend, c, s);
-    MRPT_SAVE_CONFIG_VAR(camera_height, c, s);
-    MRPT_SAVE_CONFIG_VAR(follow_ground, c, s);
-    MRPT_SAVE_CONFIG_VAR(bob_amplitude, c, s);
-    MRPT_SAVE_CONFIG_VAR(step_frequency, c, s);
-    MRPT_SAVE_CONFIG_VAR(sway_roll_deg, c, s);
-    MRPT_SAVE_CONFIG_VAR(sway_pitch_deg, c, s);
+    emslam::util::saveByVisit(*this, c, s, visit);
 }
 
 void Trajectory::setup(const TParameters& p)

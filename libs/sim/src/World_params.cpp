@@ -4,6 +4,7 @@
 #include "WorldDetail.h"
 
 #include <emslam/sim/World.h>
+#include <emslam/util/ConfigVisitor.h>
 
 #include <mrpt/config/CConfigFileBase.h>
 #include <mrpt/core/format.h>
@@ -61,22 +62,57 @@ using detail::requireRange;
 using detail::requireTexture;
 
 // ---------------------------------------------------------------- parameters
+namespace
+{
+/** Every key of the section, once for load and save. */
+void visit(World::TBuildingParams& p, emslam::util::ConfigVisitor& v)
+{
+    v.field("cell_size", p.cell_size);
+    v.field("wall_height", p.wall_height);
+    v.field("level_height", p.level_height);
+    v.field("levels", p.levels);
+    v.field("map_0", p.map_0);
+    v.field("map_1", p.map_1);
+    v.field("stairs_dir", p.stairs_dir);
+    v.field("door_probability", p.door_probability);
+    v.field("poster_probability", p.poster_probability);
+    v.field("wall_texture", p.wall_texture);
+    v.field("floor_texture", p.floor_texture);
+    v.field("ceiling_texture", p.ceiling_texture);
+    v.field("texel_size", p.texel_size);
+}
+
+void visit(World::TGroundParams& p, emslam::util::ConfigVisitor& v)
+{
+    v.field("extent", p.extent);
+    v.field("objects", p.objects);
+    v.field("min_size", p.min_size);
+    v.field("max_size", p.max_size);
+    v.field("clearance", p.clearance);
+    v.field("ground_texture", p.ground_texture);
+    v.field("object_texture", p.object_texture);
+    v.field("texel_size", p.texel_size);
+}
+
+void visit(World::TTerrainParams& p, emslam::util::ConfigVisitor& v)
+{
+    v.field("extent", p.extent);
+    v.field("cell", p.cell);
+    v.field("amplitude", p.amplitude);
+    v.field("channel_depth", p.channel_depth);
+    v.field("channel_width", p.channel_width);
+    v.field("rocks", p.rocks);
+    v.field("bushes", p.bushes);
+    v.field("clearance", p.clearance);
+    v.field("ground_texture", p.ground_texture);
+    v.field("texel_size", p.texel_size);
+}
+}  // namespace
+
 void World::TBuildingParams::loadFromConfigFile(
     const mrpt::config::CConfigFileBase& c, const std::string& s)
 {
-    MRPT_LOAD_CONFIG_VAR(cell_size, double, c, s);
-    MRPT_LOAD_CONFIG_VAR(wall_height, double, c, s);
-    MRPT_LOAD_CONFIG_VAR(level_height, double, c, s);
-    MRPT_LOAD_CONFIG_VAR(levels, int, c, s);
-    MRPT_LOAD_CONFIG_VAR(map_0, string, c, s);
-    MRPT_LOAD_CONFIG_VAR(map_1, string, c, s);
-    MRPT_LOAD_CONFIG_VAR(stairs_dir, string, c, s);
-    MRPT_LOAD_CONFIG_VAR(door_probability, double, c, s);
-    MRPT_LOAD_CONFIG_VAR(poster_probability, double, c, s);
-    MRPT_LOAD_CONFIG_VAR(wall_texture, string, c, s);
-    MRPT_LOAD_CONFIG_VAR(floor_texture, string, c, s);
-    MRPT_LOAD_CONFIG_VAR(ceiling_texture, string, c, s);
-    MRPT_LOAD_CONFIG_VAR(texel_size, double, c, s);
+    emslam::util::loadByVisit(*this, c, s, visit);
     requirePositive(cell_size, s, "cell_size");
     requirePositive(wall_height, s, "wall_height");
     requirePositive(level_height, s, "level_height");
@@ -116,19 +152,7 @@ void World::TBuildingParams::loadFromConfigFile(
 void World::TBuildingParams::saveToConfigFile(
     mrpt::config::CConfigFileBase& c, const std::string& s) const
 {
-    MRPT_SAVE_CONFIG_VAR(cell_size, c, s);
-    MRPT_SAVE_CONFIG_VAR(wall_height, c, s);
-    MRPT_SAVE_CONFIG_VAR(level_height, c, s);
-    MRPT_SAVE_CONFIG_VAR(levels, c, s);
-    MRPT_SAVE_CONFIG_VAR(map_0, c, s);
-    MRPT_SAVE_CONFIG_VAR(map_1, c, s);
-    MRPT_SAVE_CONFIG_VAR(stairs_dir, c, s);
-    MRPT_SAVE_CONFIG_VAR(door_probability, c, s);
-    MRPT_SAVE_CONFIG_VAR(poster_probability, c, s);
-    MRPT_SAVE_CONFIG_VAR(wall_texture, c, s);
-    MRPT_SAVE_CONFIG_VAR(floor_texture, c, s);
-    MRPT_SAVE_CONFIG_VAR(ceiling_texture, c, s);
-    MRPT_SAVE_CONFIG_VAR(texel_size, c, s);
+    emslam::util::saveByVisit(*this, c, s, visit);
 }
 
 std::vector<std::string> World::TBuildingParams::stairsDirections() const
@@ -145,14 +169,7 @@ std::vector<std::string> World::TBuildingParams::stairsDirections() const
 void World::TGroundParams::loadFromConfigFile(
     const mrpt::config::CConfigFileBase& c, const std::string& s)
 {
-    MRPT_LOAD_CONFIG_VAR(extent, double, c, s);
-    MRPT_LOAD_CONFIG_VAR(objects, int, c, s);
-    MRPT_LOAD_CONFIG_VAR(min_size, double, c, s);
-    MRPT_LOAD_CONFIG_VAR(max_size, double, c, s);
-    MRPT_LOAD_CONFIG_VAR(clearance, double, c, s);
-    MRPT_LOAD_CONFIG_VAR(ground_texture, string, c, s);
-    MRPT_LOAD_CONFIG_VAR(object_texture, string, c, s);
-    MRPT_LOAD_CONFIG_VAR(texel_size, double, c, s);
+    emslam::util::loadByVisit(*this, c, s, visit);
     requirePositive(extent, s, "extent");
     requirePositive(min_size, s, "min_size");
     requirePositive(texel_size, s, "texel_size");
@@ -171,29 +188,13 @@ void World::TGroundParams::loadFromConfigFile(
 void World::TGroundParams::saveToConfigFile(
     mrpt::config::CConfigFileBase& c, const std::string& s) const
 {
-    MRPT_SAVE_CONFIG_VAR(extent, c, s);
-    MRPT_SAVE_CONFIG_VAR(objects, c, s);
-    MRPT_SAVE_CONFIG_VAR(min_size, c, s);
-    MRPT_SAVE_CONFIG_VAR(max_size, c, s);
-    MRPT_SAVE_CONFIG_VAR(clearance, c, s);
-    MRPT_SAVE_CONFIG_VAR(ground_texture, c, s);
-    MRPT_SAVE_CONFIG_VAR(object_texture, c, s);
-    MRPT_SAVE_CONFIG_VAR(texel_size, c, s);
+    emslam::util::saveByVisit(*this, c, s, visit);
 }
 
 void World::TTerrainParams::loadFromConfigFile(
     const mrpt::config::CConfigFileBase& c, const std::string& s)
 {
-    MRPT_LOAD_CONFIG_VAR(extent, double, c, s);
-    MRPT_LOAD_CONFIG_VAR(cell, double, c, s);
-    MRPT_LOAD_CONFIG_VAR(amplitude, double, c, s);
-    MRPT_LOAD_CONFIG_VAR(channel_depth, double, c, s);
-    MRPT_LOAD_CONFIG_VAR(channel_width, double, c, s);
-    MRPT_LOAD_CONFIG_VAR(rocks, int, c, s);
-    MRPT_LOAD_CONFIG_VAR(bushes, int, c, s);
-    MRPT_LOAD_CONFIG_VAR(clearance, double, c, s);
-    MRPT_LOAD_CONFIG_VAR(ground_texture, string, c, s);
-    MRPT_LOAD_CONFIG_VAR(texel_size, double, c, s);
+    emslam::util::loadByVisit(*this, c, s, visit);
     requirePositive(extent, s, "extent");
     requirePositive(cell, s, "cell");
     requirePositive(channel_width, s, "channel_width");
@@ -214,16 +215,7 @@ void World::TTerrainParams::loadFromConfigFile(
 void World::TTerrainParams::saveToConfigFile(
     mrpt::config::CConfigFileBase& c, const std::string& s) const
 {
-    MRPT_SAVE_CONFIG_VAR(extent, c, s);
-    MRPT_SAVE_CONFIG_VAR(cell, c, s);
-    MRPT_SAVE_CONFIG_VAR(amplitude, c, s);
-    MRPT_SAVE_CONFIG_VAR(channel_depth, c, s);
-    MRPT_SAVE_CONFIG_VAR(channel_width, c, s);
-    MRPT_SAVE_CONFIG_VAR(rocks, c, s);
-    MRPT_SAVE_CONFIG_VAR(bushes, c, s);
-    MRPT_SAVE_CONFIG_VAR(clearance, c, s);
-    MRPT_SAVE_CONFIG_VAR(ground_texture, c, s);
-    MRPT_SAVE_CONFIG_VAR(texel_size, c, s);
+    emslam::util::saveByVisit(*this, c, s, visit);
 }
 
 }  // namespace emslam::sim

@@ -1,6 +1,7 @@
 // SPDX-License-Identifier: BSD-3-Clause
 #include <emslam/rectify/ActionCovariance.h>
 #include <emslam/slam/EntropySlam.h>
+#include <emslam/util/ConfigVisitor.h>
 #include <emslam/util/ExceptionMessage.h>
 
 #include <mrpt/config/CConfigFileBase.h>
@@ -84,22 +85,30 @@ emslam::maps::WeightedPointCloud toWeightedCloud(
 }
 }  // namespace
 
+namespace
+{
+/** Every key of the section, once for load and save. */
+void visit(EntropySlam::TOptions& p, emslam::util::ConfigVisitor& v)
+{
+    v.field("egomotion_only", p.egomotion_only, "egomotion only: the map is never rectified");
+    v.field("map_cell_size", p.map_cell_size, "[m] map.ply cell per frame (<= 0: every point)");
+    v.field(
+        "export_max_height", p.export_max_height,
+        "[m] above the first camera: map.3Dscene / map_top.png cut (inf: none)");
+}
+}  // namespace
+
 void EntropySlam::TOptions::loadFromConfigFile(
     const mrpt::config::CConfigFileBase& c, const std::string& s)
 {
-    MRPT_LOAD_CONFIG_VAR(egomotion_only, bool, c, s);
-    MRPT_LOAD_CONFIG_VAR(map_cell_size, double, c, s);
-    MRPT_LOAD_CONFIG_VAR(export_max_height, double, c, s);
+    emslam::util::loadByVisit(*this, c, s, visit);
     validate();
 }
 
 void EntropySlam::TOptions::saveToConfigFile(
     mrpt::config::CConfigFileBase& c, const std::string& s) const
 {
-    MRPT_SAVE_CONFIG_VAR_COMMENT(egomotion_only, "egomotion only: the map is never rectified");
-    MRPT_SAVE_CONFIG_VAR_COMMENT(map_cell_size, "[m] map.ply cell per frame (<= 0: every point)");
-    MRPT_SAVE_CONFIG_VAR_COMMENT(
-        export_max_height, "[m] above the first camera: map.3Dscene / map_top.png cut (inf: none)");
+    emslam::util::saveByVisit(*this, c, s, visit);
 }
 
 void EntropySlam::TOptions::validate() const

@@ -3,6 +3,7 @@
 #include <emslam/rectify/PoseGraph.h>
 #include <emslam/slam/LevelFloors.h>
 #include <emslam/slam/LoopCloser.h>
+#include <emslam/util/ConfigVisitor.h>
 
 #include <mrpt/config/CConfigFileBase.h>
 #include <mrpt/core/bits_math.h>
@@ -317,21 +318,34 @@ struct LoopCloser::Registration
     emslam::rectify::ActionDelta misclosure{};
 };
 
+namespace
+{
+/** Every key of the section, once for load and save. */
+void visit(LoopCloser::TParameters& p, emslam::util::ConfigVisitor& v)
+{
+    v.field("enabled", p.enabled, "close loops by registering revisited places");
+    v.field("min_path_length", p.min_path_length, "[m] path between two keyframes of a loop");
+    v.field("max_distance", p.max_distance, "[m] beyond the drift: views that still overlap");
+    v.field("max_angle_deg", p.max_angle_deg, "[deg] between the viewing directions");
+    v.field("max_candidates", p.max_candidates, "registrations per keyframe, nearest first");
+    v.field(
+        "place_candidates", p.place_candidates,
+        "look-alike keyframes registered first, whatever the drift (0: off)");
+    v.field("local_edges", p.local_edges, "direct registrations to the keyframes before");
+    v.field("vertical_prior", p.vertical_prior, "level floors: the up each keyframe sees");
+    v.field(
+        "vertical_max_bias_deg", p.vertical_max_bias_deg,
+        "[deg] largest tilt of the camera's own bias in the ups");
+    v.field("kept_features", p.kept_features, "features kept per keyframe, 8-bit (0: all, float)");
+    v.field("consensus_window", p.consensus_window, "keyframes whose registrations may agree");
+    v.field("max_lag", p.max_lag, "keyframes loop closing may lag before the mapper waits");
+}
+}  // namespace
+
 void LoopCloser::TParameters::loadFromConfigFile(
     const mrpt::config::CConfigFileBase& c, const std::string& s)
 {
-    MRPT_LOAD_CONFIG_VAR(enabled, bool, c, s);
-    MRPT_LOAD_CONFIG_VAR(min_path_length, double, c, s);
-    MRPT_LOAD_CONFIG_VAR(max_distance, double, c, s);
-    MRPT_LOAD_CONFIG_VAR(max_angle_deg, double, c, s);
-    MRPT_LOAD_CONFIG_VAR(max_candidates, int, c, s);
-    MRPT_LOAD_CONFIG_VAR(place_candidates, int, c, s);
-    MRPT_LOAD_CONFIG_VAR(local_edges, int, c, s);
-    MRPT_LOAD_CONFIG_VAR(vertical_prior, bool, c, s);
-    MRPT_LOAD_CONFIG_VAR(vertical_max_bias_deg, double, c, s);
-    MRPT_LOAD_CONFIG_VAR(kept_features, int, c, s);
-    MRPT_LOAD_CONFIG_VAR(consensus_window, int, c, s);
-    MRPT_LOAD_CONFIG_VAR(max_lag, int, c, s);
+    emslam::util::loadByVisit(*this, c, s, visit);
     vertical.loadFromConfigFile(c, s);
     validate();
 }
@@ -339,21 +353,7 @@ void LoopCloser::TParameters::loadFromConfigFile(
 void LoopCloser::TParameters::saveToConfigFile(
     mrpt::config::CConfigFileBase& c, const std::string& s) const
 {
-    MRPT_SAVE_CONFIG_VAR_COMMENT(enabled, "close loops by registering revisited places");
-    MRPT_SAVE_CONFIG_VAR_COMMENT(min_path_length, "[m] path between two keyframes of a loop");
-    MRPT_SAVE_CONFIG_VAR_COMMENT(max_distance, "[m] beyond the drift: views that still overlap");
-    MRPT_SAVE_CONFIG_VAR_COMMENT(max_angle_deg, "[deg] between the viewing directions");
-    MRPT_SAVE_CONFIG_VAR_COMMENT(max_candidates, "registrations per keyframe, nearest first");
-    MRPT_SAVE_CONFIG_VAR_COMMENT(
-        place_candidates, "look-alike keyframes registered first, whatever the drift (0: off)");
-    MRPT_SAVE_CONFIG_VAR_COMMENT(local_edges, "direct registrations to the keyframes before");
-    MRPT_SAVE_CONFIG_VAR_COMMENT(vertical_prior, "level floors: the up each keyframe sees");
-    MRPT_SAVE_CONFIG_VAR_COMMENT(
-        vertical_max_bias_deg, "[deg] largest tilt of the camera's own bias in the ups");
-    MRPT_SAVE_CONFIG_VAR_COMMENT(
-        kept_features, "features kept per keyframe, 8-bit (0: all, float)");
-    MRPT_SAVE_CONFIG_VAR_COMMENT(consensus_window, "keyframes whose registrations may agree");
-    MRPT_SAVE_CONFIG_VAR_COMMENT(max_lag, "keyframes loop closing may lag before the mapper waits");
+    emslam::util::saveByVisit(*this, c, s, visit);
     vertical.saveToConfigFile(c, s);
 }
 

@@ -1,5 +1,6 @@
 // SPDX-License-Identifier: BSD-3-Clause
 #include <emslam/slam/OccupancyGridBuilder.h>
+#include <emslam/util/ConfigVisitor.h>
 
 #include <mrpt/core/bits_math.h>
 
@@ -17,27 +18,31 @@ constexpr float FREE = 0.95f;
 constexpr double MAX_CELLS = 1e8;
 }  // namespace
 
+namespace
+{
+/** Every key of the section, once for load and save. */
+void visit(OccupancyGridBuilder::TParameters& p, emslam::util::ConfigVisitor& v)
+{
+    v.field("cell_size", p.cell_size, "[m] map_grid cell (0: no grid)");
+    v.field("min_height", p.min_height, "[m] above the first camera: lowest obstacle");
+    v.field("max_height", p.max_height, "[m] above the first camera: highest obstacle");
+    v.field("min_points", p.min_points, "map points an occupied cell needs");
+    v.field("fov_deg", p.fov_deg, "[deg] horizontal view a keyframe sees free space in");
+    v.field("max_range", p.max_range, "[m] reach of a keyframe's free-space rays");
+}
+}  // namespace
+
 void OccupancyGridBuilder::TParameters::loadFromConfigFile(
     const mrpt::config::CConfigFileBase& c, const std::string& s)
 {
-    MRPT_LOAD_CONFIG_VAR(cell_size, double, c, s);
-    MRPT_LOAD_CONFIG_VAR(min_height, double, c, s);
-    MRPT_LOAD_CONFIG_VAR(max_height, double, c, s);
-    MRPT_LOAD_CONFIG_VAR(min_points, int, c, s);
-    MRPT_LOAD_CONFIG_VAR(fov_deg, double, c, s);
-    MRPT_LOAD_CONFIG_VAR(max_range, double, c, s);
+    emslam::util::loadByVisit(*this, c, s, visit);
     validate();
 }
 
 void OccupancyGridBuilder::TParameters::saveToConfigFile(
     mrpt::config::CConfigFileBase& c, const std::string& s) const
 {
-    MRPT_SAVE_CONFIG_VAR_COMMENT(cell_size, "[m] map_grid cell (0: no grid)");
-    MRPT_SAVE_CONFIG_VAR_COMMENT(min_height, "[m] above the first camera: lowest obstacle");
-    MRPT_SAVE_CONFIG_VAR_COMMENT(max_height, "[m] above the first camera: highest obstacle");
-    MRPT_SAVE_CONFIG_VAR_COMMENT(min_points, "map points an occupied cell needs");
-    MRPT_SAVE_CONFIG_VAR_COMMENT(fov_deg, "[deg] horizontal view a keyframe sees free space in");
-    MRPT_SAVE_CONFIG_VAR_COMMENT(max_range, "[m] reach of a keyframe's free-space rays");
+    emslam::util::saveByVisit(*this, c, s, visit);
 }
 
 void OccupancyGridBuilder::TParameters::validate() const

@@ -1,5 +1,6 @@
 // SPDX-License-Identifier: BSD-3-Clause
 #include <emslam/slam/OctoMapBuilder.h>
+#include <emslam/util/ConfigVisitor.h>
 
 #include <mrpt/config/CConfigFileBase.h>
 
@@ -9,19 +10,27 @@
 
 namespace emslam::slam
 {
+namespace
+{
+/** Every key of the section, once for load and save. */
+void visit(OctoMapBuilder::TParameters& p, emslam::util::ConfigVisitor& v)
+{
+    v.field("resolution", p.resolution, "[m] map.bt voxel edge (0: no map.bt)");
+    v.field("max_range", p.max_range, "[m] longest ray that occupies its end voxel");
+}
+}  // namespace
+
 void OctoMapBuilder::TParameters::loadFromConfigFile(
     const mrpt::config::CConfigFileBase& c, const std::string& s)
 {
-    MRPT_LOAD_CONFIG_VAR(resolution, double, c, s);
-    MRPT_LOAD_CONFIG_VAR(max_range, double, c, s);
+    emslam::util::loadByVisit(*this, c, s, visit);
     validate();
 }
 
 void OctoMapBuilder::TParameters::saveToConfigFile(
     mrpt::config::CConfigFileBase& c, const std::string& s) const
 {
-    MRPT_SAVE_CONFIG_VAR_COMMENT(resolution, "[m] map.bt voxel edge (0: no map.bt)");
-    MRPT_SAVE_CONFIG_VAR_COMMENT(max_range, "[m] longest ray that occupies its end voxel");
+    emslam::util::saveByVisit(*this, c, s, visit);
 }
 
 void OctoMapBuilder::TParameters::validate() const

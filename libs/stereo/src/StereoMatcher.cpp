@@ -4,6 +4,7 @@
 
 #include <emslam/stereo/StereoCalibration.h>
 #include <emslam/stereo/StereoMatcher.h>
+#include <emslam/util/ConfigVisitor.h>
 
 #include <mrpt/config/CConfigFileBase.h>
 #include <mrpt/core/exceptions.h>
@@ -53,50 +54,44 @@ int sgbmMode(const std::string& algorithm)
 }
 }  // namespace
 
+namespace
+{
+/** Every key of the section, once for load and save. */
+void visit(StereoMatcher::TParameters& p, emslam::util::ConfigVisitor& v)
+{
+    v.field("algorithm", p.algorithm, "sgbm_hh | sgbm | sgbm_3way | bm");
+    v.field("image_scale", p.image_scale, "Resize factor before matching, (0,1]");
+    v.field("num_disparities", p.num_disparities, "Disparity range [px] at working scale");
+    v.field("min_disparity", p.min_disparity, "Smallest disparity searched [px]");
+    v.field("block_size", p.block_size, "Matching window side [px], odd");
+    v.field("uniqueness_ratio", p.uniqueness_ratio, "Uniqueness margin [%]");
+    v.field("speckle_window_size", p.speckle_window_size, "Speckle blob size removed [px]; 0: off");
+    v.field("speckle_range", p.speckle_range, "Max disparity step inside a blob [px]");
+    v.field("lr_max_diff", p.lr_max_diff, "Left-right check tolerance [px]; <0: off");
+    v.field("texture_threshold", p.texture_threshold, "BM only: minimum texture");
+    v.field("pre_filter_cap", p.pre_filter_cap, "Prefilter clip value");
+    v.field("p1_per_pixel", p.p1_per_pixel, "SGBM: P1 = p1_per_pixel * block_size^2");
+    v.field("p2_per_pixel", p.p2_per_pixel, "SGBM: P2 = p2_per_pixel * block_size^2");
+    v.field("min_range", p.min_range, "Minimum depth kept [m]");
+    v.field("max_range", p.max_range, "Maximum depth kept [m]");
+    v.field(
+        "sparse_at_features", p.sparse_at_features,
+        "egomotion points by a row search at its features, full size");
+    v.field("sparse_block_size", p.sparse_block_size, "that search's SAD window [px], odd, 3..15");
+}
+}  // namespace
+
 void StereoMatcher::TParameters::loadFromConfigFile(
     const mrpt::config::CConfigFileBase& c, const std::string& s)
 {
-    MRPT_LOAD_CONFIG_VAR(algorithm, string, c, s);
-    MRPT_LOAD_CONFIG_VAR(image_scale, double, c, s);
-    MRPT_LOAD_CONFIG_VAR(num_disparities, int, c, s);
-    MRPT_LOAD_CONFIG_VAR(min_disparity, int, c, s);
-    MRPT_LOAD_CONFIG_VAR(block_size, int, c, s);
-    MRPT_LOAD_CONFIG_VAR(uniqueness_ratio, int, c, s);
-    MRPT_LOAD_CONFIG_VAR(speckle_window_size, int, c, s);
-    MRPT_LOAD_CONFIG_VAR(speckle_range, int, c, s);
-    MRPT_LOAD_CONFIG_VAR(lr_max_diff, int, c, s);
-    MRPT_LOAD_CONFIG_VAR(texture_threshold, int, c, s);
-    MRPT_LOAD_CONFIG_VAR(pre_filter_cap, int, c, s);
-    MRPT_LOAD_CONFIG_VAR(p1_per_pixel, int, c, s);
-    MRPT_LOAD_CONFIG_VAR(p2_per_pixel, int, c, s);
-    MRPT_LOAD_CONFIG_VAR(min_range, double, c, s);
-    MRPT_LOAD_CONFIG_VAR(max_range, double, c, s);
-    MRPT_LOAD_CONFIG_VAR(sparse_at_features, bool, c, s);
-    MRPT_LOAD_CONFIG_VAR(sparse_block_size, int, c, s);
+    emslam::util::loadByVisit(*this, c, s, visit);
     validate();
 }
 
 void StereoMatcher::TParameters::saveToConfigFile(
     mrpt::config::CConfigFileBase& c, const std::string& s) const
 {
-    MRPT_SAVE_CONFIG_VAR_COMMENT(algorithm, "sgbm_hh | sgbm | sgbm_3way | bm");
-    MRPT_SAVE_CONFIG_VAR_COMMENT(image_scale, "Resize factor before matching, (0,1]");
-    MRPT_SAVE_CONFIG_VAR_COMMENT(num_disparities, "Disparity range [px] at working scale");
-    MRPT_SAVE_CONFIG_VAR_COMMENT(min_disparity, "Smallest disparity searched [px]");
-    MRPT_SAVE_CONFIG_VAR_COMMENT(block_size, "Matching window side [px], odd");
-    MRPT_SAVE_CONFIG_VAR_COMMENT(uniqueness_ratio, "Uniqueness margin [%]");
-    MRPT_SAVE_CONFIG_VAR_COMMENT(speckle_window_size, "Speckle blob size removed [px]; 0: off");
-    MRPT_SAVE_CONFIG_VAR_COMMENT(speckle_range, "Max disparity step inside a blob [px]");
-    MRPT_SAVE_CONFIG_VAR_COMMENT(lr_max_diff, "Left-right check tolerance [px]; <0: off");
-    MRPT_SAVE_CONFIG_VAR_COMMENT(texture_threshold, "BM only: minimum texture");
-    MRPT_SAVE_CONFIG_VAR_COMMENT(pre_filter_cap, "Prefilter clip value");
-    MRPT_SAVE_CONFIG_VAR_COMMENT(p1_per_pixel, "SGBM: P1 = p1_per_pixel * block_size^2");
-    MRPT_SAVE_CONFIG_VAR_COMMENT(p2_per_pixel, "SGBM: P2 = p2_per_pixel * block_size^2");
-    MRPT_SAVE_CONFIG_VAR_COMMENT(min_range, "Minimum depth kept [m]");
-    MRPT_SAVE_CONFIG_VAR_COMMENT(max_range, "Maximum depth kept [m]");
-    MRPT_SAVE_CONFIG_VAR_COMMENT(
-        sparse_at_features, "egomotion points by a row search at its features, full size");
-    MRPT_SAVE_CONFIG_VAR_COMMENT(sparse_block_size, "that search's SAD window [px], odd, 3..15");
+    emslam::util::saveByVisit(*this, c, s, visit);
 }
 
 void StereoMatcher::TParameters::validate() const

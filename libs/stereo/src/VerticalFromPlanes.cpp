@@ -1,5 +1,6 @@
 // SPDX-License-Identifier: BSD-3-Clause
 #include <emslam/stereo/VerticalFromPlanes.h>
+#include <emslam/util/ConfigVisitor.h>
 
 #include <mrpt/config/CConfigFileBase.h>
 
@@ -174,20 +175,27 @@ mrpt::math::CMatrixDouble33 VerticalMeasurement::information() const
     return out;
 }
 
+namespace
+{
+/** Every key, once for load and save. */
+void visit(VerticalFromPlanes::TParameters& p, emslam::util::ConfigVisitor& v)
+{
+    v.field("vertical_patch_px", p.patch_px);
+    v.field("vertical_max_angle_deg", p.max_angle_deg);
+    v.field("vertical_min_patches", p.min_patches);
+}
+}  // namespace
+
 void VerticalFromPlanes::TParameters::loadFromConfigFile(
     const mrpt::config::CConfigFileBase& c, const std::string& s)
 {
-    patch_px = c.read_int(s, "vertical_patch_px", patch_px);
-    max_angle_deg = c.read_double(s, "vertical_max_angle_deg", max_angle_deg);
-    min_patches = c.read_int(s, "vertical_min_patches", min_patches);
+    emslam::util::loadByVisit(*this, c, s, visit);
 }
 
 void VerticalFromPlanes::TParameters::saveToConfigFile(
     mrpt::config::CConfigFileBase& c, const std::string& s) const
 {
-    c.write(s, "vertical_patch_px", patch_px);
-    c.write(s, "vertical_max_angle_deg", max_angle_deg);
-    c.write(s, "vertical_min_patches", min_patches);
+    emslam::util::saveByVisit(*this, c, s, visit);
 }
 
 void VerticalFromPlanes::TParameters::validate() const
