@@ -1,9 +1,8 @@
 #!/usr/bin/env bash
 # SPDX-License-Identifier: BSD-3-Clause
-# Regenerates the README's map images from a fresh run of the default demo
-# (scripts/demo.sh: the simulated hall double loop): the floor plan
-# map_top.png as the mapper writes it, and map.3Dscene as emslam-mapview
-# draws it, off-screen (no display needed).
+# Regenerates the README's floor plan from a fresh run of the default demo
+# (scripts/demo.sh: the simulated hall double loop): map_top.png as the mapper
+# writes it. The README's 3D view is a window capture (see the README).
 #   scripts/make-readme-images.sh           # runs the demo first (~3 min idle)
 #   scripts/make-readme-images.sh --reuse   # takes the last demo run in out/demo
 set -euo pipefail
@@ -13,9 +12,7 @@ if [[ "${1:-}" != "--reuse" ]]; then
     ./scripts/demo.sh
 fi
 map=out/demo/hall_map
-for f in "$map/map_top.png" "$map/map.3Dscene"; do
-    [[ -f "$f" ]] || { echo "make-readme-images: '$f' missing: run scripts/demo.sh" >&2; exit 1; }
-done
+[[ -f "$map/map_top.png" ]] ||
+    { echo "make-readme-images: '$map/map_top.png' missing: run scripts/demo.sh" >&2; exit 1; }
 cp "$map/map_top.png" doc/images/map_top_hall.png
-./build/apps/emslam-mapview "$map/map.3Dscene" --screenshot doc/images/map_scene_hall.png
-echo "make-readme-images: wrote doc/images/map_top_hall.png and doc/images/map_scene_hall.png"
+echo "make-readme-images: wrote doc/images/map_top_hall.png"
