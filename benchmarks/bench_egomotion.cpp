@@ -126,7 +126,7 @@ void runPose(benchmark::State& state, const Pair* p, bool joint_refinement = fal
 }
 
 /** The stereo reprojection refinement alone, from the Dpp's pose
- * ([Egomotion] reprojection_refinement). */
+ * ([EgomotionEstimator] reprojection_refinement). */
 void runReprojection(benchmark::State& state, const Pair* p)
 {
     if (!p || p->ka.size() < 4)

@@ -394,12 +394,12 @@ TEST(BadInputs, aRepeatedIniKeyOrSectionIsRefusedNamingBothLines)
 {
     const std::string dir = emslam::test::makeTempDir("bad_ini");
     std::string text = readText(mapperConfig());
-    emslam::test::writeFile(dir + "/key.ini", text + "\n[Egomotion]\nwindow_size = 9\n");
+    emslam::test::writeFile(dir + "/key.ini", text + "\n[EgomotionEstimator]\nwindow_size = 9\n");
     expectRefused(
         runProgram(
             EMSLAM_MAPPER_EXE,
             {dir + "/key.ini", emslam::test::simulatedHall(20), "--out", dir + "/out"}),
-        "mapper INI with a repeated section", "section [Egomotion] repeated (first at");
+        "mapper INI with a repeated section", "section [EgomotionEstimator] repeated (first at");
     const std::string world = readText(source("config/sim/hall_double_loop.ini"));
     emslam::test::writeFile(dir + "/w.ini", world + "\n[Camera]\nbaseline = 0.2\n");
     expectRefused(

@@ -13,6 +13,7 @@
 #include <emslam/apps/StereoApp.h>
 
 #include <gtest/gtest.h>
+#include <mrpt/config/CConfigFileMemory.h>
 
 #include <filesystem>
 #include <fstream>
@@ -104,30 +105,30 @@ TEST(CommandLine, deprecatedFlagsMoveToTheirPositionsOrNewNames)
 TEST(CommandLine, setTyposAndNonNumbersAreRejectedInEveryAppThatTakesSet)
 {
     const std::string none = "/nonexistent/in.rawlog";
-    // emslam-odometry: [Stereo] and [Egomotion].
+    // emslam-odometry: [StereoMatcher] and [EgomotionEstimator].
     expectInitFails<emslam::apps::OdometryApp>(
         "emslam-odometry", {none, "-o", "x.tum", "--set", "Egomotoin.S_min=1"},
-        {"unknown section [Egomotoin]", "did you mean [Egomotion]"});
+        {"unknown section [Egomotoin]", "did you mean [EgomotionEstimator]"});
     expectInitFails<emslam::apps::OdometryApp>(
-        "emslam-odometry", {none, "-o", "x.tum", "--set", "Egomotion.similarity_mn=0.5"},
+        "emslam-odometry", {none, "-o", "x.tum", "--set", "EgomotionEstimator.similarity_mn=0.5"},
         {"unknown key 'similarity_mn'", "did you mean 'similarity_min'"});
     expectInitFails<emslam::apps::OdometryApp>(
-        "emslam-odometry", {none, "-o", "x.tum", "--set", "Egomotion.similarity_min=high"},
+        "emslam-odometry", {none, "-o", "x.tum", "--set", "EgomotionEstimator.similarity_min=high"},
         {"similarity_min", "'high'", "is not a number"});
-    // emslam-stereo: [Stereo].
+    // emslam-stereo: [StereoMatcher].
     expectInitFails<emslam::apps::StereoApp>(
-        "emslam-stereo", {none, "--set", "Stereo.num_disparity=64"},
+        "emslam-stereo", {none, "--set", "StereoMatcher.num_disparity=64"},
         {"unknown key 'num_disparity'", "did you mean 'num_disparities'"});
     expectInitFails<emslam::apps::StereoApp>(
-        "emslam-stereo", {none, "--set", "Stereo.num_disparities=abc"},
+        "emslam-stereo", {none, "--set", "StereoMatcher.num_disparities=abc"},
         {"num_disparities", "'abc'", "not a whole number"});
     // emslam-mapper: every section of its INI file.
     expectInitFails<emslam::apps::MapperApp>(
-        "emslam-mapper", {mapperConfig(), none, "-o", "/tmp/x", "--set", "Stereo.max_range=far"},
+        "emslam-mapper", {mapperConfig(), none, "-o", "/tmp/x", "--set", "StereoMatcher.max_range=far"},
         {"max_range", "'far'", "not a number"});
     expectInitFails<emslam::apps::MapperApp>(
         "emslam-mapper",
-        {mapperConfig(), none, "-o", "/tmp/x", "--set", "Mapper.egomotion_only=maybe"},
+        {mapperConfig(), none, "-o", "/tmp/x", "--set", "EntropySlam.egomotion_only=maybe"},
         {"egomotion_only", "'maybe'", "not true or false"});
 }
 
@@ -179,6 +180,32 @@ TEST(CommandLine, oldSpellingsStillWork)
         initWith(app, "emslam-eval", {"--est", dir + "/e.tum", "--gt", dir + "/g.tum"});
         emslam::test::expectThrowContaining([&] { app.run(); }, {"g.tum"});
     }
+}
+
+TEST(CommandLine, formerSectionNamesAreReadUnderTheNewOnesWithAWarning)
+{
+    const std::string dir = emslam::test::makeTempDir("cli_former_names");
+    emslam::test::writeFile(
+        dir + "/old.ini", "[Stereo]\nblock_size = 7\nmax_range = 9\n[Mapper]\nmap_cell_size = 0.2\n");
+    mrpt::config::CConfigFileMemory cfg;
+    testing::internal::CaptureStderr();
+    // An old name in --set overrides the file's value either way.
+    emslam::apps::loadConfig(
+        cfg, dir + "/old.ini", {"Stereo.max_range=11", "EntropySlam.map_cell_size=0.3"});
+    const std::string warnings = testing::internal::GetCapturedStderr();
+    EXPECT_FALSE(cfg.sectionExists("Stereo"));
+    EXPECT_EQ(cfg.read_int("StereoMatcher", "block_size", 0), 7);
+    EXPECT_DOUBLE_EQ(cfg.read_double("StereoMatcher", "max_range", 0), 11);
+    EXPECT_DOUBLE_EQ(cfg.read_double("EntropySlam", "map_cell_size", 0), 0.3);
+    EXPECT_NE(warnings.find("[Stereo] is now [StereoMatcher]"), std::string::npos) << warnings;
+    EXPECT_NE(warnings.find("[Mapper] is now [EntropySlam]"), std::string::npos) << warnings;
+    // The overrides are checked under the new names too.
+    mrpt::config::CConfigFileMemory reference;
+    reference.write("StereoMatcher", "max_range", 10.0);
+    EXPECT_NO_THROW(emslam::apps::requireValidOverrides({"Stereo.max_range=11"}, reference));
+    emslam::test::expectThrowContaining(
+        [&] { emslam::apps::requireValidOverrides({"Stereo.max_rang=11"}, reference); },
+        {"max_rang"});
 }
 
 TEST(CommandLine, helpShowsTheProgramNameAndDefaults)

@@ -68,7 +68,7 @@ TEST(ConfigLookup, pathsAndLocalFilesAreReturnedUnchanged)
     EXPECT_EQ(findConfigFile("./kitti", "mapper"), "./kitti");
     // A file of the working folder wins over the shipped one of that name.
     const std::string dir = emslam::test::makeTempDir("config_lookup_local");
-    emslam::test::writeFile(dir + "/kitti.ini", "[Mapper]\n");
+    emslam::test::writeFile(dir + "/kitti.ini", "[EntropySlam]\n");
     inFolder(
         dir,
         [&]

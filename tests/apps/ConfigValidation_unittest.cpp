@@ -34,7 +34,7 @@ const char* REFERENCE =
     "eps_xyz = 0.01\n"
     "eps_rot_deg = 0.5\n"
     "mode = serial\n"
-    "[SpaceSampling]\n"
+    "[SpaceSampler]\n"
     "t_min = 0.1\n";
 
 std::vector<ConfigProblem> problemsOf(
@@ -120,9 +120,9 @@ std::vector<std::pair<std::string, Options>> realParameterStructs()
 {
     return {
         {"Rectifier", std::make_shared<emslam::rectify::TRectifierOptions>()},
-        {"SpaceSampling", std::make_shared<emslam::rectify::SpaceSampler::TParameters>()},
-        {"Stereo", std::make_shared<emslam::stereo::StereoMatcher::TParameters>()},
-        {"Egomotion", std::make_shared<emslam::egomotion::EgomotionEstimator::TParameters>()},
+        {"SpaceSampler", std::make_shared<emslam::rectify::SpaceSampler::TParameters>()},
+        {"StereoMatcher", std::make_shared<emslam::stereo::StereoMatcher::TParameters>()},
+        {"EgomotionEstimator", std::make_shared<emslam::egomotion::EgomotionEstimator::TParameters>()},
         {"EntropyVoxelMap", std::make_shared<emslam::CEntropyVoxelMap::TCreationOptions>()},
         {"EntropyVoxelMap", std::make_shared<emslam::CEntropyVoxelMap::TInsertionOptions>()},
     };
@@ -183,12 +183,12 @@ TEST(ConfigValidation, caseDifferencesAreAccepted)
     const CConfigFileMemory c(user);
     EXPECT_DOUBLE_EQ(c.read_double("Rectifier", "eps_xyz", 0.0), 0.02);
     EXPECT_EQ(c.read_string("Rectifier", "mode", ""), "anytime");
-    EXPECT_DOUBLE_EQ(c.read_double("SpaceSampling", "t_min", 0.0), 1.0);
+    EXPECT_DOUBLE_EQ(c.read_double("SpaceSampler", "t_min", 0.0), 1.0);
 }
 
 TEST(ConfigValidation, ignoredSectionsAreSkipped)
 {
-    const std::string user = "[Rectifier]\neps_xyz = 1\n[Mapper]\nanything = 1\n";
+    const std::string user = "[Rectifier]\neps_xyz = 1\n[EntropySlam]\nanything = 1\n";
     EXPECT_EQ(problemsOf(user).size(), 1U);
     EXPECT_TRUE(problemsOf(user, {"mapper"}).empty());
 }
@@ -239,7 +239,7 @@ TEST(ConfigValidation, savedParameterStructsAcceptEveryKeyTheirLoadReads)
     // The very object saved into (padded key names) works as the reference too.
     EXPECT_TRUE(findUnknownConfigEntries(reference, saved).empty());
     EXPECT_EQ(
-        findUnknownConfigEntries(CConfigFileMemory("[Stereo]\nblock_siz = 5\n"), saved)
+        findUnknownConfigEntries(CConfigFileMemory("[StereoMatcher]\nblock_siz = 5\n"), saved)
             .at(0)
             .suggestion,
         "block_size");
@@ -262,9 +262,9 @@ TEST(ConfigValidation, keyRecorderCatchesAnAsymmetricSave)
 TEST(ConfigValidation, malformedNumbersAndBooleansAreFound)
 {
     CConfigFileMemory reference;
-    emslam::stereo::StereoMatcher::TParameters().saveToConfigFile(reference, "Stereo");
+    emslam::stereo::StereoMatcher::TParameters().saveToConfigFile(reference, "StereoMatcher");
     const CConfigFileMemory user(
-        "[Stereo]\n"
+        "[StereoMatcher]\n"
         "num_disparities = abc\n"
         "block_size = 5.5\n"
         "max_range = 40 // metres, a trailing comment is fine\n"
@@ -282,8 +282,8 @@ TEST(ConfigValidation, malformedNumbersAndBooleansAreFound)
     EXPECT_EQ(
         messages,
         (std::set<std::string>{
-            "[Stereo] num_disparities = 'abc'" + whole, "[Stereo] block_size = '5.5'" + whole,
-            "[Stereo] min_range = '0.3x' is not a number"}));
+            "[StereoMatcher] num_disparities = 'abc'" + whole, "[StereoMatcher] block_size = '5.5'" + whole,
+            "[StereoMatcher] min_range = '0.3x' is not a number"}));
 
     emslam::test::expectThrowContaining(
         [&] { emslam::apps::requireValidConfig(user, reference); },
@@ -293,7 +293,7 @@ TEST(ConfigValidation, malformedNumbersAndBooleansAreFound)
         [&] { emslam::apps::requireValidConfig(user, reference, {}, true); },
         {"3 invalid configuration entries"});
     EXPECT_NO_THROW(emslam::apps::requireValidConfig(
-        CConfigFileMemory("[Stereo]\nnum_disparities = 64\nmax_range = 1e2\n"), reference));
+        CConfigFileMemory("[StereoMatcher]\nnum_disparities = 64\nmax_range = 1e2\n"), reference));
 }
 
 // An int key takes a whole number that fits an int (atoi() wraps beyond it);
@@ -301,11 +301,11 @@ TEST(ConfigValidation, malformedNumbersAndBooleansAreFound)
 TEST(ConfigValidation, intKeysTakeWholeNumbersInRangeAndBooleansTheirWords)
 {
     CConfigFileMemory reference;
-    emslam::egomotion::EgomotionEstimator::TParameters().saveToConfigFile(reference, "Egomotion");
+    emslam::egomotion::EgomotionEstimator::TParameters().saveToConfigFile(reference, "EgomotionEstimator");
     const auto problems = [&](const std::string& key, const std::string& value)
     {
         return emslam::apps::findMalformedConfigValues(
-                   CConfigFileMemory("[Egomotion]\n" + key + " = " + value + "\n"), reference)
+                   CConfigFileMemory("[EgomotionEstimator]\n" + key + " = " + value + "\n"), reference)
             .size();
     };
     for (const char* ok : {"8", "-3", "2147483647", "-2147483648", "+5"})

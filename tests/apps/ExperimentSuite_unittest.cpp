@@ -31,7 +31,7 @@ std::string writeSuite(const std::string& tag, const std::string& body)
 const std::string GOOD =
     "[Experiments]\nexperiments = a b\nseeds = 4, 5\nquick_frames = 12\n"
     "[a]\ntitle = Alpha\nfigure = Fig. 1\nworld = world.ini\nloop = false\n"
-    "mappers = mapper.ini mapper.ini\nset = Rectifier.seed=2 Stereo.max_range=8\n"
+    "mappers = mapper.ini mapper.ini\nset = Rectifier.seed=2 StereoMatcher.max_range=8\n"
     "paper_path_m = 10.5\npaper_observations = -\npaper_slam_gap_m = 0.1 -\n"
     "[b]\nworld = world.ini\nmappers = mapper.ini\n";
 }  // namespace
@@ -73,7 +73,7 @@ TEST(ExperimentSuite, variantsAreReadInOrderAndSelectedByName)
 
     const std::string text =
         "[Experiments]\nexperiments = a\nvariants = y x\n"
-        "[Variants]\nx = Rectifier.seed=3 Stereo.max_range=9\ny =\n"
+        "[Variants]\nx = Rectifier.seed=3 StereoMatcher.max_range=9\ny =\n"
         "[a]\nworld = world.ini\nmappers = mapper.ini\n";
     const auto s = ExperimentSuite::load(writeSuite("suite-variants", text));
     ASSERT_EQ(s.variants.size(), 2u);
@@ -81,7 +81,7 @@ TEST(ExperimentSuite, variantsAreReadInOrderAndSelectedByName)
     EXPECT_TRUE(s.variants[0].sets.empty());
     EXPECT_EQ(s.variants[1].name, "x");
     EXPECT_EQ(
-        s.variants[1].sets, (std::vector<std::string>{"Rectifier.seed=3", "Stereo.max_range=9"}));
+        s.variants[1].sets, (std::vector<std::string>{"Rectifier.seed=3", "StereoMatcher.max_range=9"}));
     EXPECT_EQ(s.selectVariants("").size(), 2u);
     ASSERT_EQ(s.selectVariants("x").size(), 1u);
     EXPECT_EQ(s.selectVariants("x,y")[0].name, "y");
@@ -102,7 +102,7 @@ TEST(ExperimentSuite, loadsPathsRelativeToTheFileAndEveryKey)
     EXPECT_FALSE(a.loop);
     EXPECT_NE(a.world.find("world.ini"), std::string::npos);
     EXPECT_EQ(a.mappers.size(), 2u);
-    EXPECT_EQ(a.sets, (std::vector<std::string>{"Rectifier.seed=2", "Stereo.max_range=8"}));
+    EXPECT_EQ(a.sets, (std::vector<std::string>{"Rectifier.seed=2", "StereoMatcher.max_range=8"}));
     EXPECT_DOUBLE_EQ(a.paper_path_m, 10.5);
     EXPECT_TRUE(std::isnan(a.paper_observations));
     EXPECT_DOUBLE_EQ(a.paper_slam_gap_m[0], 0.1);

@@ -230,7 +230,7 @@ TEST(ExperimentsApp, variantsRunSideBySideAndSetAppliesToEveryRun)
         ExperimentsApp app;
         initApp(
             app, {suite(), "--out", out, "--quick", "--quiet", "--only", "three_corridors",
-                  "--seeds", "3", "--variants", "full", "--set", "Mapper.egomotion_only=true",
+                  "--seeds", "3", "--variants", "full", "--set", "EntropySlam.egomotion_only=true",
                   "--set", "LoopCloser.enabled=false"});
         app.run();
         ASSERT_EQ(app.results().size(), 2u);

@@ -140,22 +140,22 @@ TEST(MapperApp, exportMaxHeightLoadsSavesAndRejectsNan)
     Options defaults;
     EXPECT_TRUE(std::isinf(defaults.export_max_height));
     mrpt::config::CConfigFileMemory saved;
-    defaults.saveToConfigFile(saved, "Mapper");
+    defaults.saveToConfigFile(saved, "EntropySlam");
     Options back;
     back.export_max_height = 3.0;
-    back.loadFromConfigFile(mrpt::config::CConfigFileMemory(saved.getContent()), "Mapper");
+    back.loadFromConfigFile(mrpt::config::CConfigFileMemory(saved.getContent()), "EntropySlam");
     EXPECT_TRUE(std::isinf(back.export_max_height) && back.export_max_height > 0);
 
     back.loadFromConfigFile(
-        mrpt::config::CConfigFileMemory("[Mapper]\nexport_max_height = 1.25\n"), "Mapper");
+        mrpt::config::CConfigFileMemory("[EntropySlam]\nexport_max_height = 1.25\n"), "EntropySlam");
     EXPECT_DOUBLE_EQ(back.export_max_height, 1.25);
     emslam::test::expectThrowContaining(
         [&]
         {
             back.loadFromConfigFile(
-                mrpt::config::CConfigFileMemory("[Mapper]\nexport_max_height = nan\n"), "Mapper");
+                mrpt::config::CConfigFileMemory("[EntropySlam]\nexport_max_height = nan\n"), "EntropySlam");
         },
-        {"[Mapper] export_max_height"});
+        {"[EntropySlam] export_max_height"});
 }
 
 TEST(MapperApp, helpDoesNotRun)
@@ -1504,11 +1504,11 @@ TEST(MapperApp, extremeAcceptedValuesOfDangerousKeysRunSafely)
         std::string key, accepted, refused;
     };
     const std::vector<Extreme> extremes = {
-        {"Stereo.block_size", "255", "257"},        {"Stereo.lr_max_diff", "1024", "1025"},
-        {"Stereo.min_disparity", "1000", "1001"},   {"Stereo.min_disparity", "-1000", "-1001"},
-        {"Stereo.num_disparities", "1024", "1025"}, {"EntropyVoxelMap.cell_size", "0.01", "0.009"},
-        {"Egomotion.window_size", "128", "129"},    {"Egomotion.lp_num_rings", "64", "65"},
-        {"Egomotion.lp_radius", "256", "256.5"},
+        {"StereoMatcher.block_size", "255", "257"},        {"StereoMatcher.lr_max_diff", "1024", "1025"},
+        {"StereoMatcher.min_disparity", "1000", "1001"},   {"StereoMatcher.min_disparity", "-1000", "-1001"},
+        {"StereoMatcher.num_disparities", "1024", "1025"}, {"EntropyVoxelMap.cell_size", "0.01", "0.009"},
+        {"EgomotionEstimator.window_size", "128", "129"},    {"EgomotionEstimator.lp_num_rings", "64", "65"},
+        {"EgomotionEstimator.lp_radius", "256", "256.5"},
     };
     const std::string rawlog = simulatedHall(3);
     const std::string text = readText(config("3dof-low-structured"));

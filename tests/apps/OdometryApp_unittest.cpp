@@ -48,7 +48,7 @@ std::string writeKittiRawlog(const std::string& seq_dir, std::size_t n, const st
     }
     return file;
 }
-/** Runs emslam-odometry on `rawlog` (the hall's [Stereo] / [Egomotion])
+/** Runs emslam-odometry on `rawlog` (the hall's [StereoMatcher] / [EgomotionEstimator])
  * into `out`; returns its stderr. */
 std::string runOdometry(
     emslam::apps::OdometryApp& app, const std::string& rawlog, const std::string& out)
@@ -103,7 +103,7 @@ TEST(OdometryApp, invalidEgomotionOverrideThrows)
         {
             initApp(
                 app, {"/nonexistent/in.rawlog", "-o", "/tmp/never.tum", "--set",
-                      "Egomotion.lwo_sigma_min=0"});
+                      "EgomotionEstimator.lwo_sigma_min=0"});
         },
         {"lwo_sigma_min", "(0, 1e6]"});
 }

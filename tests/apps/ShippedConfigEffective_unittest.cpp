@@ -31,7 +31,7 @@ const char* GOLDEN = "/tests/apps/ShippedConfigEffective.txt";
 /** The config folders whose files are tabled, and the sections each reads
  * (empty: every section of EntropySlam::TParameters). */
 const std::map<std::string, std::set<std::string>> FOLDERS = {
-    {"mapper", {}}, {"odometry", {"Stereo", "Egomotion"}}};
+    {"mapper", {}}, {"odometry", {"StereoMatcher", "EgomotionEstimator"}}};
 
 /** Row "Section.key" → column "folder/name" → value. */
 using Table = std::map<std::string, std::map<std::string, std::string>>;

@@ -199,9 +199,9 @@ CConfigFileMemory effectiveConfig(const std::string& folder, const std::string& 
     CConfigFileMemory all(saved.getContent());
     if (folder == "odometry")
     {
-        // emslam-odometry reads [Stereo] and [Egomotion] only.
+        // emslam-odometry reads [StereoMatcher] and [EgomotionEstimator] only.
         CConfigFileMemory read;
-        for (const std::string section : {"Stereo", "Egomotion"})
+        for (const std::string section : {"StereoMatcher", "EgomotionEstimator"})
         {
             std::vector<std::string> keys;
             all.getAllKeys(section, keys);

@@ -32,7 +32,7 @@ using mrpt::poses::CPose3D;
 namespace
 {
 const char* NON_DEFAULT_INI = R"(
-[Egomotion]
+[EgomotionEstimator]
 window_size = 6
 min_gradient = 12.5
 similarity_min = 0.7
@@ -119,7 +119,7 @@ TEST(EgomotionEstimator, loadsNonDefaultValues)
 {
     mrpt::config::CConfigFileMemory c(NON_DEFAULT_INI);
     EgomotionEstimator::TParameters p;
-    p.loadFromConfigFile(c, "Egomotion");
+    p.loadFromConfigFile(c, "EgomotionEstimator");
     EXPECT_EQ(p.window_size, 6);
     EXPECT_DOUBLE_EQ(p.min_gradient, 12.5);
     EXPECT_DOUBLE_EQ(p.similarity_min, 0.7);
@@ -174,14 +174,14 @@ TEST(EgomotionEstimator, saveReparseLoadRoundTrip)
 {
     mrpt::config::CConfigFileMemory c(NON_DEFAULT_INI);
     EgomotionEstimator::TParameters p;
-    p.loadFromConfigFile(c, "Egomotion");
+    p.loadFromConfigFile(c, "EgomotionEstimator");
     mrpt::config::CConfigFileMemory saved;
-    p.saveToConfigFile(saved, "Egomotion");
+    p.saveToConfigFile(saved, "EgomotionEstimator");
     // Reading back from the object that was written gives defaults in MRPT
     // 2.5: re-parse the text.
     mrpt::config::CConfigFileMemory reparsed(saved.getContent());
     EgomotionEstimator::TParameters q;
-    q.loadFromConfigFile(reparsed, "Egomotion");
+    q.loadFromConfigFile(reparsed, "EgomotionEstimator");
     expectEqualParams(p, q);
 }
 
@@ -207,9 +207,9 @@ TEST(EgomotionEstimator, invalidValuesThrow)
         {"lp_radius", "1e9"}};
     for (const auto& [key, value] : bad)
     {
-        mrpt::config::CConfigFileMemory c("[Egomotion]\n" + key + " = " + value + "\n");
+        mrpt::config::CConfigFileMemory c("[EgomotionEstimator]\n" + key + " = " + value + "\n");
         EgomotionEstimator::TParameters p;
-        emslam::test::expectThrowContaining([&] { p.loadFromConfigFile(c, "Egomotion"); }, {key});
+        emslam::test::expectThrowContaining([&] { p.loadFromConfigFile(c, "EgomotionEstimator"); }, {key});
     }
 }
 
@@ -224,9 +224,9 @@ TEST(EgomotionEstimator, shippedConfigsLoad)
     {
         mrpt::config::CConfigFile c(emslam::test::sourceDir() + "/config/odometry/" + name);
         EgomotionEstimator::TParameters p;
-        EXPECT_NO_THROW(p.loadFromConfigFile(c, "Egomotion")) << name;
+        EXPECT_NO_THROW(p.loadFromConfigFile(c, "EgomotionEstimator")) << name;
         emslam::stereo::StereoMatcher::TParameters sp;
-        EXPECT_NO_THROW(sp.loadFromConfigFile(c, "Stereo")) << name;
+        EXPECT_NO_THROW(sp.loadFromConfigFile(c, "StereoMatcher")) << name;
     }
 }
 
@@ -293,7 +293,7 @@ struct KittiRun
 struct KittiSetup
 {
     bool guided{true};        //!< guided_matching
-    bool sparse{true};        //!< [Stereo] sparse_at_features
+    bool sparse{true};        //!< [StereoMatcher] sparse_at_features
     bool reprojection{true};  //!< reprojection_refinement (not in the paper)
 };
 
@@ -305,10 +305,10 @@ KittiRun runKitti06(
 {
     mrpt::config::CConfigFile cfg(emslam::test::sourceDir() + "/config/odometry/kitti.ini");
     emslam::stereo::StereoMatcher::TParameters sp;
-    sp.loadFromConfigFile(cfg, "Stereo");
+    sp.loadFromConfigFile(cfg, "StereoMatcher");
     sp.sparse_at_features = setup.sparse;
     EgomotionEstimator::TParameters ep;
-    ep.loadFromConfigFile(cfg, "Egomotion");
+    ep.loadFromConfigFile(cfg, "EgomotionEstimator");
     ep.guided_matching = setup.guided;
     ep.reprojection_refinement = setup.reprojection;
 
@@ -405,9 +405,9 @@ TEST(EgomotionEstimator, eurocAtRestReportsNoMotion)
     EMSLAM_REQUIRE_TEST_DATA(mav0, "euroc-v101-rest/mav0");
     mrpt::config::CConfigFile cfg(emslam::test::sourceDir() + "/config/odometry/euroc.ini");
     emslam::stereo::StereoMatcher::TParameters sp;
-    sp.loadFromConfigFile(cfg, "Stereo");
+    sp.loadFromConfigFile(cfg, "StereoMatcher");
     EgomotionEstimator::TParameters ep;
-    ep.loadFromConfigFile(cfg, "Egomotion");
+    ep.loadFromConfigFile(cfg, "EgomotionEstimator");
     const emslam::io::EurocSequence seq(mav0);
     emslam::stereo::StereoFrontEnd front(sp);
     EgomotionEstimator em(ep);

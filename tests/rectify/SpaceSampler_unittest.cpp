@@ -40,8 +40,8 @@ TEST(SpaceSampler, disabledAcceptsEverythingAndBadValuesThrow)
     s.feed(CPose3D());
     EXPECT_TRUE(s.feed(CPose3D()));
 
-    mrpt::config::CConfigFileMemory c("[SpaceSampling]\nt_min = -1\n");
+    mrpt::config::CConfigFileMemory c("[SpaceSampler]\nt_min = -1\n");
     SpaceSampler::TParameters bad;
     emslam::test::expectThrowContaining(
-        [&] { bad.loadFromConfigFile(c, "SpaceSampling"); }, {"[SpaceSampling] t_min"});
+        [&] { bad.loadFromConfigFile(c, "SpaceSampler"); }, {"[SpaceSampler] t_min"});
 }

@@ -486,7 +486,7 @@ TEST(TrajectoryRectifier, paperConfigLoadsThePaperValues)
     EXPECT_EQ(o.proposal, ProposalShape::Box);
     EXPECT_FALSE(o.odometryPrior().enabled());  // the paper's energy
     SpaceSampler::TParameters sp;
-    sp.loadFromConfigFile(c, "SpaceSampling");
+    sp.loadFromConfigFile(c, "SpaceSampler");
     EXPECT_DOUBLE_EQ(sp.t_min, 0.15);
     EXPECT_DOUBLE_EQ(sp.theta_min_deg, 5.0);
 }

@@ -45,8 +45,8 @@ EntropySlam::TParameters robotParameters(bool loop_closing)
     mrpt::config::CConfigFileMemory cfg(mrpt::io::file_get_contents(
         emslam::test::sourceDir() + "/config/mapper/3dof-low-structured.ini"));
     cfg.write("Rectifier", "n_max", N_MAX);
-    cfg.write("SpaceSampling", "t_min", T_MIN);
-    cfg.write("SpaceSampling", "theta_min_deg", THETA_MIN_DEG);
+    cfg.write("SpaceSampler", "t_min", T_MIN);
+    cfg.write("SpaceSampler", "theta_min_deg", THETA_MIN_DEG);
     cfg.write("LoopCloser", "enabled", loop_closing);
     EntropySlam::TParameters p;
     p.loadFromConfigFile(cfg);
@@ -255,6 +255,38 @@ TEST(EntropySlam, anEmptyRunFinishesWithNothing)
     EXPECT_FALSE(slam.hasEnergy());
 }
 
+TEST(EntropySlam, configsWithTheFormerSectionNamesAreStillRead)
+{
+    EntropySlam::TParameters p;
+    p.loadFromConfigFile(mrpt::config::CConfigFileMemory(
+        "[Stereo]\nblock_size = 7\n[Mapper]\nmap_cell_size = 0.05\n"
+        "[LoopCloser]\nvertical_patch_px = 24\nmax_candidates = 5\n"
+        "[OccupancyGrid]\ncell_size = 0.2\n"));
+    EXPECT_EQ(p.stereo.block_size, 7);
+    EXPECT_DOUBLE_EQ(p.mapper.map_cell_size, 0.05);
+    EXPECT_EQ(p.loop_closer.vertical.patch_px, 24);
+    EXPECT_EQ(p.loop_closer.max_candidates, 5);
+    EXPECT_DOUBLE_EQ(p.occupancy_grid.cell_size, 0.2);
+    // Saved under the new names only; read back the same.
+    mrpt::config::CConfigFileMemory saved;
+    p.saveToConfigFile(saved);
+    EXPECT_FALSE(saved.sectionExists("Stereo"));
+    EXPECT_EQ(saved.read_int("VerticalFromPlanes", "patch_px", 0), 24);
+    EXPECT_FALSE(saved.keyExists("LoopCloser", "vertical_patch_px"));
+    EntropySlam::TParameters q;
+    q.loadFromConfigFile(saved);
+    EXPECT_EQ(q.stereo.block_size, 7);
+    EXPECT_EQ(q.loop_closer.vertical.patch_px, 24);
+    emslam::test::expectThrowContaining(
+        [&]
+        {
+            EntropySlam::TParameters r;
+            r.loadFromConfigFile(
+                mrpt::config::CConfigFileMemory("[VerticalFromPlanes]\npatch_px = 2\n"));
+        },
+        {"[VerticalFromPlanes]", "patch_px"});
+}
+
 TEST(EntropySlam, badParametersThrowNamingSectionAndKey)
 {
     const auto load = [](const std::string& ini)
@@ -262,13 +294,13 @@ TEST(EntropySlam, badParametersThrowNamingSectionAndKey)
         EntropySlam::TParameters p;
         p.loadFromConfigFile(mrpt::config::CConfigFileMemory(ini));
     };
-    EXPECT_NO_THROW(load("[Mapper]\nmap_cell_size = 0.05\n"));
+    EXPECT_NO_THROW(load("[EntropySlam]\nmap_cell_size = 0.05\n"));
     emslam::test::expectThrowContaining(
-        [&] { load("[Mapper]\nmap_cell_size = 0.0001\n"); }, {"[Mapper]", "map_cell_size"});
+        [&] { load("[EntropySlam]\nmap_cell_size = 0.0001\n"); }, {"[EntropySlam]", "map_cell_size"});
     emslam::test::expectThrowContaining(
-        [&] { load("[Mapper]\nexport_max_height = nan\n"); }, {"[Mapper]", "export_max_height"});
+        [&] { load("[EntropySlam]\nexport_max_height = nan\n"); }, {"[EntropySlam]", "export_max_height"});
     emslam::test::expectThrowContaining(
-        [&] { load("[SpaceSampling]\nt_min = -1\n"); }, {"[SpaceSampling]", "t_min"});
+        [&] { load("[SpaceSampler]\nt_min = -1\n"); }, {"[SpaceSampler]", "t_min"});
     emslam::test::expectThrowContaining(
         [&] { load("[Rectifier]\nvalidate_phases = 1\n"); }, {"[Rectifier]", "validate_phases"});
     EntropySlam::TOptions o;

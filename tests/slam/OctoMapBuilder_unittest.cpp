@@ -83,10 +83,10 @@ TEST(OctoMapBuilder, parametersRoundTripAndBadOnesAreRefused)
     p.resolution = 0.2;
     p.max_range = 9;
     mrpt::config::CConfigFileMemory c;
-    p.saveToConfigFile(c, "OctoMap");
+    p.saveToConfigFile(c, "OctoMapBuilder");
     mrpt::config::CConfigFileMemory reparsed(c.getContent());
     OctoMapBuilder::TParameters q;
-    q.loadFromConfigFile(reparsed, "OctoMap");
+    q.loadFromConfigFile(reparsed, "OctoMapBuilder");
     EXPECT_DOUBLE_EQ(q.resolution, 0.2);
     EXPECT_DOUBLE_EQ(q.max_range, 9);
 

@@ -164,7 +164,7 @@ TEST(StereoMatcher, textureLessPairGivesNoPoints)
 TEST(StereoMatcherParameters, loadsNonDefaultValuesFromIni)
 {
     mrpt::config::CConfigFileMemory c(std::string(R"(
-[Stereo]
+[StereoMatcher]
 algorithm = bm
 image_scale = 0.5
 num_disparities = 48
@@ -182,7 +182,7 @@ min_range = 0.5
 max_range = 20
 )"));
     StereoMatcher::TParameters p;
-    p.loadFromConfigFile(c, "Stereo");
+    p.loadFromConfigFile(c, "StereoMatcher");
     EXPECT_EQ(p.algorithm, "bm");
     EXPECT_EQ(p.image_scale, 0.5);
     EXPECT_EQ(p.num_disparities, 48);
@@ -211,10 +211,10 @@ TEST(StereoMatcherParameters, saveAndReloadRoundTrips)
     p.p1_per_pixel = 2;
     p.p2_per_pixel = 9;
     mrpt::config::CConfigFileMemory c;
-    p.saveToConfigFile(c, "Stereo");
+    p.saveToConfigFile(c, "StereoMatcher");
     const mrpt::config::CConfigFileMemory reparsed(c.getContent());
     StereoMatcher::TParameters q;
-    q.loadFromConfigFile(reparsed, "Stereo");
+    q.loadFromConfigFile(reparsed, "StereoMatcher");
     EXPECT_EQ(q.algorithm, p.algorithm);
     EXPECT_EQ(q.image_scale, p.image_scale);
     EXPECT_EQ(q.num_disparities, p.num_disparities);
@@ -236,9 +236,9 @@ TEST(StereoMatcherParameters, invalidValuesThrow)
         "min_disparity = 200000000", "lr_max_diff = 2147483647", "p2_per_pixel = 100000"};
     for (const char* line : bad)
     {
-        mrpt::config::CConfigFileMemory c(std::string("[Stereo]\n") + line + "\n");
+        mrpt::config::CConfigFileMemory c(std::string("[StereoMatcher]\n") + line + "\n");
         StereoMatcher::TParameters p;
-        EXPECT_THROW(p.loadFromConfigFile(c, "Stereo"), std::exception) << line;
+        EXPECT_THROW(p.loadFromConfigFile(c, "StereoMatcher"), std::exception) << line;
     }
 }
 
@@ -252,7 +252,7 @@ TEST(StereoMatcherParameters, shippedConfigsLoad)
         {
             mrpt::config::CConfigFile c(e.path().string());
             StereoMatcher::TParameters p;
-            EXPECT_NO_THROW(p.loadFromConfigFile(c, "Stereo")) << e.path();
+            EXPECT_NO_THROW(p.loadFromConfigFile(c, "StereoMatcher")) << e.path();
             files.push_back(e.path().string());
         }
     }

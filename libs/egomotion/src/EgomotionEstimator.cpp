@@ -32,7 +32,7 @@ void require(bool ok, const std::string& key, const std::string& what)
 {
     if (!ok)
     {
-        throw std::invalid_argument("[Egomotion] " + key + ": " + what);
+        throw std::invalid_argument("[EgomotionEstimator] " + key + ": " + what);
     }
 }
 

@@ -151,7 +151,7 @@ void CEntropyVoxelMap::TInsertionOptions::saveToConfigFile(
 
 void CEntropyVoxelMap::TInsertionOptions::validate() const
 {
-    // 10 km: see [Stereo] max_range; keeps cell indices far from int overflow.
+    // 10 km: see [StereoMatcher] max_range; keeps cell indices far from int overflow.
     if (!(max_range >= 0 && max_range <= 10000))
     {
         THROW_EXCEPTION_FMT(

@@ -39,11 +39,11 @@ void SpaceSampler::TParameters::validate() const
 {
     if (!(std::isfinite(t_min) && t_min >= 0))
     {
-        throw std::invalid_argument("[SpaceSampling] t_min: must be >= 0");
+        throw std::invalid_argument("[SpaceSampler] t_min: must be >= 0");
     }
     if (!(std::isfinite(theta_min_deg) && theta_min_deg >= 0 && theta_min_deg <= 180))
     {
-        throw std::invalid_argument("[SpaceSampling] theta_min_deg: must be in [0, 180]");
+        throw std::invalid_argument("[SpaceSampler] theta_min_deg: must be in [0, 180]");
     }
 }
 

@@ -1,5 +1,6 @@
 // SPDX-License-Identifier: BSD-3-Clause
 #include <emslam/rectify/ActionCovariance.h>
+#include <emslam/slam/ConfigRenames.h>
 #include <emslam/slam/EntropySlam.h>
 #include <emslam/util/ConfigVisitor.h>
 #include <emslam/util/ExceptionMessage.h>
@@ -14,21 +15,23 @@
 #include <future>
 #include <limits>
 #include <map>
+#include <sstream>
 #include <stdexcept>
 
 namespace emslam::slam
 {
 namespace
 {
-constexpr const char* MAPPER_SECTION = "Mapper";
-constexpr const char* STEREO_SECTION = "Stereo";
-constexpr const char* EGOMOTION_SECTION = "Egomotion";
+constexpr const char* MAPPER_SECTION = "EntropySlam";
+constexpr const char* STEREO_SECTION = "StereoMatcher";
+constexpr const char* EGOMOTION_SECTION = "EgomotionEstimator";
 constexpr const char* MAP_SECTION = "EntropyVoxelMap";
-constexpr const char* SAMPLING_SECTION = "SpaceSampling";
+constexpr const char* SAMPLING_SECTION = "SpaceSampler";
 constexpr const char* RECTIFIER_SECTION = "Rectifier";
 constexpr const char* LOOP_CLOSER_SECTION = "LoopCloser";
-constexpr const char* OCCUPANCY_GRID_SECTION = "OccupancyGrid";
-constexpr const char* OCTOMAP_SECTION = "OctoMap";
+constexpr const char* VERTICAL_SECTION = "VerticalFromPlanes";
+constexpr const char* OCCUPANCY_GRID_SECTION = "OccupancyGridBuilder";
+constexpr const char* OCTOMAP_SECTION = "OctoMapBuilder";
 /** A failed egomotion step is predicted by the previous one, and may be off
  * by that whole motion or at least by these. */
 constexpr double FAILED_STEP_MIN_SIGMA_XYZ = 0.1;      // [m]
@@ -118,19 +121,22 @@ void EntropySlam::TOptions::validate() const
         (map_cell_size > 0 && (map_cell_size < 0.001 || map_cell_size > 1000)))
     {
         throw std::invalid_argument(
-            "[Mapper] map_cell_size = " + std::to_string(map_cell_size) +
+            "[EntropySlam] map_cell_size = " + std::to_string(map_cell_size) +
             ": must be <= 0 (every point) or in [0.001, 1000] m");
     }
     if (std::isnan(export_max_height) ||
         export_max_height == -std::numeric_limits<double>::infinity())
     {
         throw std::invalid_argument(
-            "[Mapper] export_max_height: must be a number of metres or inf (no cut)");
+            "[EntropySlam] export_max_height: must be a number of metres or inf (no cut)");
     }
 }
 
-void EntropySlam::TParameters::loadFromConfigFile(const mrpt::config::CConfigFileBase& c)
+void EntropySlam::TParameters::loadFromConfigFile(const mrpt::config::CConfigFileBase& given)
 {
+    // A config written before the sections took their components' names.
+    std::ostringstream renamed;
+    const auto c = emslam::util::withCurrentNames(given, configRenames(), renamed);
     loadSection(STEREO_SECTION, [&] { stereo.loadFromConfigFile(c, STEREO_SECTION); });
     loadSection(EGOMOTION_SECTION, [&] { egomotion.loadFromConfigFile(c, EGOMOTION_SECTION); });
     loadSection(MAP_SECTION, [&] { map.loadFromConfigFile(c, MAP_SECTION); });
@@ -140,6 +146,13 @@ void EntropySlam::TParameters::loadFromConfigFile(const mrpt::config::CConfigFil
     loadSection(MAPPER_SECTION, [&] { mapper.loadFromConfigFile(c, MAPPER_SECTION); });
     loadSection(
         LOOP_CLOSER_SECTION, [&] { loop_closer.loadFromConfigFile(c, LOOP_CLOSER_SECTION); });
+    loadSection(
+        VERTICAL_SECTION,
+        [&]
+        {
+            loop_closer.vertical.loadFromConfigFile(c, VERTICAL_SECTION);
+            loop_closer.vertical.validate();
+        });
     loadSection(
         OCCUPANCY_GRID_SECTION,
         [&] { occupancy_grid.loadFromConfigFile(c, OCCUPANCY_GRID_SECTION); });
@@ -156,6 +169,7 @@ void EntropySlam::TParameters::saveToConfigFile(mrpt::config::CConfigFileBase& c
     rectifier.saveToConfigFile(c, RECTIFIER_SECTION);
     mapper.saveToConfigFile(c, MAPPER_SECTION);
     loop_closer.saveToConfigFile(c, LOOP_CLOSER_SECTION);
+    loop_closer.vertical.saveToConfigFile(c, VERTICAL_SECTION);
     occupancy_grid.saveToConfigFile(c, OCCUPANCY_GRID_SECTION);
     octomap.saveToConfigFile(c, OCTOMAP_SECTION);
 }

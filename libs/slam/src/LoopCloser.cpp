@@ -346,7 +346,6 @@ void LoopCloser::TParameters::loadFromConfigFile(
     const mrpt::config::CConfigFileBase& c, const std::string& s)
 {
     emslam::util::loadByVisit(*this, c, s, visit);
-    vertical.loadFromConfigFile(c, s);
     validate();
 }
 
@@ -354,7 +353,6 @@ void LoopCloser::TParameters::saveToConfigFile(
     mrpt::config::CConfigFileBase& c, const std::string& s) const
 {
     emslam::util::saveByVisit(*this, c, s, visit);
-    vertical.saveToConfigFile(c, s);
 }
 
 void LoopCloser::TParameters::validate() const

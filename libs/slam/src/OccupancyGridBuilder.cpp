@@ -48,7 +48,7 @@ void OccupancyGridBuilder::TParameters::saveToConfigFile(
 void OccupancyGridBuilder::TParameters::validate() const
 {
     const auto bad = [](const std::string& key, const std::string& why)
-    { throw std::invalid_argument("[OccupancyGrid] " + key + ": " + why); };
+    { throw std::invalid_argument("[OccupancyGridBuilder] " + key + ": " + why); };
     if (!(cell_size >= 0) || !std::isfinite(cell_size) || (cell_size > 0 && cell_size < 0.01))
     {
         bad("cell_size", "must be 0 (no grid) or a length >= 0.01 m");
@@ -208,7 +208,7 @@ mrpt::maps::COccupancyGridMap2D OccupancyGridBuilder::emptyGrid(
     {
         throw std::invalid_argument(
             "OccupancyGridBuilder: the map spans " + std::to_string(x1 - x0) + " x " +
-            std::to_string(y1 - y0) + " m: more than 1e8 cells of [OccupancyGrid] cell_size");
+            std::to_string(y1 - y0) + " m: more than 1e8 cells of [OccupancyGridBuilder] cell_size");
     }
     const double margin = 2 * m_p.cell_size;
     mrpt::maps::COccupancyGridMap2D grid;
@@ -224,7 +224,7 @@ mrpt::maps::COccupancyGridMap2D OccupancyGridBuilder::build(
 {
     if (m_p.cell_size <= 0)
     {
-        throw std::invalid_argument("OccupancyGridBuilder: [OccupancyGrid] cell_size is 0");
+        throw std::invalid_argument("OccupancyGridBuilder: [OccupancyGridBuilder] cell_size is 0");
     }
     m_stats = {};
     const std::vector<mrpt::math::TPoint2D> band = bandPoints(cloud);

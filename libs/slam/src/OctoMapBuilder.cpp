@@ -36,7 +36,7 @@ void OctoMapBuilder::TParameters::saveToConfigFile(
 void OctoMapBuilder::TParameters::validate() const
 {
     const auto bad = [](const std::string& key, const std::string& why)
-    { throw std::invalid_argument("[OctoMap] " + key + ": " + why); };
+    { throw std::invalid_argument("[OctoMapBuilder] " + key + ": " + why); };
     if (!(resolution >= 0) || !std::isfinite(resolution) || (resolution > 0 && resolution < 0.01))
     {
         bad("resolution", "must be 0 (no map.bt) or a length >= 0.01 m");
@@ -58,7 +58,7 @@ std::unique_ptr<octomap::OcTree> OctoMapBuilder::build(
 {
     if (m_p.resolution <= 0)
     {
-        throw std::invalid_argument("OctoMapBuilder: [OctoMap] resolution is 0 (no map)");
+        throw std::invalid_argument("OctoMapBuilder: [OctoMapBuilder] resolution is 0 (no map)");
     }
     m_stats = {};
     std::unordered_map<std::size_t, const mrpt::poses::CPose3D*> pose_of;

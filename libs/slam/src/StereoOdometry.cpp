@@ -10,7 +10,7 @@ StereoOdometry::StereoOdometry(
     const emslam::egomotion::EgomotionEstimator::TParameters& egomotion)
     : m_front(stereo), m_estimator(egomotion)
 {
-    // [Stereo] sparse_at_features: stereo only at the egomotion's features.
+    // [StereoMatcher] sparse_at_features: stereo only at the egomotion's features.
     m_front.setPixelSelector([this](const cv::Mat& image)
                              { return m_estimator.locateFeatures(image); });
 }

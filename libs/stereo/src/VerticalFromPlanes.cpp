@@ -180,9 +180,9 @@ namespace
 /** Every key, once for load and save. */
 void visit(VerticalFromPlanes::TParameters& p, emslam::util::ConfigVisitor& v)
 {
-    v.field("vertical_patch_px", p.patch_px);
-    v.field("vertical_max_angle_deg", p.max_angle_deg);
-    v.field("vertical_min_patches", p.min_patches);
+    v.field("patch_px", p.patch_px, "[px] side of a plane patch of the disparity");
+    v.field("max_angle_deg", p.max_angle_deg, "[deg] patches farther from the predicted up: walls");
+    v.field("min_patches", p.min_patches, "level patches a measurement needs");
 }
 }  // namespace
 
@@ -203,18 +203,18 @@ void VerticalFromPlanes::TParameters::validate() const
     if (patch_px < 4)
     {
         throw std::invalid_argument(
-            "vertical_patch_px must be at least 4 (got " + std::to_string(patch_px) + ")");
+            "[VerticalFromPlanes] patch_px must be at least 4 (got " + std::to_string(patch_px) + ")");
     }
     if (!(max_angle_deg > 0 && max_angle_deg < 90))
     {
         throw std::invalid_argument(
-            "vertical_max_angle_deg must be in (0, 90) (got " + std::to_string(max_angle_deg) +
+            "[VerticalFromPlanes] max_angle_deg must be in (0, 90) (got " + std::to_string(max_angle_deg) +
             ")");
     }
     if (min_patches < 2)
     {
         throw std::invalid_argument(
-            "vertical_min_patches must be at least 2 (got " + std::to_string(min_patches) + ")");
+            "[VerticalFromPlanes] min_patches must be at least 2 (got " + std::to_string(min_patches) + ")");
     }
 }
 

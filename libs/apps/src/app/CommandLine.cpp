@@ -2,16 +2,19 @@
 #include <emslam/apps/CommandLine.h>
 #include <emslam/apps/ConfigValidation.h>
 #include <emslam/io/IniFile.h>
+#include <emslam/slam/ConfigRenames.h>
 
 #include <algorithm>
 #include <cctype>
 #include <cstddef>
 #include <cstdio>
 #include <fstream>
+#include <iostream>
 #include <iterator>
 #include <map>
 #include <memory>
 #include <optional>
+#include <sstream>
 #include <stdexcept>
 #include <vector>
 
@@ -295,9 +298,11 @@ void requireValidOverrides(
 {
     mrpt::config::CConfigFileMemory given;
     applyConfigOverrides(given, sets);
+    std::ostringstream renamed;  // loadConfig() warns
     try
     {
-        requireValidConfig(given, reference);
+        requireValidConfig(
+            util::withCurrentNames(given, slam::configRenames(), renamed), reference);
     }
     catch (const std::invalid_argument& e)
     {
@@ -325,11 +330,28 @@ void loadConfig(
     const std::string& config_file,
     const std::vector<std::string>& sets)
 {
+    // Old section and key names are read under the new ones, the file and
+    // the overrides each on their own: an old name in --set still wins.
+    mrpt::config::CConfigFileMemory file;
     if (!config_file.empty())
     {
-        cfg.setContent(io::readIniFile(config_file, "config file"));
+        file.setContent(io::readIniFile(config_file, "config file"));
     }
-    applyConfigOverrides(cfg, sets);
+    cfg.setContent(util::withCurrentNames(file, slam::configRenames(), std::cerr).getContent());
+    mrpt::config::CConfigFileMemory given;
+    applyConfigOverrides(given, sets);
+    const auto overrides = util::withCurrentNames(given, slam::configRenames(), std::cerr);
+    std::vector<std::string> sections;
+    overrides.getAllSections(sections);
+    for (const auto& section : sections)
+    {
+        std::vector<std::string> keys;
+        overrides.getAllKeys(section, keys);
+        for (const auto& key : keys)
+        {
+            cfg.write(section, key, overrides.read_string(section, key, {}));
+        }
+    }
 }
 
 }  // namespace emslam::apps

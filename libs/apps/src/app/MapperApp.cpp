@@ -216,8 +216,8 @@ bool MapperApp::parseArguments(int argc, const char** argv)
         ' ', "0.1");
     TCLAP::UnlabeledValueArg<std::string> config(
         "config_file",
-        "INI file ([Stereo] [Egomotion] [EntropyVoxelMap] [SpaceSampling] [Rectifier] [LoopCloser] "
-        "[Mapper]), or the name of a shipped one (kitti, euroc, 6dof-structured, ...: see "
+        "INI file ([StereoMatcher] [EgomotionEstimator] [EntropyVoxelMap] [SpaceSampler] [Rectifier] [LoopCloser] "
+        "[EntropySlam]), or the name of a shipped one (kitti, euroc, 6dof-structured, ...: see "
         "share/emslam/config/mapper); or give it as -c NAME",
         true, "", "CONFIG.ini", cmd);
     TCLAP::UnlabeledValueArg<std::string> rawlog(
@@ -233,7 +233,7 @@ bool MapperApp::parseArguments(int argc, const char** argv)
     TCLAP::ValueArg<std::string> out(
         "o", "out", "Output folder (created if needed)", true, "", "DIR", cmd);
     TCLAP::SwitchArg egomotion_only(
-        "", "egomotion-only", "No global rectification (same as --set Mapper.egomotion_only=true)",
+        "", "egomotion-only", "No global rectification (same as --set EntropySlam.egomotion_only=true)",
         cmd);
     TCLAP::ValueArg<std::string> gt(
         "", "gt",
@@ -449,7 +449,7 @@ void MapperApp::execute()
             std::fprintf(
                 stderr,
                 "%s: warning: degenerate result: %s; the outputs are written but are not a "
-                "usable map (check the images, the calibration and [Stereo] / [Egomotion]); "
+                "usable map (check the images, the calibration and [StereoMatcher] / [EgomotionEstimator]); "
                 "exit status %d\n",
                 PROGRAM, m_degenerate.c_str(), EXIT_DEGENERATE);
         }

@@ -25,8 +25,8 @@ namespace emslam::apps
 {
 namespace
 {
-constexpr const char* STEREO_SECTION = "Stereo";
-constexpr const char* EGOMOTION_SECTION = "Egomotion";
+constexpr const char* STEREO_SECTION = "StereoMatcher";
+constexpr const char* EGOMOTION_SECTION = "EgomotionEstimator";
 constexpr const char* PROGRAM = "emslam-odometry";
 
 /** Every section and key this app reads, with its default value. */
@@ -171,7 +171,7 @@ void warnDegenerate(const std::string& degenerate)
     std::fprintf(
         stderr,
         "emslam-odometry: warning: degenerate result: %s; the trajectory is written but "
-        "is not usable (check the images, the calibration and [Stereo] / [Egomotion]); "
+        "is not usable (check the images, the calibration and [StereoMatcher] / [EgomotionEstimator]); "
         "exit status %d\n",
         degenerate.c_str(), EXIT_DEGENERATE);
 }
@@ -180,7 +180,7 @@ void printParameters(
     const emslam::egomotion::EgomotionEstimator::TParameters& ep)
 {
     std::printf(
-        "[Stereo] num_disparities=%d range=[%g, %g] m  [Egomotion] |W|=%d S_min=%g sigma_min=%g "
+        "[StereoMatcher] num_disparities=%d range=[%g, %g] m  [EgomotionEstimator] |W|=%d S_min=%g sigma_min=%g "
         "min_final_matches=%d\n",
         sp.num_disparities, sp.min_range, sp.max_range, ep.window_size, ep.similarity_min,
         ep.lwo_sigma_min, ep.min_final_matches);
@@ -215,11 +215,11 @@ bool OdometryApp::parseArguments(int argc, const char** argv)
     TCLAP::ValueArg<std::string> config(
         "c", "config",
         withDefault(
-            "INI file with [Stereo] and [Egomotion] sections, or the name of a shipped one (kitti, "
+            "INI file with [StereoMatcher] and [EgomotionEstimator] sections, or the name of a shipped one (kitti, "
             "euroc: share/emslam/config/odometry)",
             "the built-in defaults"),
         false, "", "CONFIG.ini", cmd);
-    addSetOption(cmd, "Override a parameter: SECTION.key=value ([Stereo], [Egomotion])");
+    addSetOption(cmd, "Override a parameter: SECTION.key=value ([StereoMatcher], [EgomotionEstimator])");
     addMaxFramesOption(cmd, "Stop after N frames (0: all)");
     addQuietOption(cmd, "Print the summary only, not every frame");
 

@@ -141,7 +141,7 @@ struct SimApp::Arguments
         "",
         "map-gt-range",
         "Farthest depth a surface of --map-gt-out is seen at [m] (default " +
-            mrpt::format("%g", app.map_gt.max_range) + ", the mapper's [Stereo] max_range).",
+            mrpt::format("%g", app.map_gt.max_range) + ", the mapper's [StereoMatcher] max_range).",
         false,
         app.map_gt.max_range,
         "M",
@@ -150,7 +150,7 @@ struct SimApp::Arguments
         "",
         "grid-gt-out",
         "Write the true floor plan (the walls and obstacles the camera saw in the height band "
-        "of [OccupancyGrid]) as an MRPT occupancy grid, the reference of 'emslam-eval "
+        "of [OccupancyGridBuilder]) as an MRPT occupancy grid, the reference of 'emslam-eval "
         "--grid-gt'.",
         false,
         "",
@@ -159,7 +159,7 @@ struct SimApp::Arguments
     TCLAP::ValueArg<std::string> arg_grid_config{
         "",
         "grid-config",
-        "Mapper INI whose [OccupancyGrid] cell_size, min_height, max_height and max_range "
+        "Mapper INI whose [OccupancyGridBuilder] cell_size, min_height, max_height and max_range "
         "--grid-gt-out uses (default: the mapper's defaults).",
         false,
         "",
@@ -243,9 +243,16 @@ void SimApp::takeReferences(Arguments& args)
     }
     if (args.arg_grid_config.isSet())
     {
-        mrpt::config::CConfigFileMemory mapper(
-            io::readIniFile(args.arg_grid_config.getValue(), "mapper INI (--grid-config)"));
-        grid_gt.loadFromConfigFile(mapper, "OccupancyGrid");
+        mrpt::config::CConfigFileMemory mapper;
+        try
+        {
+            loadConfig(mapper, args.arg_grid_config.getValue(), {});  // old section names too
+        }
+        catch (const std::exception& e)
+        {
+            throw std::runtime_error(std::string("--grid-config: ") + e.what());
+        }
+        grid_gt.loadFromConfigFile(mapper, "OccupancyGridBuilder");
         grid_gt.validate();
     }
 }

@@ -35,7 +35,7 @@ namespace emslam::apps
 {
 namespace
 {
-constexpr const char* STEREO_SECTION = "Stereo";
+constexpr const char* STEREO_SECTION = "StereoMatcher";
 constexpr const char* PROGRAM = "emslam-stereo";
 using Clock = std::chrono::steady_clock;
 
@@ -162,11 +162,11 @@ bool StereoApp::parseArguments(int argc, const char** argv)
     TCLAP::ValueArg<std::string> config(
         "c", "config",
         withDefault(
-            "INI file with a [Stereo] section, or the name of a shipped one "
+            "INI file with a [StereoMatcher] section, or the name of a shipped one "
             "(share/emslam/config/stereo)",
             "the built-in defaults"),
         false, "", "CONFIG.ini", cmd);
-    addSetOption(cmd, "Override a parameter: Stereo.key=value");
+    addSetOption(cmd, "Override a parameter: StereoMatcher.key=value");
     TCLAP::ValueArg<std::string> gt(
         "", "gt-disparity", "Ground-truth disparity image of the first frame (0 = unknown)", false,
         "", "PNG", cmd);
@@ -247,7 +247,7 @@ void StereoApp::execute()
     emslam::stereo::StereoMatcher::TParameters sp;
     sp.loadFromConfigFile(params, STEREO_SECTION);
     emslam::stereo::StereoFrontEnd front(sp);
-    std::cout << "[Stereo] algorithm=" << sp.algorithm << " image_scale=" << sp.image_scale
+    std::cout << "[StereoMatcher] algorithm=" << sp.algorithm << " image_scale=" << sp.image_scale
               << " num_disparities=" << sp.num_disparities << " block_size=" << sp.block_size
               << " range=[" << sp.min_range << ", " << sp.max_range << "] m\n";
 

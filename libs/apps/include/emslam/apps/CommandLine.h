@@ -99,7 +99,9 @@ void applyConfigOverrides(
     mrpt::config::CConfigFileMemory& cfg, const std::vector<std::string>& sets);
 
 /** Fills `cfg` from the INI file `config_file` (when not empty), then applies
- * the `--set` overrides `sets` (see applyConfigOverrides()). The file is read
+ * the `--set` overrides `sets` (see applyConfigOverrides()). Sections and
+ * keys under their old names (slam::configRenames()) are read under the new
+ * ones, with a warning on std::cerr for each. The file is read
  * by io::readIniFile(): it throws if the file is not a regular file of at
  * most io::MAX_INI_BYTES, or if it repeats a section or a key.
  * \ingroup emslam_apps_grp */

@@ -29,7 +29,7 @@ struct ConfigProblem
 
     /** E.g. "unknown key 'esp_xyz' in [Rectifier] (did you mean 'eps_xyz'?)",
      * "unknown section [Rectifer] (did you mean [Rectifier]?)" or
-     * "[Stereo] num_disparities = 'abc' is not a number". */
+     * "[StereoMatcher] num_disparities = 'abc' is not a number". */
     std::string message() const;
 };
 

@@ -43,7 +43,7 @@ struct ExperimentResult
     double egomotion_ate_m{0};  //!< ATE RMSE after SE(3) alignment [m]
     double slam_ate_m{0};       //!< ATE RMSE of SLAM after SE(3) alignment [m]
     /** The maps against the true surfaces the frames saw (eval::MapAccuracy,
-     * sim::SurfaceSampler out to the mapper's [Stereo] max_range): SLAM's
+     * sim::SurfaceSampler out to the mapper's [StereoMatcher] max_range): SLAM's
      * map cloud, and the same keyframe clouds placed by the egomotion.
      * Accuracy median and 90th percentile [m], completeness within 5 cm
      * [0, 1]; NaN when not measured. */
@@ -115,7 +115,7 @@ struct ExperimentRunOptions
      * (empty: none written). */
     std::string out_dir;
     /** Feed the mapper the renderer's exact depth (as an RGB-D camera would,
-     * within the mapper's [Stereo] min_range..max_range) instead of the
+     * within the mapper's [StereoMatcher] min_range..max_range) instead of the
      * stereo pair: an oracle that tells what stereo noise costs. */
     bool exact_depth{false};
     /** Scan the final trajectory's entropy around the ground truth

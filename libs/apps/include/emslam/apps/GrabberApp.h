@@ -42,7 +42,7 @@ namespace emslam::apps
  * `rawlog_GZ_compress_level` (0..9, default 1), as the stock grabber; every
  * other section with a `driver` key is a sensor, unless it has
  * `rawlog-grabber-ignore = true`. Sections without `driver` (calibration,
- * [Stereo]) are ignored.
+ * [StereoMatcher]) are ignored.
  * \ingroup emslam_apps_grp \sa doc/apps/emslam-grabber.md */
 class GrabberApp : public App
 {

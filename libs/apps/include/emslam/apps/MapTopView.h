@@ -37,7 +37,7 @@ struct TopViewOptions
     /** Blank border around the drawing [px]. */
     int margin{30};
     /** Each point is spread over a square this wide [m] (the map cloud has
-     * one point per cell of `[Mapper] map_cell_size`): solid walls instead of
+     * one point per cell of `[EntropySlam] map_cell_size`): solid walls instead of
      * dotted ones. ≤ 0: one pixel per point. */
     double point_size{0.1};
     /** Legend and scale bar drawn in the image. */

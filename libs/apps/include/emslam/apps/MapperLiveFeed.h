@@ -11,7 +11,7 @@ namespace emslam::apps
 /** Feeds a LiveViewer from a running Mapper (`emslam-mapper --viewer`):
  * after every processed frame, the points of an accepted frame are added
  * at its egomotion pose (the live map is not rectified; map.3Dscene holds
- * the rectified one; `[Mapper] export_max_height` cuts it as it cuts
+ * the rectified one; `[EntropySlam] export_max_height` cuts it as it cuts
  * map.3Dscene), and, only when the viewer is ready to draw, a snapshot
  * (trajectories, camera, left image, status) is built and pushed, so a slow
  * window costs the pipeline nothing but a flag check.

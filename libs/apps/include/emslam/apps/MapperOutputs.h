@@ -112,7 +112,7 @@ void writeSummaryJson(
 /** What the map drawings of a finished mapper show: the map cloud, the
  * `egomotion` and `slam` trajectories (tumTrajectoryOf() of its poses),
  * `ground_truth` (already in the map frame, see groundTruthInMapFrame(); may
- * be empty), the entropy map, and the `[Mapper] export_max_height` cut. The
+ * be empty), the entropy map, and the `[EntropySlam] export_max_height` cut. The
  * trajectories must outlive the result. */
 MapDrawingContent mapDrawingContent(
     const slam::EntropySlam& m,
@@ -130,9 +130,9 @@ void writeScene(
     const std::string& file);
 
 /** map.bt: the OctoMap of the keyframes' clouds inserted from their final
- * poses (slam::OctoMapBuilder, `[OctoMap]`), written with OctoMap's
+ * poses (slam::OctoMapBuilder, `[OctoMapBuilder]`), written with OctoMap's
  * OcTree::writeBinary() (maximum-likelihood, pruned: what `octovis` and
- * OcTree::readBinary() open). Nothing when `[OctoMap] resolution` is 0. */
+ * OcTree::readBinary() open). Nothing when `[OctoMapBuilder] resolution` is 0. */
 void writeOctoMap(const slam::EntropySlam& m, const std::string& file);
 
 /** map_top.png: the floor plan of the map with the trajectories (see
@@ -143,7 +143,7 @@ void writeTopViewPng(
     const std::string& file);
 
 /** map_grid.gridmap and map_grid.png: the 2D occupancy grid of the final
- * map (emslam::slam::OccupancyGridBuilder, `[OccupancyGrid]`): an MRPT
+ * map (emslam::slam::OccupancyGridBuilder, `[OccupancyGridBuilder]`): an MRPT
  * COccupancyGridMap2D serialized into a gzip file, as MRPT's apps write
  * `.gridmap` files, and its picture (free white, occupied black, unknown
  * grey; forward to the right, left up). Nothing with `cell_size` 0. */

@@ -36,7 +36,7 @@ namespace emslam::apps
  *   [--trajectory-format tum|kitti|both] [--set Section.key=value ...]
  *   [--max-frames N] [--quiet]
  * \endcode
- * Parameters: `[Stereo]` (StereoMatcher::TParameters) and `[Egomotion]`
+ * Parameters: `[StereoMatcher]` (StereoMatcher::TParameters) and `[EgomotionEstimator]`
  * (EgomotionEstimator::TParameters); see config/odometry/kitti.ini.
  * \ingroup emslam_apps_grp \sa emslam::egomotion::EgomotionEstimator */
 class OdometryApp : public App
@@ -45,7 +45,7 @@ public:
     OdometryApp();
 
     /** The configuration check initialize() runs on the INI file plus the
-     * `--set` overrides, before any input is read: [Stereo] and [Egomotion] (other sections are
+     * `--set` overrides, before any input is read: [StereoMatcher] and [EgomotionEstimator] (other sections are
      * ignored) must hold only known keys, values of their kind (see requireValidConfig()) and
      * values in their ranges (the parameter structs' validate()). Throws std::invalid_argument
      * naming the section, key and value. */

@@ -72,7 +72,7 @@ public:
     emslam::sim::SurfaceSampler::TParameters map_gt;
     /** True floor plan output (MRPT gridmap, gz-compressed); empty: not written. */
     std::string grid_gt_out_file;
-    /** The band and cell size of the floor plan: the mapper's [OccupancyGrid]
+    /** The band and cell size of the floor plan: the mapper's [OccupancyGridBuilder]
      * (--grid-config) or its defaults. */
     emslam::slam::OccupancyGridBuilder::TParameters grid_gt;
     /** Folder for PNG copies of the images; empty: none. */

@@ -27,13 +27,13 @@ namespace emslam::apps
  * \code
  * emslam-stereo L.png R.png CALIB.ini [--calib-section CAMERA]
  * emslam-stereo IN.rawlog [--max-frames N]
- *   [--config STEREO.ini] [--set Stereo.key=value ...]
+ *   [--config STEREO.ini] [--set StereoMatcher.key=value ...]
  *   [--gt-disparity GT.png [--gt-disparity-scale S]]
  *   [--out-rawlog OUT.rawlog]   ; frames as CObservation3DRangeScan (stock viewers)
  *   [--ply OUT.ply]             ; the first frame's points, with intensity
  *   [--disparity-png OUT.png]   ; the first frame's disparity, false colour
  * \endcode
- * Parameters are read from the `[Stereo]` section (StereoMatcher::TParameters).
+ * Parameters are read from the `[StereoMatcher]` section (StereoMatcher::TParameters).
  * A rawlog frame with a bad timestamp or another camera than the first one's,
  * or that the front-end cannot use, is skipped with a warning
  * (emslam::io::FrameStreamGuard, as in emslam-mapper).
@@ -44,7 +44,7 @@ public:
     StereoApp();
 
     /** The configuration check initialize() runs on the INI file plus the
-     * `--set` overrides, before any input is read: [Stereo] (other sections are ignored) must
+     * `--set` overrides, before any input is read: [StereoMatcher] (other sections are ignored) must
      * hold only known keys, values of their kind (see requireValidConfig())
      * and values in their ranges (the parameter structs' validate()).
      * Throws std::invalid_argument naming the section, key and value. */

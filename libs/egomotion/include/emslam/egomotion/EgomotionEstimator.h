@@ -72,9 +72,9 @@ double lwoTruncationVarianceFactor(double q);
  * Frames are given in sequence with process(); features and descriptors of
  * the previous frame are kept, so each frame is described once.
  *
- * INI section `[Egomotion]`:
+ * INI section `[EgomotionEstimator]`:
  * \code
- * [Egomotion]
+ * [EgomotionEstimator]
  * window_size       = 8      ; |W|, GLM non-maximum window [px], 3..128
  * min_gradient      = 0      ; gradient magnitude floor for features
  * similarity_min    = 0.8    ; S_min
@@ -107,7 +107,7 @@ double lwoTruncationVarianceFactor(double q);
 class EgomotionEstimator
 {
 public:
-    /** `[Egomotion]` parameters (the INI section of this estimator). */
+    /** `[EgomotionEstimator]` parameters (the INI section of this estimator). */
     struct TParameters : public mrpt::config::CLoadableOptions
     {
         /** Reads the keys of section `s` of `c`; absent keys keep their value. */

@@ -183,7 +183,7 @@ public:
         /** Emit a CObservation3DRangeScan per frame. (Default: false) */
         bool compute_range_scan{false};
         /** Section of the StereoMatcher parameters. (Default: Stereo) */
-        std::string stereo_section{"Stereo"};
+        std::string stereo_section{"StereoMatcher"};
 
         /** Raw (unrectified) calibration of the pair, from the calibration sections. */
         mrpt::img::TStereoCamera stereo_camera;

@@ -19,7 +19,7 @@ namespace emslam::rectify
  * independent of the direction of motion.)
  *
  * \code
- * [SpaceSampling]
+ * [SpaceSampler]
  * enabled       = true
  * t_min         = 0.15   ; [m]
  * theta_min_deg = 5      ; [deg]
@@ -28,10 +28,10 @@ namespace emslam::rectify
 class SpaceSampler
 {
 public:
-    /** `[SpaceSampling]` parameters. */
+    /** `[SpaceSampler]` parameters. */
     struct TParameters : public mrpt::config::CLoadableOptions
     {
-        /** Reads the `[SpaceSampling]` keys of section `s` of `c`; absent keys keep their value. */
+        /** Reads the `[SpaceSampler]` keys of section `s` of `c`; absent keys keep their value. */
         void loadFromConfigFile(
             const mrpt::config::CConfigFileBase& c, const std::string& s) override;
         /** Writes every key to section `s` of `c`. */

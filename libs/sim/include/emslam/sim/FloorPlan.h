@@ -10,7 +10,7 @@
 namespace emslam::sim
 {
 /** Where the true floor plan is taken from: the band of heights and the
- * range of the grid it is compared with (the mapper's [OccupancyGrid]).
+ * range of the grid it is compared with (the mapper's [OccupancyGridBuilder]).
  * \ingroup emslam_sim_grp \sa floorPlanGrid() */
 struct FloorPlanBand
 {

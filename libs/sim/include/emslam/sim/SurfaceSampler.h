@@ -37,7 +37,7 @@ struct SurfaceSample
  * \code
  * ; emslam-sim --map-gt-out: --map-gt-spacing, --map-gt-range set these
  * spacing = 0.02        ; [m] distance between samples
- * max_range = 12        ; [m] farthest depth a sample is seen at (the mapper's [Stereo] max_range)
+ * max_range = 12        ; [m] farthest depth a sample is seen at (the mapper's [StereoMatcher] max_range)
  * min_range = 0.3       ; [m]
  * pose_step = 0.25      ; [m]
  * pose_step_deg = 10    ; [deg]

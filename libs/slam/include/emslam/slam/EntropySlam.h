@@ -53,7 +53,7 @@ namespace emslam::slam
 class EntropySlam
 {
 public:
-    /** `[Mapper]`: what EntropySlam keeps besides the paper's parameters. */
+    /** `[EntropySlam]`: what EntropySlam keeps besides the paper's parameters. */
     struct TOptions : public mrpt::config::CLoadableOptions
     {
         /** Reads the keys of section `s` of `c`; absent keys keep their value. */
@@ -86,16 +86,16 @@ public:
     /** Every parameter the mapper uses, one INI section each. */
     struct TParameters
     {
-        emslam::stereo::StereoMatcher::TParameters stereo;             //!< [Stereo]
-        emslam::egomotion::EgomotionEstimator::TParameters egomotion;  //!< [Egomotion]
+        emslam::stereo::StereoMatcher::TParameters stereo;             //!< [StereoMatcher]
+        emslam::egomotion::EgomotionEstimator::TParameters egomotion;  //!< [EgomotionEstimator]
         emslam::CEntropyVoxelMap::TCreationOptions map;                //!< [EntropyVoxelMap]
         emslam::CEntropyVoxelMap::TInsertionOptions insertion;         //!< [EntropyVoxelMap]
-        emslam::rectify::SpaceSampler::TParameters sampling;           //!< [SpaceSampling]
+        emslam::rectify::SpaceSampler::TParameters sampling;           //!< [SpaceSampler]
         emslam::rectify::TRectifierOptions rectifier;                  //!< [Rectifier]
-        TOptions mapper;                                               //!< [Mapper]
+        TOptions mapper;                                               //!< [EntropySlam]
         LoopCloser::TParameters loop_closer;                           //!< [LoopCloser]
-        OccupancyGridBuilder::TParameters occupancy_grid;              //!< [OccupancyGrid]
-        OctoMapBuilder::TParameters octomap;                           //!< [OctoMap]
+        OccupancyGridBuilder::TParameters occupancy_grid;              //!< [OccupancyGridBuilder]
+        OctoMapBuilder::TParameters octomap;                           //!< [OctoMapBuilder]
 
         /** Loads every section (missing keys keep their defaults) and
          * validates; throws std::invalid_argument naming the section and key
@@ -157,7 +157,7 @@ public:
     std::vector<std::string> unreliableReasons() const;
     /** Successful steps matched near the constant-velocity prediction, and
      * steps whose guided attempt fell back to the full search
-     * ([Egomotion] guided_matching; both 0 without it). */
+     * ([EgomotionEstimator] guided_matching; both 0 without it). */
     ///@{
     std::size_t guidedSteps() const { return m_odometry.guidedSteps(); }
     std::size_t guidedFallbacks() const { return m_odometry.guidedFallbacks(); }
@@ -187,7 +187,7 @@ public:
     const cv::Mat& lastImage() const { return m_last_image; }
     /** Map cloud (own camera frame) of the keyframe the last process()
      * added to the map, else nullptr: the frame just processed, or with a
-     * sparse front-end ([Stereo] sparse_at_features) the keyframe before it,
+     * sparse front-end ([StereoMatcher] sparse_at_features) the keyframe before it,
      * whose dense cloud was computed meanwhile on another thread. */
     const IntensityCloud* lastAcceptedCloud() const;
     /** Frame index (as in frames()) of lastAcceptedCloud(). */

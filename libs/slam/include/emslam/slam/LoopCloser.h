@@ -182,7 +182,8 @@ public:
          * before the mapper waits for it: bounds the work left at the end
          * of a run and how old the online estimate may be. (Default: 20) */
         int max_lag{20};
-        /** The `vertical_*` keys of the measurement. */
+        /** The up measurement: section `[VerticalFromPlanes]`, loaded by
+         * EntropySlam::TParameters (not by this struct's load / save). */
         emslam::stereo::VerticalFromPlanes::TParameters vertical;
     };
 

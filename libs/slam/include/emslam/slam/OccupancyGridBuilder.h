@@ -36,7 +36,7 @@ namespace emslam::slam
 class OccupancyGridBuilder
 {
 public:
-    /** `[OccupancyGrid]` */
+    /** `[OccupancyGridBuilder]` */
     struct TParameters : public mrpt::config::CLoadableOptions
     {
         /** Reads the keys of section `s` of `c`; absent keys keep their value. */

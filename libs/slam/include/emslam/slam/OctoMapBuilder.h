@@ -32,7 +32,7 @@ namespace emslam::slam
 class OctoMapBuilder
 {
 public:
-    /** `[OctoMap]` */
+    /** `[OctoMapBuilder]` */
     struct TParameters : public mrpt::config::CLoadableOptions
     {
         /** Reads the keys of section `s` of `c`; absent keys keep their value. */

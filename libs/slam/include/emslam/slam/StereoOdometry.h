@@ -15,7 +15,7 @@ namespace emslam::slam
 /** Visual odometry, the first half of EntropySlam: stereo front-end →
  * egomotion (§2.1) → the pose chained step by step. A step whose egomotion
  * fails repeats the previous step (constant velocity); the first frame is
- * the world origin. With `[Stereo] sparse_at_features` the front-end
+ * the world origin. With `[StereoMatcher] sparse_at_features` the front-end
  * matches only the egomotion's feature pixels. emslam-odometry runs it
  * alone; EntropySlam adds space sampling and rectification.
  * \ingroup emslam_slam_grp \sa EntropySlam */
@@ -56,7 +56,7 @@ public:
     std::size_t failures() const { return m_failures; }
     ///@}
     /** Steps matched near the constant-velocity prediction, and guided
-     * attempts that fell back to the full search ([Egomotion] guided_matching). */
+     * attempts that fell back to the full search ([EgomotionEstimator] guided_matching). */
     ///@{
     std::size_t guidedSteps() const { return m_guided_steps; }
     std::size_t guidedFallbacks() const { return m_guided_fallbacks; }

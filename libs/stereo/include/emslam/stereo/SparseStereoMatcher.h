@@ -30,14 +30,14 @@ namespace emslam::stereo
  * exact disparities on synthetic planes. A point is kept if its depth lies
  * in [min_range, max_range].
  *
- * Parameters come from `[Stereo]` (fromStereo()): the search range is that
+ * Parameters come from `[StereoMatcher]` (fromStereo()): the search range is that
  * of the dense matcher at `image_scale`, brought to full resolution, so both
  * see the same depths.
  * \ingroup emslam_stereo_grp \sa StereoMatcher, StereoFrontEnd */
 class SparseStereoMatcher
 {
 public:
-    /** Options of the row search (the `[Stereo]` keys they come from: fromStereo()). */
+    /** Options of the row search (the `[StereoMatcher]` keys they come from: fromStereo()). */
     struct TParameters
     {
         /** Disparities searched at full resolution [px], >= 3. (Default: 128) */
@@ -55,7 +55,7 @@ public:
         double min_range{0.3}, max_range{12.0};
         ///@}
 
-        /** Throws std::invalid_argument naming the `[Stereo]` key of a bad value. */
+        /** Throws std::invalid_argument naming the `[StereoMatcher]` key of a bad value. */
         void validate() const;
     };
 

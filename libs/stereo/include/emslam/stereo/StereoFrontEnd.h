@@ -20,7 +20,7 @@ namespace emslam::stereo
  * rebuilt only when the calibration changes) and matched by StereoMatcher;
  * `CObservation3DRangeScan` (RGB-D) are converted directly.
  *
- * **Sparse mode** (`[Stereo] sparse_at_features` and a pixel selector set):
+ * **Sparse mode** (`[StereoMatcher] sparse_at_features` and a pixel selector set):
  * process() gives a frame at full resolution whose points are only those of
  * SparseStereoMatcher at the pixels the selector picks in the rectified left
  * image (the egomotion's features), and mapFrameTask() computes the dense

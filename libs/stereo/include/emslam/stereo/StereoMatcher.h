@@ -20,9 +20,9 @@ namespace emslam::stereo
  * small speckle, agrees with the right-to-left disparity within
  * `lr_max_diff`, and reconstructs within [min_range, max_range].
  *
- * INI section (default `[Stereo]`), every key optional:
+ * INI section (default `[StereoMatcher]`), every key optional:
  * \code
- * [Stereo]
+ * [StereoMatcher]
  * algorithm          = sgbm_hh ; sgbm_hh | sgbm | sgbm_3way | bm
  * image_scale        = 1.0    ; resize factor applied before matching (0.5: 640x480 -> 320x240)
  * num_disparities    = 64     ; [px] search range at working scale, 1..1024 (rounded up to 16)
@@ -48,7 +48,7 @@ namespace emslam::stereo
 class StereoMatcher
 {
 public:
-    /** `[Stereo]` parameters: the keys of the INI block above. */
+    /** `[StereoMatcher]` parameters: the keys of the INI block above. */
     struct TParameters : public mrpt::config::CLoadableOptions
     {
         /** Reads the keys of section `s` of `c`; absent keys keep their value. */

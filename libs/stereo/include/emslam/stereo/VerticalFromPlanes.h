@@ -47,7 +47,7 @@ struct VerticalMeasurement
 class VerticalFromPlanes
 {
 public:
-    /** `[LoopCloser]` keys `vertical_*`. */
+    /** `[VerticalFromPlanes]` parameters (the mapper loads them beside `[LoopCloser]`). */
     struct TParameters : public mrpt::config::CLoadableOptions
     {
         /** Reads the keys of section `s` of `c`; absent keys keep their value. */
