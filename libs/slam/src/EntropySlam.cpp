@@ -3,6 +3,7 @@
 #include <emslam/slam/ConfigRenames.h>
 #include <emslam/slam/EntropySlam.h>
 #include <emslam/util/ConfigVisitor.h>
+#include <emslam/slam/ScanFusion.h>
 #include <emslam/util/ExceptionMessage.h>
 
 #include <mrpt/config/CConfigFileBase.h>
@@ -98,6 +99,18 @@ void visit(EntropySlam::TOptions& p, emslam::util::ConfigVisitor& v)
     v.field(
         "export_max_height", p.export_max_height,
         "[m] above the first camera: map.3Dscene / map_top.png cut (inf: none)");
+    v.field(
+        "depth_sigma_px", p.depth_sigma_px,
+        "[px] disparity noise: sigma_z = z^2 sigma_d / (f b) of a stereo point");
+    v.field("rgbd_depth_sigma", p.rgbd_depth_sigma, "[1/m] sigma_z = k z^2 of an RGB-D point");
+    v.field("fused_voxel_size", p.fused_voxel_size, "[m] cell of the fused map (1/sigma^2 weights)");
+    v.field("max_point_sigma", p.max_point_sigma, "[m] fused points above this sigma are dropped");
+    v.field(
+        "max_observation_sigma", p.max_observation_sigma,
+        "[m] points above this sigma are not fused at all");
+    v.field(
+        "fuse_along_rays", p.fuse_along_rays,
+        "points join the strongest cell along their ray within 2 sigma");
 }
 }  // namespace
 
@@ -114,6 +127,16 @@ void EntropySlam::TOptions::saveToConfigFile(
     emslam::util::saveByVisit(*this, c, s, visit);
 }
 
+FusedPointCloud::TOptions EntropySlam::TOptions::fusionOptions() const
+{
+    FusedPointCloud::TOptions o;
+    o.voxel_size = fused_voxel_size;
+    o.max_sigma = max_point_sigma;
+    o.max_observation_sigma = max_observation_sigma;
+    o.along_rays = fuse_along_rays;
+    return o;
+}
+
 void EntropySlam::TOptions::validate() const
 {
     // Cell indices are coordinate / cell size in an int: not below 1 mm.
@@ -124,6 +147,24 @@ void EntropySlam::TOptions::validate() const
             "[EntropySlam] map_cell_size = " + std::to_string(map_cell_size) +
             ": must be <= 0 (every point) or in [0.001, 1000] m");
     }
+    const auto positive = [](double v, const char* key, const std::string& range)
+    {
+        if (!(v > 0))
+        {
+            throw std::invalid_argument(
+                std::string("[EntropySlam] ") + key + " = " + std::to_string(v) + ": must be " + range);
+        }
+    };
+    positive(depth_sigma_px, "depth_sigma_px", "> 0 px");
+    positive(rgbd_depth_sigma, "rgbd_depth_sigma", "> 0 per m");
+    if (!(fused_voxel_size >= 0.001 && fused_voxel_size <= 1000))
+    {
+        throw std::invalid_argument(
+            "[EntropySlam] fused_voxel_size = " + std::to_string(fused_voxel_size) +
+            ": must be in [0.001, 1000] m");
+    }
+    positive(max_point_sigma, "max_point_sigma", "> 0 m (inf: no gate)");
+    positive(max_observation_sigma, "max_observation_sigma", "> 0 m (inf: every point)");
     if (std::isnan(export_max_height) ||
         export_max_height == -std::numeric_limits<double>::infinity())
     {
@@ -411,7 +452,8 @@ void EntropySlam::completePendingKeyframe(FrameRecord* record)
 EntropySlam::MapClouds EntropySlam::mapClouds(const emslam::stereo::StereoFrame& f) const
 {
     // Reads only parameters fixed at construction: safe on the map task's thread.
-    return {toWeightedCloud(f, m_p.insertion), downsampleFrame(f, m_p.mapper.map_cell_size)};
+    const DepthNoiseModel noise(f.camera, m_p.mapper.depth_sigma_px, m_p.mapper.rgbd_depth_sigma);
+    return {toWeightedCloud(f, m_p.insertion), downsampleFrame(f, m_p.mapper.map_cell_size, noise)};
 }
 
 void EntropySlam::addAccepted(
@@ -517,8 +559,13 @@ void EntropySlam::finish()
         T_world_keyframe[fp.frame_index] = fp.T_world_frame;
     }
     m_clouds.requireSameElementsAs(m_runner->trajectory());
-    m_map_cloud = m_clouds.worldCloud(poses);
     m_keyframe_scans = m_clouds.takeScans();
+    {
+        FusedPointCloud fused = fuseScans(m_keyframe_scans, poses, m_p.mapper.fusionOptions());
+        m_fused_scans = scansOnFusedSurfaces(m_keyframe_scans, poses, fused);
+        m_fusion_stats = fused.stats();
+        m_map_cloud = fused.cloud();
+    }
     m_clouds = ElementClouds(0, m_p.mapper.map_cell_size);
     m_slam.clear();
     for (std::size_t i = 0; i < m_records.size(); i++)

@@ -13,6 +13,7 @@
 #include <emslam/sim/StereoSimulator.h>
 #include <emslam/sim/SurfaceSampler.h>
 #include <emslam/slam/EntropySlam.h>
+#include <emslam/slam/ScanFusion.h>
 #include <emslam/stereo/RangeScanConversion.h>
 #include <emslam/util/ExceptionMessage.h>
 
@@ -93,26 +94,13 @@ slam::EntropySlam::TParameters loadMapper(
 }
 
 /** The keyframe clouds placed at `poses` (frame index → T_world_frame),
- * downsampled at `cell_size` as the map cloud is. */
+ * fused and gated as the map cloud is. */
 std::vector<mrpt::math::TPoint3Df> cloudAt(
     const std::vector<slam::ElementClouds::Scan>& scans,
     const std::vector<emslam::rectify::TimedPose>& poses,
-    double cell_size)
+    const slam::FusedPointCloud::TOptions& fusion)
 {
-    std::map<std::size_t, const mrpt::poses::CPose3D*> pose_of;
-    for (const auto& p : poses)
-    {
-        pose_of[p.frame_index] = &p.T_world_frame;
-    }
-    slam::IntensityCloud world;
-    for (const auto& s : scans)
-    {
-        if (const auto it = pose_of.find(s.frame_index); it != pose_of.end())
-        {
-            world.appendTransformed(s.cloud, *it->second);
-        }
-    }
-    return slam::voxelDownsample(world, cell_size).points;
+    return slam::fuseScans(scans, poses, fusion).cloud().points;
 }
 
 /** ExperimentResult's map figures: SLAM's map and the egomotion's against
@@ -143,7 +131,8 @@ void measureMaps(
     r.slam_map_p90_m = slam_map.p90_m;
     r.slam_map_completeness = slam_map.completeness;
     const auto ego_cloud = cloudAt(
-        mapper.keyframeScans(), mapper.egomotionPoses(), mapper.parameters().mapper.map_cell_size);
+        mapper.keyframeScans(), mapper.egomotionPoses(),
+        mapper.parameters().mapper.fusionOptions());
     if (!ego_cloud.empty())
     {
         const auto ego_map = eval::MapAccuracy::compute(ego_cloud, ref);

@@ -19,6 +19,10 @@ slam::IntensityCloud cutAboveHeight(const slam::IntensityCloud& cloud, double ma
         {
             out.points.push_back(cloud.points[i]);
             out.intensity.push_back(cloud.intensity[i]);
+            if (cloud.hasSigma())
+            {
+                out.sigma.push_back(cloud.sigma[i]);
+            }
         }
     }
     return out;

@@ -360,6 +360,12 @@ void writeSummaryJson(
       << "  \"final_energy\": " << io::jsonNumber(m.finalEnergy()) << ",\n"
       << "  \"final_entropy\": " << io::jsonNumber(m.finalEntropy()) << ",\n"
       << "  \"map_points\": " << m.mapCloud().size() << ",\n"
+      << "  \"map_fusion\": {\"points\": " << m.fusionStats().points
+      << ", \"used_points\": " << m.fusionStats().used_points
+      << ", \"moved_points\": " << m.fusionStats().moved_points
+      << ", \"voxels\": " << m.fusionStats().voxels
+      << ", \"kept_voxels\": " << m.fusionStats().kept_voxels
+      << ", \"kept_points\": " << m.fusionStats().kept_points << "},\n"
       << "  \"loop_gap_egomotion_m\": " << io::jsonNumber(loopGap(m.egomotionPoses())) << ",\n"
       << "  \"loop_gap_slam_m\": " << io::jsonNumber(loopGap(m.slamPoses())) << ",\n"
       << "  \"seconds\": " << io::jsonNumber(info.seconds) << ",\n"
@@ -479,7 +485,7 @@ void writeOctoMap(const slam::EntropySlam& m, const std::string& file)
         return;
     }
     slam::OctoMapBuilder builder(m.parameters().octomap);
-    const auto tree = builder.build(m.keyframeScans(), m.keyframePoses());
+    const auto tree = builder.build(m.fusedKeyframeScans(), m.keyframePoses());
     io::writeFileAtomically(
         file, [&](const std::string& partial) { return tree->writeBinary(partial); });
 }

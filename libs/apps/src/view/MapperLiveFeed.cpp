@@ -34,11 +34,15 @@ void MapperLiveFeed::update(const slam::EntropySlam& m)
     const mrpt::poses::CPose3D& T_world_cam = m.egomotionPoses().back().T_world_frame;
     if (const slam::IntensityCloud* cloud = m.lastAcceptedCloud())
     {
-        slam::IntensityCloud world;
-        world.appendTransformed(
-            *cloud, m.egomotionPoses().at(m.lastAcceptedCloudFrame()).T_world_frame);
+        const auto& o = m.parameters().mapper;
+        if (!m_fusion)
+        {
+            m_fusion.emplace(o.fused_voxel_size, o.max_point_sigma, o.max_observation_sigma);
+        }
+        const slam::IntensityCloud certain =
+            m_fusion->add(*cloud, m.egomotionPoses().at(m.lastAcceptedCloudFrame()).T_world_frame);
         // The same ceiling cut as map.3Dscene, so the trajectories stay visible.
-        m_viewer.addMapPoints(cutAboveHeight(world, m.parameters().mapper.export_max_height));
+        m_viewer.addMapPoints(cutAboveHeight(certain, o.export_max_height));
     }
     if (!m_viewer.wantsSnapshot())
     {

@@ -10,6 +10,7 @@
 #include <emslam/slam/BackgroundWorker.h>
 #include <emslam/slam/ElementClouds.h>
 #include <emslam/slam/FrameRecord.h>
+#include <emslam/slam/FusedPointCloud.h>
 #include <emslam/slam/IntensityCloud.h>
 #include <emslam/slam/LoopCloser.h>
 #include <emslam/slam/OccupancyGridBuilder.h>
@@ -81,6 +82,28 @@ public:
          * `inf` (or absent): no cut. map.ply always keeps every point.
          * (Default: inf) */
         double export_max_height{std::numeric_limits<double>::infinity()};
+        /** Disparity noise σ_d [px] of the stereo points: a point at depth z
+         * has σ_z = z² σ_d / (f b) along its ray (DepthNoiseModel).
+         * (Default: 0.2) */
+        double depth_sigma_px{0.2};
+        /** σ_z = k z² of RGB-D points (no baseline) [1/m]. (Default: 0.0015) */
+        double rgbd_depth_sigma{0.0015};
+        /** Cell of the fused map [m]: the keyframes' points are fused into
+         * one point per cell weighted by 1/σ² (FusedPointCloud). map.ply,
+         * map.3Dscene, map_top.png, the grid and map.bt use it. (Default: 0.1) */
+        double fused_voxel_size{0.1};
+        /** [m] fused points whose σ is above this are left out of the map
+         * (inf: none). (Default: 0.05) */
+        double max_point_sigma{0.05};
+        /** [m] points whose own σ is above this are not fused at all (inf:
+         * all). (Default: 0.5) */
+        double max_observation_sigma{0.5};
+        /** Points join the strongest voxel along their own ray within ±2σ
+         * (FusedPointCloud). (Default: true) */
+        bool fuse_along_rays{true};
+
+        /** The fusion's options from these keys. */
+        FusedPointCloud::TOptions fusionOptions() const;
     };
 
     /** Every parameter the mapper uses, one INI section each. */
@@ -230,14 +253,22 @@ public:
     /** The final (compressed) trajectory: actions, elements and their frames. */
     const emslam::rectify::Trajectory& trajectory() const;
     /** The map cloud (with grey levels) at the final poses, world frame: the
-     * accepted frames' points, one per `map_cell_size` cell. Kept per
+     * accepted frames' points fused per `fused_voxel_size` cell weighted by
+     * their depth uncertainty, and gated by `max_point_sigma`
+     * (FusedPointCloud); each point's sigma is its fused σ. Kept per
      * trajectory element during the run (see ElementClouds): the points of
      * frames fused by compression were averaged in their element's frame. */
     const IntensityCloud& mapCloud() const { return m_map_cloud; }
     /** The clouds mapCloud() was made of, each in the camera frame of its
-     * keyframe (an element's first frame when compression fused frames):
-     * scans to insert from keyframePoses() (map.bt, OctoMapBuilder). */
+     * keyframe (an element's first frame when compression fused frames),
+     * with the sigma of each point, before fusion. */
     const std::vector<ElementClouds::Scan>& keyframeScans() const { return m_keyframe_scans; }
+    /** keyframeScans() with each point moved to the fused point it joined
+     * and the points of gated voxels left out (scansOnFusedSurfaces()):
+     * scans to insert from keyframePoses() (map.bt, OctoMapBuilder). */
+    const std::vector<ElementClouds::Scan>& fusedKeyframeScans() const { return m_fused_scans; }
+    /** What the map's fusion counted. */
+    const FusedPointCloud::Stats& fusionStats() const { return m_fusion_stats; }
     /** Final energy (recomputed from scratch): the entropy plus the odometry
      * prior's cost, if `[Rectifier] prior_weight` > 0. */
     double finalEnergy() const { return m_energy; }
@@ -339,7 +370,8 @@ private:
     double m_entropy{0.0};
     /** The map cloud per trajectory element, fused as the trajectory compresses. */
     ElementClouds m_clouds;
-    std::vector<ElementClouds::Scan> m_keyframe_scans;
+    std::vector<ElementClouds::Scan> m_keyframe_scans, m_fused_scans;
+    FusedPointCloud::Stats m_fusion_stats;
     IntensityCloud m_last_cloud;  //!< the last accepted frame's cloud, camera frame
     std::size_t m_last_cloud_frame{0};
     bool m_cloud_added{false};  //!< by the last process()

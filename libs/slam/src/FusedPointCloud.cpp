@@ -1,0 +1,246 @@
+// SPDX-License-Identifier: BSD-3-Clause
+#include <emslam/slam/FusedPointCloud.h>
+
+#include <algorithm>
+#include <cmath>
+#include <stdexcept>
+#include <string>
+#include <unordered_map>
+
+namespace emslam::slam
+{
+namespace
+{
+/** The voxel of a point: 21 bits per axis (±10^6 voxels). */
+std::uint64_t voxelKey(double x, double y, double z, double inv_voxel)
+{
+    const auto k = [&](double v)
+    {
+        return static_cast<std::uint64_t>(
+                   static_cast<std::int64_t>(std::floor(v * inv_voxel)) + (1 << 20)) &
+               0x1FFFFF;
+    };
+    return (k(x) << 42) | (k(y) << 21) | k(z);
+}
+
+/** A point's weight 1/σ²; a σ of 0 counts as 1 mm. */
+double weightOf(double sigma)
+{
+    const double s = std::max(sigma, 1e-3);
+    return 1.0 / (s * s);
+}
+
+/** The search along a ray reaches ±this many σ. */
+constexpr double RAY_SEARCH_SIGMAS = 2.0;
+/** The width of the preference for nearer cells, in sigmas. */
+constexpr double PREFERENCE_SIGMAS = 2.0;
+
+struct VoxelSum
+{
+    double w{0}, x{0}, y{0}, z{0}, grey{0};
+    std::size_t points{0};
+};
+}  // namespace
+
+FusedPointCloud::FusedPointCloud(const TOptions& o) : m_o(o)
+{
+    if (!(m_o.voxel_size >= 0.001) || !std::isfinite(m_o.voxel_size))
+    {
+        throw std::invalid_argument(
+            "FusedPointCloud: voxel size " + std::to_string(m_o.voxel_size) +
+            " m: must be at least 0.001 m");
+    }
+    if (!(m_o.max_sigma > 0) || !(m_o.max_observation_sigma > 0))
+    {
+        throw std::invalid_argument("FusedPointCloud: the sigma limits must be positive");
+    }
+    if (m_o.ray_passes < 0)
+    {
+        throw std::invalid_argument("FusedPointCloud: ray_passes must be >= 0");
+    }
+}
+
+std::size_t FusedPointCloud::add(const IntensityCloud& cloud, const mrpt::math::TPoint3D& origin)
+{
+    const std::size_t first = m_points.size();
+    const auto view = static_cast<std::uint32_t>(m_origins.size());
+    m_origins.push_back(origin);
+    const bool sigmas = cloud.hasSigma();
+    for (std::size_t i = 0; i < cloud.size(); ++i)
+    {
+        m_points.push_back(cloud.points[i]);
+        m_sigma.push_back(sigmas ? cloud.sigma[i] : static_cast<float>(m_o.voxel_size));
+        m_grey.push_back(i < cloud.intensity.size() ? cloud.intensity[i] : 0);
+        m_view.push_back(view);
+    }
+    return first;
+}
+
+std::size_t FusedPointCloud::addView(
+    const IntensityCloud& cloud_in_camera, const mrpt::poses::CPose3D& T_world_cam)
+{
+    IntensityCloud world;
+    world.appendTransformed(cloud_in_camera, T_world_cam);
+    return add(world, {T_world_cam.x(), T_world_cam.y(), T_world_cam.z()});
+}
+
+void FusedPointCloud::fuse()
+{
+    const std::size_t n = m_points.size();
+    const double inv_voxel = 1.0 / m_o.voxel_size;
+    m_stats = {};
+    m_stats.points = n;
+    constexpr std::uint64_t UNUSED = ~std::uint64_t{0};
+    // The voxel each point is fused in: its own to begin with.
+    std::vector<std::uint64_t> voxel(n, UNUSED);
+    for (std::size_t i = 0; i < n; ++i)
+    {
+        const auto& p = m_points[i];
+        if (std::isfinite(p.x) && std::isfinite(p.y) && std::isfinite(p.z) &&
+            std::isfinite(m_sigma[i]) && m_sigma[i] <= m_o.max_observation_sigma)
+        {
+            voxel[i] = voxelKey(p.x, p.y, p.z, inv_voxel);
+            ++m_stats.used_points;
+        }
+    }
+
+    const int passes = m_o.along_rays ? m_o.ray_passes : 0;
+    std::unordered_map<std::uint64_t, double> evidence;
+    for (int pass = 0; pass < passes; ++pass)
+    {
+        evidence.clear();
+        evidence.reserve(m_stats.used_points / 2 + 16);
+        for (std::size_t i = 0; i < n; ++i)
+        {
+            if (voxel[i] != UNUSED)
+            {
+                evidence[voxel[i]] += weightOf(m_sigma[i]);
+            }
+        }
+        std::vector<std::uint64_t> next = voxel;
+        const double step = 0.5 * m_o.voxel_size;
+        for (std::size_t i = 0; i < n; ++i)
+        {
+            const double sigma = m_sigma[i];
+            // A point within half a voxel of its depth has nowhere else to go.
+            if (voxel[i] == UNUSED || sigma <= step)
+            {
+                continue;
+            }
+            const auto& p = m_points[i];
+            const auto& o = m_origins[m_view[i]];
+            double dx = p.x - o.x, dy = p.y - o.y, dz = p.z - o.z;
+            const double r = std::sqrt(dx * dx + dy * dy + dz * dz);
+            if (!(r > 1e-6))
+            {
+                continue;
+            }
+            dx /= r;
+            dy /= r;
+            dz /= r;
+            const int steps = static_cast<int>(std::ceil(RAY_SEARCH_SIGMAS * sigma / step));
+            // The evidence along the ray is already spread by the views' noise:
+            // a point follows it to its peak, preferring nearer cells only
+            // softly (a Gaussian of twice its own sigma) so ties stay near.
+            const double inv_two_var =
+                0.5 / (PREFERENCE_SIGMAS * PREFERENCE_SIGMAS * sigma * sigma);
+            std::uint64_t best = voxel[i];
+            double best_score = -1.0;
+            std::uint64_t last = UNUSED;
+            for (int k = -steps; k <= steps; ++k)
+            {
+                const double t = k * step;
+                if (t < -r)
+                {
+                    continue;  // not behind the camera
+                }
+                const std::uint64_t key =
+                    voxelKey(p.x + t * dx, p.y + t * dy, p.z + t * dz, inv_voxel);
+                if (key == last)
+                {
+                    continue;
+                }
+                last = key;
+                const auto it = evidence.find(key);
+                if (it == evidence.end())
+                {
+                    continue;
+                }
+                // The measured voxel itself is scored at t = 0: ties stay put.
+                const double tt = key == voxel[i] ? 0.0 : t;
+                const double score = it->second * std::exp(-tt * tt * inv_two_var);
+                if (score > best_score)
+                {
+                    best_score = score;
+                    best = key;
+                }
+            }
+            next[i] = best;
+        }
+        voxel.swap(next);
+    }
+
+    std::unordered_map<std::uint64_t, std::size_t> index_of;
+    std::vector<VoxelSum> sums;
+    index_of.reserve(m_stats.used_points / 2 + 16);
+    std::vector<std::size_t> sum_of(n, 0);
+    for (std::size_t i = 0; i < n; ++i)
+    {
+        if (voxel[i] == UNUSED)
+        {
+            continue;
+        }
+        const auto& p = m_points[i];
+        if (voxel[i] != voxelKey(p.x, p.y, p.z, inv_voxel))
+        {
+            ++m_stats.moved_points;
+        }
+        const auto [it, inserted] = index_of.try_emplace(voxel[i], sums.size());
+        if (inserted)
+        {
+            sums.emplace_back();
+        }
+        VoxelSum& s = sums[it->second];
+        const double w = weightOf(m_sigma[i]);
+        s.w += w;
+        s.x += w * p.x;
+        s.y += w * p.y;
+        s.z += w * p.z;
+        s.grey += w * m_grey[i];
+        ++s.points;
+        sum_of[i] = it->second;
+    }
+    m_stats.voxels = sums.size();
+
+    // Gate the voxels by the uncertainty left.
+    m_cloud = IntensityCloud();
+    std::vector<std::int32_t> kept(sums.size(), -1);
+    for (std::size_t v = 0; v < sums.size(); ++v)
+    {
+        const VoxelSum& s = sums[v];
+        const double sigma = 1.0 / std::sqrt(s.w);
+        if (!(sigma <= m_o.max_sigma))
+        {
+            continue;
+        }
+        kept[v] = static_cast<std::int32_t>(m_cloud.size());
+        m_cloud.points.emplace_back(
+            static_cast<float>(s.x / s.w), static_cast<float>(s.y / s.w),
+            static_cast<float>(s.z / s.w));
+        m_cloud.intensity.push_back(
+            static_cast<std::uint8_t>(std::clamp(std::lround(s.grey / s.w), 0L, 255L)));
+        m_cloud.sigma.push_back(static_cast<float>(sigma));
+        m_stats.kept_points += s.points;
+    }
+    m_stats.kept_voxels = m_cloud.size();
+    m_fused_index.assign(n, -1);
+    for (std::size_t i = 0; i < n; ++i)
+    {
+        if (voxel[i] != UNUSED)
+        {
+            m_fused_index[i] = kept[sum_of[i]];
+        }
+    }
+}
+
+}  // namespace emslam::slam

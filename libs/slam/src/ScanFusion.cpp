@@ -1,0 +1,90 @@
+// SPDX-License-Identifier: BSD-3-Clause
+#include <emslam/slam/ScanFusion.h>
+
+#include <stdexcept>
+#include <unordered_map>
+
+namespace emslam::slam
+{
+namespace
+{
+using PoseIndex = std::unordered_map<std::size_t, const mrpt::poses::CPose3D*>;
+
+PoseIndex indexPoses(const std::vector<emslam::rectify::TimedPose>& poses)
+{
+    PoseIndex index;
+    index.reserve(poses.size());
+    for (const auto& p : poses)
+    {
+        index[p.frame_index] = &p.T_world_frame;
+    }
+    return index;
+}
+}  // namespace
+
+FusedPointCloud fuseScans(
+    const std::vector<ElementClouds::Scan>& scans,
+    const std::vector<emslam::rectify::TimedPose>& poses,
+    const FusedPointCloud::TOptions& options)
+{
+    const PoseIndex index = indexPoses(poses);
+    FusedPointCloud fused(options);
+    for (const auto& s : scans)
+    {
+        if (const auto it = index.find(s.frame_index); it != index.end())
+        {
+            fused.addView(s.cloud, *it->second);
+        }
+    }
+    fused.fuse();
+    return fused;
+}
+
+std::vector<ElementClouds::Scan> scansOnFusedSurfaces(
+    const std::vector<ElementClouds::Scan>& scans,
+    const std::vector<emslam::rectify::TimedPose>& poses,
+    const FusedPointCloud& fused)
+{
+    const PoseIndex index = indexPoses(poses);
+    const IntensityCloud& map = fused.cloud();
+    std::vector<ElementClouds::Scan> out;
+    std::size_t next = 0;  // the fused cloud's number of the scan's first point
+    for (const auto& s : scans)
+    {
+        const auto it = index.find(s.frame_index);
+        if (it == index.end())
+        {
+            continue;
+        }
+        if (next + s.cloud.size() > fused.pointCount())
+        {
+            throw std::logic_error("scansOnFusedSurfaces: the scans are not those fused");
+        }
+        const mrpt::poses::CPose3D& T_world_cam = *it->second;
+        ElementClouds::Scan g;
+        g.frame_index = s.frame_index;
+        for (std::size_t i = 0; i < s.cloud.size(); ++i, ++next)
+        {
+            const std::int32_t f = fused.fusedIndexOf(next);
+            if (f < 0)
+            {
+                continue;
+            }
+            const auto& p = map.points[static_cast<std::size_t>(f)];
+            double x = 0, y = 0, z = 0;
+            T_world_cam.inverseComposePoint(p.x, p.y, p.z, x, y, z);
+            g.cloud.points.emplace_back(
+                static_cast<float>(x), static_cast<float>(y), static_cast<float>(z));
+            g.cloud.intensity.push_back(map.intensity[static_cast<std::size_t>(f)]);
+            g.cloud.sigma.push_back(map.sigma[static_cast<std::size_t>(f)]);
+        }
+        out.push_back(std::move(g));
+    }
+    if (next != fused.pointCount())
+    {
+        throw std::logic_error("scansOnFusedSurfaces: the scans are not those fused");
+    }
+    return out;
+}
+
+}  // namespace emslam::slam
