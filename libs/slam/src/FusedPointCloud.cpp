@@ -40,6 +40,127 @@ struct VoxelSum
     double w{0}, x{0}, y{0}, z{0}, grey{0};
     std::size_t points{0};
 };
+
+constexpr std::uint64_t UNUSED = ~std::uint64_t{0};
+using Evidence = std::unordered_map<std::uint64_t, double>;
+
+/** The voxel, along the ray from `o` through `p` within ±RAY_SEARCH_SIGMAS σ,
+ * with the most evidence, nearer ones preferred softly (a Gaussian of
+ * PREFERENCE_SIGMAS σ) so ties stay near; `own` (p's voxel now) is scored
+ * at t = 0, so ties stay put. */
+std::uint64_t bestVoxelAlongRay(
+    const mrpt::math::TPoint3Df& p,
+    const mrpt::math::TPoint3D& o,
+    double sigma,
+    std::uint64_t own,
+    const Evidence& evidence,
+    double voxel_size)
+{
+    const double step = 0.5 * voxel_size;
+    double dx = p.x - o.x, dy = p.y - o.y, dz = p.z - o.z;
+    const double r = std::sqrt(dx * dx + dy * dy + dz * dz);
+    if (!(r > 1e-6))
+    {
+        return own;
+    }
+    dx /= r;
+    dy /= r;
+    dz /= r;
+    const double inv_voxel = 1.0 / voxel_size;
+    const int steps = static_cast<int>(std::ceil(RAY_SEARCH_SIGMAS * sigma / step));
+    const double inv_two_var = 0.5 / (PREFERENCE_SIGMAS * PREFERENCE_SIGMAS * sigma * sigma);
+    std::uint64_t best = own;
+    double best_score = -1.0;
+    std::uint64_t last = UNUSED;
+    for (int k = -steps; k <= steps; ++k)
+    {
+        const double t = k * step;
+        if (t < -r)
+        {
+            continue;  // not behind the camera
+        }
+        const std::uint64_t key = voxelKey(p.x + t * dx, p.y + t * dy, p.z + t * dz, inv_voxel);
+        if (key == last)
+        {
+            continue;
+        }
+        last = key;
+        const auto it = evidence.find(key);
+        if (it == evidence.end())
+        {
+            continue;
+        }
+        const double tt = key == own ? 0.0 : t;
+        const double score = it->second * std::exp(-tt * tt * inv_two_var);
+        if (score > best_score)
+        {
+            best_score = score;
+            best = key;
+        }
+    }
+    return best;
+}
+
+/** Each point's voxel weighted by 1/σ²: the evidence of the assignment. */
+Evidence evidenceOf(
+    const std::vector<std::uint64_t>& voxel, const std::vector<float>& sigma, std::size_t used)
+{
+    Evidence evidence;
+    evidence.reserve(used / 2 + 16);
+    for (std::size_t i = 0; i < voxel.size(); ++i)
+    {
+        if (voxel[i] != UNUSED)
+        {
+            evidence[voxel[i]] += weightOf(sigma[i]);
+        }
+    }
+    return evidence;
+}
+
+/** The 1/σ²-weighted sums of the points per voxel of `voxel`; `sum_of[i]`:
+ * the sum point i joined. Counts the points that moved to another voxel. */
+std::vector<VoxelSum> sumPerVoxel(
+    const std::vector<std::uint64_t>& voxel,
+    const std::vector<mrpt::math::TPoint3Df>& points,
+    const std::vector<float>& sigma,
+    const std::vector<std::uint8_t>& grey,
+    double inv_voxel,
+    std::vector<std::size_t>& sum_of,
+    std::size_t& moved_points)
+{
+    const std::size_t n = points.size();
+    sum_of.assign(n, 0);
+    std::unordered_map<std::uint64_t, std::size_t> index_of;
+    std::vector<VoxelSum> sums;
+    index_of.reserve(n / 2 + 16);
+    for (std::size_t i = 0; i < n; ++i)
+    {
+        if (voxel[i] == UNUSED)
+        {
+            continue;
+        }
+        const auto& p = points[i];
+        if (voxel[i] != voxelKey(p.x, p.y, p.z, inv_voxel))
+        {
+            ++moved_points;
+        }
+        const auto [it, inserted] = index_of.try_emplace(voxel[i], sums.size());
+        if (inserted)
+        {
+            sums.emplace_back();
+        }
+        VoxelSum& s = sums[it->second];
+        const double w = weightOf(sigma[i]);
+        s.w += w;
+        s.x += w * p.x;
+        s.y += w * p.y;
+        s.z += w * p.z;
+        s.grey += w * grey[i];
+        ++s.points;
+        sum_of[i] = it->second;
+    }
+    return sums;
+}
 }  // namespace
 
 FusedPointCloud::FusedPointCloud(const TOptions& o) : m_o(o)
@@ -90,7 +211,6 @@ void FusedPointCloud::fuse()
     const double inv_voxel = 1.0 / m_o.voxel_size;
     m_stats = {};
     m_stats.points = n;
-    constexpr std::uint64_t UNUSED = ~std::uint64_t{0};
     // The voxel each point is fused in: its own to begin with.
     std::vector<std::uint64_t> voxel(n, UNUSED);
     for (std::size_t i = 0; i < n; ++i)
@@ -103,113 +223,28 @@ void FusedPointCloud::fuse()
             ++m_stats.used_points;
         }
     }
-
+    // Along the rays: each pass follows the previous pass's evidence (a mean
+    // shift along each ray). A point within half a voxel of its depth has
+    // nowhere else to go.
     const int passes = m_o.along_rays ? m_o.ray_passes : 0;
-    std::unordered_map<std::uint64_t, double> evidence;
     for (int pass = 0; pass < passes; ++pass)
     {
-        evidence.clear();
-        evidence.reserve(m_stats.used_points / 2 + 16);
-        for (std::size_t i = 0; i < n; ++i)
-        {
-            if (voxel[i] != UNUSED)
-            {
-                evidence[voxel[i]] += weightOf(m_sigma[i]);
-            }
-        }
+        const Evidence evidence = evidenceOf(voxel, m_sigma, m_stats.used_points);
         std::vector<std::uint64_t> next = voxel;
-        const double step = 0.5 * m_o.voxel_size;
         for (std::size_t i = 0; i < n; ++i)
         {
-            const double sigma = m_sigma[i];
-            // A point within half a voxel of its depth has nowhere else to go.
-            if (voxel[i] == UNUSED || sigma <= step)
+            if (voxel[i] != UNUSED && m_sigma[i] > 0.5 * m_o.voxel_size)
             {
-                continue;
+                next[i] = bestVoxelAlongRay(
+                    m_points[i], m_origins[m_view[i]], m_sigma[i], voxel[i], evidence,
+                    m_o.voxel_size);
             }
-            const auto& p = m_points[i];
-            const auto& o = m_origins[m_view[i]];
-            double dx = p.x - o.x, dy = p.y - o.y, dz = p.z - o.z;
-            const double r = std::sqrt(dx * dx + dy * dy + dz * dz);
-            if (!(r > 1e-6))
-            {
-                continue;
-            }
-            dx /= r;
-            dy /= r;
-            dz /= r;
-            const int steps = static_cast<int>(std::ceil(RAY_SEARCH_SIGMAS * sigma / step));
-            // The evidence along the ray is already spread by the views' noise:
-            // a point follows it to its peak, preferring nearer cells only
-            // softly (a Gaussian of twice its own sigma) so ties stay near.
-            const double inv_two_var =
-                0.5 / (PREFERENCE_SIGMAS * PREFERENCE_SIGMAS * sigma * sigma);
-            std::uint64_t best = voxel[i];
-            double best_score = -1.0;
-            std::uint64_t last = UNUSED;
-            for (int k = -steps; k <= steps; ++k)
-            {
-                const double t = k * step;
-                if (t < -r)
-                {
-                    continue;  // not behind the camera
-                }
-                const std::uint64_t key =
-                    voxelKey(p.x + t * dx, p.y + t * dy, p.z + t * dz, inv_voxel);
-                if (key == last)
-                {
-                    continue;
-                }
-                last = key;
-                const auto it = evidence.find(key);
-                if (it == evidence.end())
-                {
-                    continue;
-                }
-                // The measured voxel itself is scored at t = 0: ties stay put.
-                const double tt = key == voxel[i] ? 0.0 : t;
-                const double score = it->second * std::exp(-tt * tt * inv_two_var);
-                if (score > best_score)
-                {
-                    best_score = score;
-                    best = key;
-                }
-            }
-            next[i] = best;
         }
         voxel.swap(next);
     }
-
-    std::unordered_map<std::uint64_t, std::size_t> index_of;
-    std::vector<VoxelSum> sums;
-    index_of.reserve(m_stats.used_points / 2 + 16);
-    std::vector<std::size_t> sum_of(n, 0);
-    for (std::size_t i = 0; i < n; ++i)
-    {
-        if (voxel[i] == UNUSED)
-        {
-            continue;
-        }
-        const auto& p = m_points[i];
-        if (voxel[i] != voxelKey(p.x, p.y, p.z, inv_voxel))
-        {
-            ++m_stats.moved_points;
-        }
-        const auto [it, inserted] = index_of.try_emplace(voxel[i], sums.size());
-        if (inserted)
-        {
-            sums.emplace_back();
-        }
-        VoxelSum& s = sums[it->second];
-        const double w = weightOf(m_sigma[i]);
-        s.w += w;
-        s.x += w * p.x;
-        s.y += w * p.y;
-        s.z += w * p.z;
-        s.grey += w * m_grey[i];
-        ++s.points;
-        sum_of[i] = it->second;
-    }
+    std::vector<std::size_t> sum_of;
+    const std::vector<VoxelSum> sums =
+        sumPerVoxel(voxel, m_points, m_sigma, m_grey, inv_voxel, sum_of, m_stats.moved_points);
     m_stats.voxels = sums.size();
 
     // Gate the voxels by the uncertainty left.
