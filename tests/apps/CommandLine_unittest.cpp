@@ -12,8 +12,9 @@
 #include <emslam/apps/SimApp.h>
 #include <emslam/apps/StereoApp.h>
 
-#include <gtest/gtest.h>
 #include <mrpt/config/CConfigFileMemory.h>
+
+#include <gtest/gtest.h>
 
 #include <filesystem>
 #include <fstream>
@@ -124,7 +125,8 @@ TEST(CommandLine, setTyposAndNonNumbersAreRejectedInEveryAppThatTakesSet)
         {"num_disparities", "'abc'", "not a whole number"});
     // emslam-mapper: every section of its INI file.
     expectInitFails<emslam::apps::MapperApp>(
-        "emslam-mapper", {mapperConfig(), none, "-o", "/tmp/x", "--set", "StereoMatcher.max_range=far"},
+        "emslam-mapper",
+        {mapperConfig(), none, "-o", "/tmp/x", "--set", "StereoMatcher.max_range=far"},
         {"max_range", "'far'", "not a number"});
     expectInitFails<emslam::apps::MapperApp>(
         "emslam-mapper",
@@ -186,7 +188,8 @@ TEST(CommandLine, formerSectionNamesAreReadUnderTheNewOnesWithAWarning)
 {
     const std::string dir = emslam::test::makeTempDir("cli_former_names");
     emslam::test::writeFile(
-        dir + "/old.ini", "[Stereo]\nblock_size = 7\nmax_range = 9\n[Mapper]\nmap_cell_size = 0.2\n");
+        dir + "/old.ini",
+        "[Stereo]\nblock_size = 7\nmax_range = 9\n[Mapper]\nmap_cell_size = 0.2\n");
     mrpt::config::CConfigFileMemory cfg;
     testing::internal::CaptureStderr();
     // An old name in --set overrides the file's value either way.

@@ -122,7 +122,8 @@ std::vector<std::pair<std::string, Options>> realParameterStructs()
         {"Rectifier", std::make_shared<emslam::rectify::TRectifierOptions>()},
         {"SpaceSampler", std::make_shared<emslam::rectify::SpaceSampler::TParameters>()},
         {"StereoMatcher", std::make_shared<emslam::stereo::StereoMatcher::TParameters>()},
-        {"EgomotionEstimator", std::make_shared<emslam::egomotion::EgomotionEstimator::TParameters>()},
+        {"EgomotionEstimator",
+         std::make_shared<emslam::egomotion::EgomotionEstimator::TParameters>()},
         {"EntropyVoxelMap", std::make_shared<emslam::CEntropyVoxelMap::TCreationOptions>()},
         {"EntropyVoxelMap", std::make_shared<emslam::CEntropyVoxelMap::TInsertionOptions>()},
     };
@@ -280,10 +281,10 @@ TEST(ConfigValidation, malformedNumbersAndBooleansAreFound)
     }
     const std::string whole = " is not a whole number in [-2147483648, 2147483647]";
     EXPECT_EQ(
-        messages,
-        (std::set<std::string>{
-            "[StereoMatcher] num_disparities = 'abc'" + whole, "[StereoMatcher] block_size = '5.5'" + whole,
-            "[StereoMatcher] min_range = '0.3x' is not a number"}));
+        messages, (std::set<std::string>{
+                      "[StereoMatcher] num_disparities = 'abc'" + whole,
+                      "[StereoMatcher] block_size = '5.5'" + whole,
+                      "[StereoMatcher] min_range = '0.3x' is not a number"}));
 
     emslam::test::expectThrowContaining(
         [&] { emslam::apps::requireValidConfig(user, reference); },
@@ -301,11 +302,13 @@ TEST(ConfigValidation, malformedNumbersAndBooleansAreFound)
 TEST(ConfigValidation, intKeysTakeWholeNumbersInRangeAndBooleansTheirWords)
 {
     CConfigFileMemory reference;
-    emslam::egomotion::EgomotionEstimator::TParameters().saveToConfigFile(reference, "EgomotionEstimator");
+    emslam::egomotion::EgomotionEstimator::TParameters().saveToConfigFile(
+        reference, "EgomotionEstimator");
     const auto problems = [&](const std::string& key, const std::string& value)
     {
         return emslam::apps::findMalformedConfigValues(
-                   CConfigFileMemory("[EgomotionEstimator]\n" + key + " = " + value + "\n"), reference)
+                   CConfigFileMemory("[EgomotionEstimator]\n" + key + " = " + value + "\n"),
+                   reference)
             .size();
     };
     for (const char* ok : {"8", "-3", "2147483647", "-2147483648", "+5"})

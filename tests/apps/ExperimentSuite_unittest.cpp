@@ -81,7 +81,8 @@ TEST(ExperimentSuite, variantsAreReadInOrderAndSelectedByName)
     EXPECT_TRUE(s.variants[0].sets.empty());
     EXPECT_EQ(s.variants[1].name, "x");
     EXPECT_EQ(
-        s.variants[1].sets, (std::vector<std::string>{"Rectifier.seed=3", "StereoMatcher.max_range=9"}));
+        s.variants[1].sets,
+        (std::vector<std::string>{"Rectifier.seed=3", "StereoMatcher.max_range=9"}));
     EXPECT_EQ(s.selectVariants("").size(), 2u);
     ASSERT_EQ(s.selectVariants("x").size(), 1u);
     EXPECT_EQ(s.selectVariants("x,y")[0].name, "y");

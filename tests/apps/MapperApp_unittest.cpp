@@ -147,13 +147,15 @@ TEST(MapperApp, exportMaxHeightLoadsSavesAndRejectsNan)
     EXPECT_TRUE(std::isinf(back.export_max_height) && back.export_max_height > 0);
 
     back.loadFromConfigFile(
-        mrpt::config::CConfigFileMemory("[EntropySlam]\nexport_max_height = 1.25\n"), "EntropySlam");
+        mrpt::config::CConfigFileMemory("[EntropySlam]\nexport_max_height = 1.25\n"),
+        "EntropySlam");
     EXPECT_DOUBLE_EQ(back.export_max_height, 1.25);
     emslam::test::expectThrowContaining(
         [&]
         {
             back.loadFromConfigFile(
-                mrpt::config::CConfigFileMemory("[EntropySlam]\nexport_max_height = nan\n"), "EntropySlam");
+                mrpt::config::CConfigFileMemory("[EntropySlam]\nexport_max_height = nan\n"),
+                "EntropySlam");
         },
         {"[EntropySlam] export_max_height"});
 }
@@ -1504,10 +1506,14 @@ TEST(MapperApp, extremeAcceptedValuesOfDangerousKeysRunSafely)
         std::string key, accepted, refused;
     };
     const std::vector<Extreme> extremes = {
-        {"StereoMatcher.block_size", "255", "257"},        {"StereoMatcher.lr_max_diff", "1024", "1025"},
-        {"StereoMatcher.min_disparity", "1000", "1001"},   {"StereoMatcher.min_disparity", "-1000", "-1001"},
-        {"StereoMatcher.num_disparities", "1024", "1025"}, {"EntropyVoxelMap.cell_size", "0.01", "0.009"},
-        {"EgomotionEstimator.window_size", "128", "129"},    {"EgomotionEstimator.lp_num_rings", "64", "65"},
+        {"StereoMatcher.block_size", "255", "257"},
+        {"StereoMatcher.lr_max_diff", "1024", "1025"},
+        {"StereoMatcher.min_disparity", "1000", "1001"},
+        {"StereoMatcher.min_disparity", "-1000", "-1001"},
+        {"StereoMatcher.num_disparities", "1024", "1025"},
+        {"EntropyVoxelMap.cell_size", "0.01", "0.009"},
+        {"EgomotionEstimator.window_size", "128", "129"},
+        {"EgomotionEstimator.lp_num_rings", "64", "65"},
         {"EgomotionEstimator.lp_radius", "256", "256.5"},
     };
     const std::string rawlog = simulatedHall(3);

@@ -209,7 +209,8 @@ TEST(EgomotionEstimator, invalidValuesThrow)
     {
         mrpt::config::CConfigFileMemory c("[EgomotionEstimator]\n" + key + " = " + value + "\n");
         EgomotionEstimator::TParameters p;
-        emslam::test::expectThrowContaining([&] { p.loadFromConfigFile(c, "EgomotionEstimator"); }, {key});
+        emslam::test::expectThrowContaining(
+            [&] { p.loadFromConfigFile(c, "EgomotionEstimator"); }, {key});
     }
 }
 

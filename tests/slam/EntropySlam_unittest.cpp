@@ -258,10 +258,10 @@ TEST(EntropySlam, anEmptyRunFinishesWithNothing)
 TEST(EntropySlam, configsWithTheFormerSectionNamesAreStillRead)
 {
     EntropySlam::TParameters p;
-    p.loadFromConfigFile(mrpt::config::CConfigFileMemory(
-        "[Stereo]\nblock_size = 7\n[Mapper]\nmap_cell_size = 0.05\n"
-        "[LoopCloser]\nvertical_patch_px = 24\nmax_candidates = 5\n"
-        "[OccupancyGrid]\ncell_size = 0.2\n"));
+    p.loadFromConfigFile(
+        mrpt::config::CConfigFileMemory("[Stereo]\nblock_size = 7\n[Mapper]\nmap_cell_size = 0.05\n"
+                                        "[LoopCloser]\nvertical_patch_px = 24\nmax_candidates = 5\n"
+                                        "[OccupancyGrid]\ncell_size = 0.2\n"));
     EXPECT_EQ(p.stereo.block_size, 7);
     EXPECT_DOUBLE_EQ(p.mapper.map_cell_size, 0.05);
     EXPECT_EQ(p.loop_closer.vertical.patch_px, 24);
@@ -296,9 +296,11 @@ TEST(EntropySlam, badParametersThrowNamingSectionAndKey)
     };
     EXPECT_NO_THROW(load("[EntropySlam]\nmap_cell_size = 0.05\n"));
     emslam::test::expectThrowContaining(
-        [&] { load("[EntropySlam]\nmap_cell_size = 0.0001\n"); }, {"[EntropySlam]", "map_cell_size"});
+        [&] { load("[EntropySlam]\nmap_cell_size = 0.0001\n"); },
+        {"[EntropySlam]", "map_cell_size"});
     emslam::test::expectThrowContaining(
-        [&] { load("[EntropySlam]\nexport_max_height = nan\n"); }, {"[EntropySlam]", "export_max_height"});
+        [&] { load("[EntropySlam]\nexport_max_height = nan\n"); },
+        {"[EntropySlam]", "export_max_height"});
     emslam::test::expectThrowContaining(
         [&] { load("[SpaceSampler]\nt_min = -1\n"); }, {"[SpaceSampler]", "t_min"});
     emslam::test::expectThrowContaining(

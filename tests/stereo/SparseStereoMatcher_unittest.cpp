@@ -177,7 +177,8 @@ TEST(SparseStereoMatcher, parametersComeFromStereoAtFullResolution)
 
     dense.sparse_block_size = 8;
     emslam::test::expectThrowContaining(
-        [&] { dense.validate(); }, {"[StereoMatcher] sparse_block_size = 8: must be odd, in [3, 15]"});
+        [&] { dense.validate(); },
+        {"[StereoMatcher] sparse_block_size = 8: must be odd, in [3, 15]"});
     SparseStereoMatcher::TParameters bad = s;
     bad.block_size = 17;
     EXPECT_THROW(SparseStereoMatcher{bad}, std::invalid_argument);

@@ -179,6 +179,13 @@ void CDigiclopsStereoCamera::TParameters::loadFromConfigFile(
                 "_LEFT2THIRD_POSE: pose_quaternion): " + emslam::util::shortExceptionMessage(e));
         }
     }
+    // An old config names the former section, which emslam's apps read as
+    // [StereoMatcher] (slam::configRenames()); the stock grabber keeps [Stereo].
+    if (stereo_section == "Stereo" && !c.sectionExists("Stereo") &&
+        c.sectionExists("StereoMatcher"))
+    {
+        stereo_section = "StereoMatcher";
+    }
     // Also checked when unused, so a bad value cannot wait for compute_range_scan.
     if (compute_range_scan || c.sectionExists(stereo_section))
     {

@@ -2,8 +2,8 @@
 #include <emslam/rectify/ActionCovariance.h>
 #include <emslam/slam/ConfigRenames.h>
 #include <emslam/slam/EntropySlam.h>
-#include <emslam/util/ConfigVisitor.h>
 #include <emslam/slam/ScanFusion.h>
+#include <emslam/util/ConfigVisitor.h>
 #include <emslam/util/ExceptionMessage.h>
 
 #include <mrpt/config/CConfigFileBase.h>
@@ -103,7 +103,8 @@ void visit(EntropySlam::TOptions& p, emslam::util::ConfigVisitor& v)
         "depth_sigma_px", p.depth_sigma_px,
         "[px] disparity noise: sigma_z = z^2 sigma_d / (f b) of a stereo point");
     v.field("rgbd_depth_sigma", p.rgbd_depth_sigma, "[1/m] sigma_z = k z^2 of an RGB-D point");
-    v.field("fused_voxel_size", p.fused_voxel_size, "[m] cell of the fused map (1/sigma^2 weights)");
+    v.field(
+        "fused_voxel_size", p.fused_voxel_size, "[m] cell of the fused map (1/sigma^2 weights)");
     v.field("max_point_sigma", p.max_point_sigma, "[m] fused points above this sigma are dropped");
     v.field(
         "max_observation_sigma", p.max_observation_sigma,
@@ -152,7 +153,8 @@ void EntropySlam::TOptions::validate() const
         if (!(v > 0))
         {
             throw std::invalid_argument(
-                std::string("[EntropySlam] ") + key + " = " + std::to_string(v) + ": must be " + range);
+                std::string("[EntropySlam] ") + key + " = " + std::to_string(v) + ": must be " +
+                range);
         }
     };
     positive(depth_sigma_px, "depth_sigma_px", "> 0 px");

@@ -208,7 +208,8 @@ mrpt::maps::COccupancyGridMap2D OccupancyGridBuilder::emptyGrid(
     {
         throw std::invalid_argument(
             "OccupancyGridBuilder: the map spans " + std::to_string(x1 - x0) + " x " +
-            std::to_string(y1 - y0) + " m: more than 1e8 cells of [OccupancyGridBuilder] cell_size");
+            std::to_string(y1 - y0) +
+            " m: more than 1e8 cells of [OccupancyGridBuilder] cell_size");
     }
     const double margin = 2 * m_p.cell_size;
     mrpt::maps::COccupancyGridMap2D grid;

@@ -203,18 +203,20 @@ void VerticalFromPlanes::TParameters::validate() const
     if (patch_px < 4)
     {
         throw std::invalid_argument(
-            "[VerticalFromPlanes] patch_px must be at least 4 (got " + std::to_string(patch_px) + ")");
+            "[VerticalFromPlanes] patch_px must be at least 4 (got " + std::to_string(patch_px) +
+            ")");
     }
     if (!(max_angle_deg > 0 && max_angle_deg < 90))
     {
         throw std::invalid_argument(
-            "[VerticalFromPlanes] max_angle_deg must be in (0, 90) (got " + std::to_string(max_angle_deg) +
-            ")");
+            "[VerticalFromPlanes] max_angle_deg must be in (0, 90) (got " +
+            std::to_string(max_angle_deg) + ")");
     }
     if (min_patches < 2)
     {
         throw std::invalid_argument(
-            "[VerticalFromPlanes] min_patches must be at least 2 (got " + std::to_string(min_patches) + ")");
+            "[VerticalFromPlanes] min_patches must be at least 2 (got " +
+            std::to_string(min_patches) + ")");
     }
 }
 

@@ -216,7 +216,8 @@ bool MapperApp::parseArguments(int argc, const char** argv)
         ' ', "0.1");
     TCLAP::UnlabeledValueArg<std::string> config(
         "config_file",
-        "INI file ([StereoMatcher] [EgomotionEstimator] [EntropyVoxelMap] [SpaceSampler] [Rectifier] [LoopCloser] "
+        "INI file ([StereoMatcher] [EgomotionEstimator] [EntropyVoxelMap] [SpaceSampler] "
+        "[Rectifier] [LoopCloser] "
         "[EntropySlam]), or the name of a shipped one (kitti, euroc, 6dof-structured, ...: see "
         "share/emslam/config/mapper); or give it as -c NAME",
         true, "", "CONFIG.ini", cmd);
@@ -233,8 +234,8 @@ bool MapperApp::parseArguments(int argc, const char** argv)
     TCLAP::ValueArg<std::string> out(
         "o", "out", "Output folder (created if needed)", true, "", "DIR", cmd);
     TCLAP::SwitchArg egomotion_only(
-        "", "egomotion-only", "No global rectification (same as --set EntropySlam.egomotion_only=true)",
-        cmd);
+        "", "egomotion-only",
+        "No global rectification (same as --set EntropySlam.egomotion_only=true)", cmd);
     TCLAP::ValueArg<std::string> gt(
         "", "gt",
         "Ground truth for the report and summary.json: TUM, KITTI poses (+ times) or EuRoC CSV",
@@ -449,7 +450,8 @@ void MapperApp::execute()
             std::fprintf(
                 stderr,
                 "%s: warning: degenerate result: %s; the outputs are written but are not a "
-                "usable map (check the images, the calibration and [StereoMatcher] / [EgomotionEstimator]); "
+                "usable map (check the images, the calibration and [StereoMatcher] / "
+                "[EgomotionEstimator]); "
                 "exit status %d\n",
                 PROGRAM, m_degenerate.c_str(), EXIT_DEGENERATE);
         }

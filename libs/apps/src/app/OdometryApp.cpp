@@ -171,7 +171,8 @@ void warnDegenerate(const std::string& degenerate)
     std::fprintf(
         stderr,
         "emslam-odometry: warning: degenerate result: %s; the trajectory is written but "
-        "is not usable (check the images, the calibration and [StereoMatcher] / [EgomotionEstimator]); "
+        "is not usable (check the images, the calibration and [StereoMatcher] / "
+        "[EgomotionEstimator]); "
         "exit status %d\n",
         degenerate.c_str(), EXIT_DEGENERATE);
 }
@@ -180,7 +181,8 @@ void printParameters(
     const emslam::egomotion::EgomotionEstimator::TParameters& ep)
 {
     std::printf(
-        "[StereoMatcher] num_disparities=%d range=[%g, %g] m  [EgomotionEstimator] |W|=%d S_min=%g sigma_min=%g "
+        "[StereoMatcher] num_disparities=%d range=[%g, %g] m  [EgomotionEstimator] |W|=%d S_min=%g "
+        "sigma_min=%g "
         "min_final_matches=%d\n",
         sp.num_disparities, sp.min_range, sp.max_range, ep.window_size, ep.similarity_min,
         ep.lwo_sigma_min, ep.min_final_matches);
@@ -215,11 +217,13 @@ bool OdometryApp::parseArguments(int argc, const char** argv)
     TCLAP::ValueArg<std::string> config(
         "c", "config",
         withDefault(
-            "INI file with [StereoMatcher] and [EgomotionEstimator] sections, or the name of a shipped one (kitti, "
+            "INI file with [StereoMatcher] and [EgomotionEstimator] sections, or the name of a "
+            "shipped one (kitti, "
             "euroc: share/emslam/config/odometry)",
             "the built-in defaults"),
         false, "", "CONFIG.ini", cmd);
-    addSetOption(cmd, "Override a parameter: SECTION.key=value ([StereoMatcher], [EgomotionEstimator])");
+    addSetOption(
+        cmd, "Override a parameter: SECTION.key=value ([StereoMatcher], [EgomotionEstimator])");
     addMaxFramesOption(cmd, "Stop after N frames (0: all)");
     addQuietOption(cmd, "Print the summary only, not every frame");
 

@@ -79,9 +79,9 @@ public:
 
     /** The configuration check initialize() runs on the INI file plus the
      * `--set` overrides, before any input is read: every section of the mapper ([StereoMatcher]
-     * [EgomotionEstimator] [EntropyVoxelMap] [SpaceSampler] [Rectifier] [EntropySlam]) must hold only known
-     * keys, values of their kind (see requireValidConfig()) and values in their ranges (the
-     * parameter structs' validate()). Throws std::invalid_argument naming the section, key and
+     * [EgomotionEstimator] [EntropyVoxelMap] [SpaceSampler] [Rectifier] [EntropySlam]) must hold
+     * only known keys, values of their kind (see requireValidConfig()) and values in their ranges
+     * (the parameter structs' validate()). Throws std::invalid_argument naming the section, key and
      * value. */
     static void checkConfig(const mrpt::config::CConfigFileBase& params);
 

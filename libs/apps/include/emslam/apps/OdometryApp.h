@@ -45,10 +45,10 @@ public:
     OdometryApp();
 
     /** The configuration check initialize() runs on the INI file plus the
-     * `--set` overrides, before any input is read: [StereoMatcher] and [EgomotionEstimator] (other sections are
-     * ignored) must hold only known keys, values of their kind (see requireValidConfig()) and
-     * values in their ranges (the parameter structs' validate()). Throws std::invalid_argument
-     * naming the section, key and value. */
+     * `--set` overrides, before any input is read: [StereoMatcher] and [EgomotionEstimator] (other
+     * sections are ignored) must hold only known keys, values of their kind (see
+     * requireValidConfig()) and values in their ranges (the parameter structs' validate()). Throws
+     * std::invalid_argument naming the section, key and value. */
     static void checkConfig(const mrpt::config::CConfigFileBase& params);
 
     // ---- Results of run() ----

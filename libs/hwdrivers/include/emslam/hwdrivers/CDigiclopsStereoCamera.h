@@ -97,7 +97,7 @@ namespace emslam::hwdrivers
  * pose_pitch_deg      = 0           // [deg]
  * pose_roll_deg       = 0           // [deg]
  * compute_range_scan  = false       // also emit a CObservation3DRangeScan (stereo front-end)
- * stereo_section      = Stereo      // StereoMatcher parameters for the range scan
+ * stereo_section      = StereoMatcher  // its parameters for the range scan
  *
  * ; Calibration (TStereoCamera INI form; raw, i.e. unrectified, cameras):
  * [DIGICLOPS_CALIB_LEFT]

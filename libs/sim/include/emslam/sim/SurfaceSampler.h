@@ -37,10 +37,8 @@ struct SurfaceSample
  * \code
  * ; emslam-sim --map-gt-out: --map-gt-spacing, --map-gt-range set these
  * spacing = 0.02        ; [m] distance between samples
- * max_range = 12        ; [m] farthest depth a sample is seen at (the mapper's [StereoMatcher] max_range)
- * min_range = 0.3       ; [m]
- * pose_step = 0.25      ; [m]
- * pose_step_deg = 10    ; [deg]
+ * max_range = 12        ; [m] farthest depth a sample is seen at (the mapper's [StereoMatcher]
+ * max_range) min_range = 0.3       ; [m] pose_step = 0.25      ; [m] pose_step_deg = 10    ; [deg]
  * \endcode
  * \ingroup emslam_sim_grp */
 class SurfaceSampler
