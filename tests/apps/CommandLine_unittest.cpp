@@ -108,8 +108,8 @@ TEST(CommandLine, setTyposAndNonNumbersAreRejectedInEveryAppThatTakesSet)
     const std::string none = "/nonexistent/in.rawlog";
     // emslam-odometry: [StereoMatcher] and [EgomotionEstimator].
     expectInitFails<emslam::apps::OdometryApp>(
-        "emslam-odometry", {none, "-o", "x.tum", "--set", "Egomotoin.S_min=1"},
-        {"unknown section [Egomotoin]", "did you mean [EgomotionEstimator]"});
+        "emslam-odometry", {none, "-o", "x.tum", "--set", "EgomotionEstimatr.S_min=1"},
+        {"unknown section [EgomotionEstimatr]", "did you mean [EgomotionEstimator]"});
     expectInitFails<emslam::apps::OdometryApp>(
         "emslam-odometry", {none, "-o", "x.tum", "--set", "EgomotionEstimator.similarity_mn=0.5"},
         {"unknown key 'similarity_mn'", "did you mean 'similarity_min'"});

@@ -178,7 +178,7 @@ TEST(ConfigValidation, unrelatedNamesGetNoSuggestion)
 TEST(ConfigValidation, caseDifferencesAreAccepted)
 {
     const std::string user =
-        "[rectifier]\nEPS_XYZ = 0.02\nMode = anytime\n[SPACESAMPLING]\nT_Min=1\n";
+        "[rectifier]\nEPS_XYZ = 0.02\nMode = anytime\n[SPACESAMPLER]\nT_Min=1\n";
     EXPECT_TRUE(problemsOf(user).empty());
     // ... because MRPT itself reads them so (SimpleIni's SI_NoCase comparator).
     const CConfigFileMemory c(user);
@@ -191,7 +191,7 @@ TEST(ConfigValidation, ignoredSectionsAreSkipped)
 {
     const std::string user = "[Rectifier]\neps_xyz = 1\n[EntropySlam]\nanything = 1\n";
     EXPECT_EQ(problemsOf(user).size(), 1U);
-    EXPECT_TRUE(problemsOf(user, {"mapper"}).empty());
+    EXPECT_TRUE(problemsOf(user, {"entropyslam"}).empty());
 }
 
 TEST(ConfigValidation, requireListsEveryProblemOnItsOwnLine)

@@ -343,10 +343,12 @@ TEST(LoopCloser, parametersRoundTripAndBadValuesThrow)
     p.vertical.min_patches = 6;
     mrpt::config::CConfigFileMemory c;
     p.saveToConfigFile(c, "LoopCloser");
+    p.vertical.saveToConfigFile(c, "VerticalFromPlanes");  // EntropySlam's section
     // MRPT 2.5 reads defaults back from the object written: re-parse the text.
     mrpt::config::CConfigFileMemory reparsed(c.getContent());
     LoopCloser::TParameters q;
     q.loadFromConfigFile(reparsed, "LoopCloser");
+    q.vertical.loadFromConfigFile(reparsed, "VerticalFromPlanes");
     EXPECT_FALSE(q.enabled);
     EXPECT_DOUBLE_EQ(q.min_path_length, 7);
     EXPECT_DOUBLE_EQ(q.max_distance, 1.5);
@@ -362,12 +364,18 @@ TEST(LoopCloser, parametersRoundTripAndBadValuesThrow)
     EXPECT_EQ(q.vertical.min_patches, 6);
     for (const char* bad :
          {"max_angle_deg = 0", "max_candidates = 0", "kept_features = -1", "consensus_window = 0",
-          "max_lag = 0", "min_path_length = -1", "max_distance = nan", "local_edges = -1",
-          "vertical_patch_px = 3", "vertical_max_angle_deg = 90", "vertical_min_patches = 1"})
+          "max_lag = 0", "min_path_length = -1", "max_distance = nan", "local_edges = -1"})
     {
         mrpt::config::CConfigFileMemory b(std::string("[LoopCloser]\n") + bad + "\n");
         LoopCloser::TParameters r;
         EXPECT_THROW(r.loadFromConfigFile(b, "LoopCloser"), std::invalid_argument) << bad;
+    }
+    for (const char* bad : {"patch_px = 3", "max_angle_deg = 90", "min_patches = 1"})
+    {
+        mrpt::config::CConfigFileMemory b(std::string("[VerticalFromPlanes]\n") + bad + "\n");
+        emslam::stereo::VerticalFromPlanes::TParameters r;
+        r.loadFromConfigFile(b, "VerticalFromPlanes");
+        EXPECT_THROW(r.validate(), std::invalid_argument) << bad;
     }
 }
 

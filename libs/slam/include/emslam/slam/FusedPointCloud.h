@@ -68,6 +68,8 @@ public:
         std::size_t kept_points{0};   //!< used points of the kept voxels
     };
 
+    /** Throws std::invalid_argument for a voxel below 1 mm, a σ limit not
+     * above 0 or negative ray_passes. */
     explicit FusedPointCloud(const TOptions& o);
 
     /** Adds the points of one view, in the world frame, seen from `origin`.
@@ -87,7 +89,9 @@ public:
     /** The index in cloud() of the fused point that added point `i` became,
      * or −1 if it was dropped (unused, or its voxel gated). */
     std::int32_t fusedIndexOf(std::size_t i) const { return m_fused_index.at(i); }
+    /** The points added so far. */
     std::size_t pointCount() const { return m_points.size(); }
+    /** What the last fuse() counted. */
     const Stats& stats() const { return m_stats; }
 
 private:

@@ -30,6 +30,7 @@ public:
      * frame: each one's weighted mean, grey level and fused σ. */
     IntensityCloud add(const IntensityCloud& cloud, const mrpt::poses::CPose3D& T_world_cam);
 
+    /** The voxels holding points so far (shown or not). */
     std::size_t voxelCount() const { return m_voxels.size(); }
 
 private:

@@ -15,8 +15,10 @@ namespace emslam::util
  * still read. \ingroup emslam_util_grp */
 struct ConfigRename
 {
-    std::string old_section, old_key;
-    std::string new_section, new_key;
+    std::string old_section;  //!< the former section
+    std::string old_key;      //!< the former key; empty: the whole section
+    std::string new_section;  //!< the section it is read as
+    std::string new_key;      //!< the key it is read as (with old_key)
 };
 
 namespace detail

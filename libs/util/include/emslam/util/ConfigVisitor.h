@@ -49,7 +49,9 @@ public:
         return ConfigVisitor(nullptr, &out, std::move(section));
     }
 
+    /** True for a loader(), false for a saver(). */
     bool loading() const { return m_in != nullptr; }
+    /** The INI section visited. */
     const std::string& section() const { return m_section; }
     /** The file read (only while loading()). */
     const mrpt::config::CConfigFileBase& input() const { return *m_in; }
