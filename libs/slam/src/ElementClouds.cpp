@@ -1,4 +1,6 @@
 // SPDX-License-Identifier: BSD-3-Clause
+#include "PoseIndex.h"
+
 #include <emslam/slam/ElementClouds.h>
 
 #include <stdexcept>
@@ -10,20 +12,6 @@ namespace emslam::slam
 {
 namespace
 {
-/** World pose of each frame in `poses`, by frame index. */
-using PoseIndex = std::unordered_map<std::size_t, const mrpt::poses::CPose3D*>;
-
-PoseIndex indexPoses(const std::vector<emslam::rectify::TimedPose>& poses)
-{
-    PoseIndex index;
-    index.reserve(poses.size());
-    for (const auto& p : poses)
-    {
-        index[p.frame_index] = &p.T_world_frame;
-    }
-    return index;
-}
-
 const mrpt::poses::CPose3D& poseOf(const PoseIndex& index, std::size_t frame)
 {
     const auto it = index.find(frame);

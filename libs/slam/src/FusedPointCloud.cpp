@@ -1,4 +1,6 @@
 // SPDX-License-Identifier: BSD-3-Clause
+#include "VoxelKey.h"
+
 #include <emslam/slam/FusedPointCloud.h>
 
 #include <algorithm>
@@ -11,18 +13,6 @@ namespace emslam::slam
 {
 namespace
 {
-/** The voxel of a point: 21 bits per axis (±10^6 voxels). */
-std::uint64_t voxelKey(double x, double y, double z, double inv_voxel)
-{
-    const auto k = [&](double v)
-    {
-        return static_cast<std::uint64_t>(
-                   static_cast<std::int64_t>(std::floor(v * inv_voxel)) + (1 << 20)) &
-               0x1FFFFF;
-    };
-    return (k(x) << 42) | (k(y) << 21) | k(z);
-}
-
 /** A point's weight 1/σ²; a σ of 0 counts as 1 mm. */
 double weightOf(double sigma)
 {

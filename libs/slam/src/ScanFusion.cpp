@@ -1,4 +1,6 @@
 // SPDX-License-Identifier: BSD-3-Clause
+#include "PoseIndex.h"
+
 #include <emslam/slam/ScanFusion.h>
 
 #include <stdexcept>
@@ -6,22 +8,6 @@
 
 namespace emslam::slam
 {
-namespace
-{
-using PoseIndex = std::unordered_map<std::size_t, const mrpt::poses::CPose3D*>;
-
-PoseIndex indexPoses(const std::vector<emslam::rectify::TimedPose>& poses)
-{
-    PoseIndex index;
-    index.reserve(poses.size());
-    for (const auto& p : poses)
-    {
-        index[p.frame_index] = &p.T_world_frame;
-    }
-    return index;
-}
-}  // namespace
-
 FusedPointCloud fuseScans(
     const std::vector<ElementClouds::Scan>& scans,
     const std::vector<emslam::rectify::TimedPose>& poses,

@@ -1,4 +1,6 @@
 // SPDX-License-Identifier: BSD-3-Clause
+#include "VoxelKey.h"
+
 #include <emslam/slam/StreamingVoxelFusion.h>
 
 #include <algorithm>
@@ -9,20 +11,6 @@
 
 namespace emslam::slam
 {
-namespace
-{
-std::uint64_t voxelKey(double x, double y, double z, double inv_voxel)
-{
-    const auto k = [&](double v)
-    {
-        return static_cast<std::uint64_t>(
-                   static_cast<std::int64_t>(std::floor(v * inv_voxel)) + (1 << 20)) &
-               0x1FFFFF;
-    };
-    return (k(x) << 42) | (k(y) << 21) | k(z);
-}
-}  // namespace
-
 StreamingVoxelFusion::StreamingVoxelFusion(
     double voxel_size, double max_sigma, double max_observation_sigma)
     : m_inv_voxel(1.0 / voxel_size),

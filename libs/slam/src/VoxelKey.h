@@ -1,0 +1,21 @@
+// SPDX-License-Identifier: BSD-3-Clause
+#pragma once
+
+#include <cmath>
+#include <cstdint>
+
+namespace emslam::slam
+{
+/** The voxel of a point as one 64-bit key: 21 bits per axis (±10^6 voxels
+ * of 1 / inv_voxel metres around the origin), for hash maps of voxels. */
+inline std::uint64_t voxelKey(double x, double y, double z, double inv_voxel)
+{
+    const auto k = [&](double v)
+    {
+        return static_cast<std::uint64_t>(
+                   static_cast<std::int64_t>(std::floor(v * inv_voxel)) + (1 << 20)) &
+               0x1FFFFF;
+    };
+    return (k(x) << 42) | (k(y) << 21) | k(z);
+}
+}  // namespace emslam::slam
