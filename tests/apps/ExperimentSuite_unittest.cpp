@@ -33,6 +33,7 @@ const std::string GOOD =
     "[a]\ntitle = Alpha\nfigure = Fig. 1\nworld = world.ini\nloop = false\n"
     "mappers = mapper.ini mapper.ini\nset = Rectifier.seed=2 StereoMatcher.max_range=8\n"
     "paper_path_m = 10.5\npaper_observations = -\npaper_slam_gap_m = 0.1 -\n"
+    "world_set = World.type=building\n"
     "[b]\nworld = world.ini\nmappers = mapper.ini\n";
 }  // namespace
 
@@ -108,7 +109,9 @@ TEST(ExperimentSuite, loadsPathsRelativeToTheFileAndEveryKey)
     EXPECT_TRUE(std::isnan(a.paper_observations));
     EXPECT_DOUBLE_EQ(a.paper_slam_gap_m[0], 0.1);
     EXPECT_TRUE(std::isnan(a.paper_slam_gap_m[1]));
+    EXPECT_EQ(a.world_sets, (std::vector<std::string>{"World.type=building"}));
     const auto& b = s.experiments[1];
+    EXPECT_TRUE(b.world_sets.empty());
     EXPECT_EQ(b.title, "b");
     EXPECT_TRUE(b.loop);
     EXPECT_EQ(b.paper_slam_gap_m.size(), 1u);
@@ -156,6 +159,12 @@ TEST(ExperimentSuite, badSuitesNameTheFileSectionAndKey)
         {"[Experiments]\nexperiments = a\nvariants = p\n[Variants]\np =\nfull =\n"
          "[a]\nworld = world.ini\nmappers = mapper.ini\n",
          {"unknown key 'full'"}},
+        {"[Experiments]\nexperiments = a\n[a]\nworld = world.ini\nmappers = mapper.ini\n"
+         "world_set = World.tpye=building\n",
+         {"[a] world_set", "world.ini", "no key 'tpye' in [World]"}},
+        {"[Experiments]\nexperiments = a\n[a]\nworld = world.ini\nmappers = mapper.ini\n"
+         "world_set = type=building\n",
+         {"[a] world_set", "Section.key=value", "'type=building'"}},
     };
     int k = 0;
     for (const auto& [text, parts] : cases)

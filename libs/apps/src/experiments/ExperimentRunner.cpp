@@ -54,12 +54,13 @@ double gridPhaseSpread(
     return hi - lo;
 }
 
-emslam::sim::StereoSimulator loadWorld(const std::string& file, int seed)
+emslam::sim::StereoSimulator loadWorld(
+    const std::string& file, const std::vector<std::string>& sets, int seed)
 {
     try
     {
         mrpt::config::CConfigFileMemory cfg;
-        loadConfig(cfg, file, {});
+        loadConfig(cfg, file, sets);
         cfg.write("World", "seed", seed);
         emslam::sim::StereoSimulator sim;
         sim.load(cfg);
@@ -233,7 +234,12 @@ MapperRunInfo measureTrajectories(
     const std::string& mapper_file = spec.mappers[mapper_index];
     const eval::TrajectoryMetrics::Options metric_options;
     MapperRunInfo info;
-    info.rawlog = "simulated: " + spec.world + " (seed " + std::to_string(seed) +
+    std::string world_sets;
+    for (const auto& w : spec.world_sets)
+    {
+        world_sets += ", " + w;
+    }
+    info.rawlog = "simulated: " + spec.world + " (seed " + std::to_string(seed) + world_sets +
                   (options.exact_depth ? ", exact depth" : "") + ")";
     info.config = mapper_file;
     info.interrupted = r.interrupted;
@@ -321,7 +327,7 @@ ExperimentResult runExperiment(
     const auto t_start = std::chrono::steady_clock::now();
     const slam::EntropySlam::TParameters p =
         experimentMapperParameters(spec, mapper_index, options.sets);
-    const emslam::sim::StereoSimulator sim = loadWorld(spec.world, seed);
+    const emslam::sim::StereoSimulator sim = loadWorld(spec.world, spec.world_sets, seed);
     ExperimentResult r = describeRun(spec, mapper_index, seed, options, p);
 
     slam::EntropySlam mapper(p);

@@ -28,6 +28,7 @@ const std::vector<std::string> EXPERIMENT_KEYS{
     "loop",
     "mappers",
     "set",
+    "world_set",
     "paper_path_m",
     "paper_observations",
     "paper_egomotion_gap_m",
@@ -134,6 +135,7 @@ public:
             e.mappers.push_back(path(name, "mappers", m));
         }
         e.sets = words(text(name, "set", false));
+        e.world_sets = worldOverrides(name, e.world);
         e.paper_path_m = number(name, "paper_path_m", text(name, "paper_path_m", false));
         e.paper_observations =
             number(name, "paper_observations", text(name, "paper_observations", false));
@@ -157,6 +159,36 @@ public:
     }
 
 private:
+    /** `world_set`: each `Section.key=value` must change a key the world INI
+     * has, so that a typo cannot leave the world as it was unnoticed. */
+    std::vector<std::string> worldOverrides(const std::string& name, const std::string& world) const
+    {
+        const auto sets = words(text(name, "world_set", false));
+        if (sets.empty())
+        {
+            return sets;
+        }
+        const mrpt::config::CConfigFileMemory w(io::readIniFile(world, "world"));
+        for (const auto& s : sets)
+        {
+            const auto eq = s.find('=');
+            const auto dot = s.find('.');
+            if (eq == std::string::npos || dot == std::string::npos || dot > eq)
+            {
+                fail(name, "world_set", "expected Section.key=value, got '" + s + "'");
+            }
+            const std::string section = s.substr(0, dot);
+            const std::string key = s.substr(dot + 1, eq - dot - 1);
+            if (!w.keyExists(section, key))
+            {
+                fail(
+                    name, "world_set",
+                    "'" + world + "' has no key '" + key + "' in [" + section + "] to change");
+            }
+        }
+        return sets;
+    }
+
     std::string m_file;
     const mrpt::config::CConfigFileBase& m_cfg;
     std::filesystem::path m_dir;

@@ -23,6 +23,9 @@ struct ExperimentSpec
     std::vector<std::string> mappers;
     /** `Section.key=value` overrides applied to every mapper INI. */
     std::vector<std::string> sets;
+    /** `Section.key=value` overrides of keys of the world INI (e.g. a lower
+     * `Simulation.fps`): one world file, several regimes. */
+    std::vector<std::string> world_sets;
     /** The paper's path length [m], observations and egomotion loop gap [m];
      * NaN where the paper gives none. */
     ///@{
@@ -63,6 +66,7 @@ struct ExperimentVariant
  * loop = true
  * mappers = ../mapper/3dof-low-structured.ini ../mapper/3dof-structured.ini
  * set = Rectifier.mode=serial                      ; optional, for every mapper
+ * world_set = Simulation.fps=1.2                   ; optional, keys the world INI has
  * paper_path_m = 129.41
  * paper_observations = 308
  * paper_egomotion_gap_m = 2.03
