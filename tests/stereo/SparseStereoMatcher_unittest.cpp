@@ -87,6 +87,35 @@ TEST(SparseStereoMatcher, frontoParallelPlaneAtKnownDepths)
     }
 }
 
+// subpixel = false (from [StereoMatcher]): the best whole pixel, no
+// interpolation: every disparity is an integer, the nearest to the truth
+// (7.41 px) for most pixels, the other neighbour (8) where the SAD minimum
+// falls there (and a rare false match, as with sub-pixel disparities).
+TEST(SparseStereoMatcher, wholePixelDisparitiesWithoutSubpixel)
+{
+    const auto cam = emslam::test::idealStereoCamera(320, 240, F, B);
+    StereoMatcher::TParameters dense;
+    dense.subpixel = false;
+    auto p = SparseStereoMatcher::fromStereo(dense);
+    EXPECT_FALSE(p.subpixel);
+    p.num_disparities = 64;
+    cv::Mat l, r;
+    emslam::test::renderFrontoParallelPlane(cam, 2.7, 11, l, r);  // d = 7.41 px
+    const auto f = SparseStereoMatcher(p).compute(l, r, cam, grid(320, 240, 5));
+    ASSERT_GT(f.size(), 1000u);
+    std::size_t at_seven = 0, at_eight = 0;
+    for (const auto& pt : f.points)
+    {
+        const double d = F * B / pt.z;
+        ASSERT_NEAR(d, std::round(d), 1e-3);
+        at_seven += std::abs(d - 7.0) < 1e-3;
+        at_eight += std::abs(d - 8.0) < 1e-3;
+    }
+    const double n = static_cast<double>(f.size());
+    EXPECT_GT(static_cast<double>(at_seven), 0.8 * n);
+    EXPECT_GT(static_cast<double>(at_seven + at_eight), 0.99 * n);
+}
+
 // A pattern that repeats every 6 px inside the search range: every disparity
 // 6 px apart costs the same, so the uniqueness test must refuse (almost) all.
 TEST(SparseStereoMatcher, repetitivePatternIsRejectedByUniqueness)

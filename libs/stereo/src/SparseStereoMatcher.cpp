@@ -172,6 +172,7 @@ SparseStereoMatcher::TParameters SparseStereoMatcher::fromStereo(
     s.lr_max_diff = p.lr_max_diff;
     s.min_range = p.min_range;
     s.max_range = p.max_range;
+    s.subpixel = p.subpixel;
     return s;
 }
 
@@ -263,7 +264,7 @@ double SparseStereoMatcher::disparityAt(const cv::Mat& lf, const cv::Mat& rf, in
             return -1;
         }
     }
-    return d_best + delta;
+    return m_params.subpixel ? d_best + delta : d_best;
 }
 
 StereoFrame SparseStereoMatcher::compute(
@@ -309,7 +310,10 @@ StereoFrame SparseStereoMatcher::compute(
         {
             continue;
         }
-        disp = refineByGradient(left_gray, right_gray, u, v, m_params.block_size / 2, disp);
+        if (m_params.subpixel)
+        {
+            disp = refineByGradient(left_gray, right_gray, u, v, m_params.block_size / 2, disp);
+        }
         const double d = disp + doffs;
         const double z = d > 0.0 ? fb / d : -1.0;
         if (z < m_params.min_range || z > m_params.max_range)

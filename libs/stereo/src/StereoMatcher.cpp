@@ -78,6 +78,7 @@ void visit(StereoMatcher::TParameters& p, emslam::util::ConfigVisitor& v)
         "sparse_at_features", p.sparse_at_features,
         "egomotion points by a row search at its features, full size");
     v.field("sparse_block_size", p.sparse_block_size, "that search's SAD window [px], odd, 3..15");
+    v.field("subpixel", p.subpixel, "false: whole-pixel disparities (both matchers)");
 }
 }  // namespace
 
@@ -205,7 +206,16 @@ cv::Mat StereoMatcher::computeDisparity(const cv::Mat& left_gray, const cv::Mat&
     m_impl->matcher->compute(l, r, disp16);
     // OpenCV returns fixed point (x16) with min_disparity-1 marking invalid pixels.
     cv::Mat disp;
-    disp16.convertTo(disp, CV_32F, 1.0 / 16.0);
+    if (m_params.subpixel)
+    {
+        disp16.convertTo(disp, CV_32F, 1.0 / 16.0);
+    }
+    else
+    {
+        // Nearest whole pixel: (d16 + 8) / 16, floored (min_disparity may be negative).
+        disp16.convertTo(disp, CV_32F, 1.0 / 16.0, 0.5);
+        disp.forEach<float>([](float& d, const int*) { d = std::floor(d); });
+    }
     cv::Mat invalid = disp16 < static_cast<short>(m_params.min_disparity * 16);
     disp.setTo(0.0f, invalid);
     return disp;

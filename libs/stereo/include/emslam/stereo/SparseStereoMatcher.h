@@ -54,6 +54,10 @@ public:
         ///@{
         double min_range{0.3}, max_range{12.0};
         ///@}
+        /** Sub-pixel disparities (parabola, then Gauss-Newton); false: the
+         * best whole pixel, as a correlation stereo head without
+         * interpolation gives. (Default: true) */
+        bool subpixel{true};
 
         /** Throws std::invalid_argument naming the `[StereoMatcher]` key of a bad value. */
         void validate() const;

@@ -40,6 +40,7 @@ namespace emslam::stereo
  * max_range          = 12.0   ; [m] farther points are dropped (paper: 12 m)
  * sparse_at_features = true   ; egomotion points by a row search at its features (full size)
  * sparse_block_size  = 9      ; that search's SAD window [px], odd, 3..15
+ * subpixel           = true   ; false: whole-pixel disparities (both matchers)
  * \endcode
  * With `sparse_at_features`, StereoFrontEnd gives the egomotion the points of
  * SparseStereoMatcher at its features, at full resolution, and computes this
@@ -107,6 +108,11 @@ public:
         bool sparse_at_features{true};
         /** SparseStereoMatcher's SAD window side [px], odd, in [3, 15]. (Default: 9) */
         int sparse_block_size{9};
+        /** Sub-pixel disparities; false rounds both matchers' disparities to
+         * whole pixels, as the paper's Digiclops head gave them without
+         * interpolation: depth steps of z^2 / (f b) (the paper's regime,
+         * config/experiments/paper-regime.ini). (Default: true) */
+        bool subpixel{true};
     };
 
     StereoMatcher();
