@@ -6,6 +6,7 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <chrono>
 #include <cmath>
 #include <cstdint>
@@ -62,6 +63,32 @@ TEST(ExperimentSuite, theShippedSuiteHasEveryExperimentOfThePaper)
     EXPECT_EQ(s.variants[0].sets, (std::vector<std::string>{"LoopCloser.enabled=false"}));
     EXPECT_EQ(s.variants[1].name, "full");
     EXPECT_TRUE(s.variants[1].sets.empty());
+}
+
+// The paper's drift regime: the same six experiments and figures, each world
+// slowed by world_set, the rectifier alone beside the full mapper.
+TEST(ExperimentSuite, theShippedPaperRegimeSuiteSlowsEveryWorldItNeedsTo)
+{
+    const std::string dir = emslam::test::sourceDir() + "/config/experiments/";
+    const auto regime = ExperimentSuite::load(dir + "paper-regime.ini");
+    const auto paper = ExperimentSuite::load(dir + "paper.ini");
+    ASSERT_EQ(regime.experiments.size(), paper.experiments.size());
+    for (std::size_t i = 0; i < regime.experiments.size(); ++i)
+    {
+        const auto& r = regime.experiments[i];
+        const auto& p = paper.experiments[i];
+        SCOPED_TRACE(r.name);
+        EXPECT_EQ(r.name, p.name);
+        EXPECT_EQ(r.world, p.world);
+        EXPECT_EQ(r.mappers, p.mappers);
+        EXPECT_EQ(r.paper_slam_gap_m.size(), p.paper_slam_gap_m.size());
+        // Only the river keeps its frame rate (the paper's step already).
+        EXPECT_EQ(r.world_sets.empty(), r.name == "river_bed_loop");
+    }
+    ASSERT_EQ(regime.variants.size(), 2u);
+    EXPECT_EQ(regime.variants[0].name, "alone");
+    const auto& alone = regime.variants[0].sets;
+    EXPECT_NE(std::find(alone.begin(), alone.end(), "LoopCloser.enabled=false"), alone.end());
 }
 
 TEST(ExperimentSuite, variantsAreReadInOrderAndSelectedByName)
