@@ -45,6 +45,13 @@ std::vector<std::string> words(const std::string& s)
     return w;
 }
 
+/** `Section.key=value`: a dot before the first '='. */
+bool isOverride(const std::string& s)
+{
+    const auto eq = s.find('=');
+    return eq != std::string::npos && s.find('.') < eq;
+}
+
 /** "a,b c" → {a, b, c}. */
 std::vector<std::string> commaOrSpaceSeparated(std::string s)
 {
@@ -171,12 +178,12 @@ private:
         const mrpt::config::CConfigFileMemory w(io::readIniFile(world, "world"));
         for (const auto& s : sets)
         {
-            const auto eq = s.find('=');
-            const auto dot = s.find('.');
-            if (eq == std::string::npos || dot == std::string::npos || dot > eq)
+            if (!isOverride(s))
             {
                 fail(name, "world_set", "expected Section.key=value, got '" + s + "'");
             }
+            const auto eq = s.find('=');
+            const auto dot = s.find('.');
             const std::string section = s.substr(0, dot);
             const std::string key = s.substr(dot + 1, eq - dot - 1);
             if (!w.keyExists(section, key))
@@ -302,7 +309,7 @@ ExperimentSuite ExperimentSuite::load(const std::string& file)
             ExperimentVariant variant{v, words(r.text(VARIANTS_SECTION, v, false))};
             for (const auto& s : variant.sets)
             {
-                if (s.find('=') == std::string::npos || s.find('.') > s.find('='))
+                if (!isOverride(s))
                 {
                     r.fail(VARIANTS_SECTION, v, "expected Section.key=value, got '" + s + "'");
                 }
