@@ -3,6 +3,7 @@
 
 #include <emslam/stereo/SparseStereoMatcher.h>
 #include <emslam/stereo/StereoCalibration.h>
+#include <emslam/util/CpuDispatch.h>
 
 #include <mrpt/core/exceptions.h>
 #include <mrpt/core/format.h>
@@ -28,13 +29,7 @@ constexpr int PREFILTER_CAP = 31;
  * add up in 8 bits before being widened into the 16-bit costs. Integer
  * arithmetic: the AVX2 clone (32 lanes instead of SSE2's 16, picked at run
  * time) gives the same costs, in ~half the time. */
-// Not under the sanitizers: target_clones resolves through an ifunc that runs
-// before their runtime is up (ThreadSanitizer crashes at start-up).
-#if defined(__x86_64__) && defined(__GNUC__) && !defined(__clang__) && \
-    !defined(__SANITIZE_THREAD__) && !defined(__SANITIZE_ADDRESS__)
-__attribute__((target_clones("avx2", "default")))
-#endif
-void blockCosts(
+EMSLAM_CLONE_AVX2 void blockCosts(
     const cv::Mat& a,
     const cv::Mat& b,
     int ua,
