@@ -2,6 +2,7 @@
 #include "PoseErrors.h"
 
 #include <emslam/egomotion/DppPoseEstimator.h>
+#include <emslam/util/CpuDispatch.h>
 
 #include <mrpt/poses/CPose3D.h>
 #include <mrpt/poses/Lie/SO.h>
@@ -185,6 +186,48 @@ TEST(DppPoseEstimator, dppBeatsEuclideanOnStereoNoise)
         sum_t_euc / seeds, sum_r_euc / seeds, sum_t_dpp / seeds, sum_r_dpp / seeds);
     EXPECT_LT(sum_t_dpp, 0.7 * sum_t_euc);
     EXPECT_LT(sum_r_dpp, 0.7 * sum_r_euc);
+}
+
+// The energy loops run on AVX2 where the CPU has it and on the x86-64
+// baseline elsewhere (util/CpuDispatch.h): one build must give one answer.
+// AVX2 without fused multiply-add rounds as the baseline, so the whole
+// minimisation (hundreds of evaluations, each a sum of 300 terms) must end on
+// the same bits, not merely close.
+TEST(DppPoseEstimator, avx2AndBaselineLoopsGiveTheSameBits)
+{
+    emslam::util::setBaselineOnly(false);
+    if (!emslam::util::avx2Enabled())
+    {
+        GTEST_SKIP() << "this CPU (or EMSLAM_SIMD) runs the baseline loops only";
+    }
+    const CPose3D T(0.2, -0.1, 1.0, 0.08, -0.02, 0.05);
+    std::vector<TPoint3Df> a, b;
+    makeStereoPairs(T, 301, 0.5, 77, a, b);  // 301: a remainder after the 4-wide loop
+    DppPoseEstimator::TParameters p;
+    p.joint_refinement = true;
+    const DppPoseEstimator dpp(p);
+    const auto wide = dpp.estimate(a, b);
+    std::array<double, 3> gt_wide{}, gw_wide{};
+    const double e_wide = DppPoseEstimator::energy(a, b, T, &gt_wide, &gw_wide);
+    emslam::util::setBaselineOnly(true);
+    const auto base = dpp.estimate(a, b);
+    std::array<double, 3> gt_base{}, gw_base{};
+    const double e_base = DppPoseEstimator::energy(a, b, T, &gt_base, &gw_base);
+    emslam::util::setBaselineOnly(false);
+
+    EXPECT_EQ(e_wide, e_base);
+    EXPECT_EQ(gt_wide, gt_base);
+    EXPECT_EQ(gw_wide, gw_base);
+    EXPECT_EQ(wide.evaluations, base.evaluations);
+    EXPECT_EQ(wide.energy, base.energy);
+    for (int k = 0; k < 12; ++k)
+    {
+        EXPECT_EQ(
+            wide.T_prev_cur.getHomogeneousMatrixVal<mrpt::math::CMatrixDouble44>()(k / 4, k % 4),
+            base.T_prev_cur.getHomogeneousMatrixVal<mrpt::math::CMatrixDouble44>()(k / 4, k % 4));
+    }
+    // And the answer is the motion, so the comparison is not of two failures.
+    EXPECT_LT(translationError(wide.T_prev_cur, T), 0.05);
 }
 
 // A turn in front of a wall: the scene is a slab 3-3.3 m ahead, so a small

@@ -8,6 +8,7 @@
 #include <emslam/stereo/StereoCalibration.h>
 #include <emslam/stereo/StereoFrontEnd.h>
 #include <emslam/stereo/StereoMatcher.h>
+#include <emslam/util/CpuDispatch.h>
 
 #include <gtest/gtest.h>
 
@@ -284,4 +285,39 @@ TEST(SparseStereoMatcher, agreesWithSgbmOnKitti)
     EXPECT_GT(s.size(), pixels.size() / 2);
     EXPECT_GT(both, s.size() / 2);
     EXPECT_GT(static_cast<double>(agree), 0.9 * static_cast<double>(both));
+}
+
+// The row search's costs run on AVX2 where the CPU has it (32 disparities in
+// registers, the rest on the baseline): integer sums, so every disparity must
+// be the baseline's to the bit, also where the range is not a multiple of 32
+// and where a 32-byte load would leave the image (near its right border).
+TEST(SparseStereoMatcher, avx2AndBaselineCostsGiveTheSameDisparities)
+{
+    emslam::util::setBaselineOnly(false);
+    if (!emslam::util::avx2Enabled())
+    {
+        GTEST_SKIP() << "this CPU (or EMSLAM_SIMD) runs the baseline loops only";
+    }
+    const auto cam = emslam::test::idealStereoCamera(320, 240, F, B);
+    const auto pixels = grid(320, 240, 3);
+    for (const int nd : {64, 70})
+    {
+        auto p = planeParams();
+        p.num_disparities = nd;
+        cv::Mat l, r;
+        emslam::test::renderFrontoParallelPlane(cam, 2.0, 11, l, r);
+        const auto wide = SparseStereoMatcher(p).compute(l, r, cam, pixels);
+        emslam::util::setBaselineOnly(true);
+        const auto base = SparseStereoMatcher(p).compute(l, r, cam, pixels);
+        emslam::util::setBaselineOnly(false);
+        ASSERT_GT(wide.points.size(), 1000u) << nd;
+        ASSERT_EQ(wide.points.size(), base.points.size()) << nd;
+        for (std::size_t i = 0; i < wide.points.size(); ++i)
+        {
+            ASSERT_EQ(wide.pixels[i].u, base.pixels[i].u);
+            ASSERT_EQ(wide.pixels[i].v, base.pixels[i].v);
+            ASSERT_EQ(wide.points[i].z, base.points[i].z) << nd << " " << i;
+            ASSERT_EQ(wide.points[i].x, base.points[i].x);
+        }
+    }
 }

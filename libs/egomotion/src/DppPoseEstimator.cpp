@@ -135,7 +135,7 @@ std::array<double, 12> motionOf(const Mat3& R, const Vec3& t)
 
 /** Dpp of each of the n pairs (`pairs`: Pairs::columns) at `motion`
  * (motionOf()) into e. */
-EMSLAM_CLONE_AVX2 void pairEnergies(
+[[gnu::always_inline]] inline void pairEnergies(
     std::size_t n,
     const double* __restrict pairs,
     const double* __restrict motion,
@@ -164,7 +164,7 @@ EMSLAM_CLONE_AVX2 void pairEnergies(
 
 /** As pairEnergies(), and the gradient of each Dpp with respect to t (gt*)
  * and to w (gw*). */
-EMSLAM_CLONE_AVX2 void pairGradients(
+[[gnu::always_inline]] inline void pairGradients(
     std::size_t n,
     const double* __restrict pairs,
     const double* __restrict motion,
@@ -212,20 +212,35 @@ EMSLAM_CLONE_AVX2 void pairGradients(
     }
 }
 
+// Each loop compiled for the baseline and for AVX2 (util/CpuDispatch.h).
+#define EMSLAM_DPP_KERNELS(SUFFIX, TARGET)                                               \
+    TARGET void pairEnergies##SUFFIX(const Pairs& p, const double* m)                    \
+    {                                                                                    \
+        pairEnergies(p.n, p.columns.data(), m, p.term.data());                           \
+    }                                                                                    \
+    TARGET void pairGradients##SUFFIX(const Pairs& p, const double* m)                   \
+    {                                                                                    \
+        pairGradients(                                                                   \
+            p.n, p.columns.data(), m, p.term.data(), p.grad[0].data(), p.grad[1].data(), \
+            p.grad[2].data(), p.grad[3].data(), p.grad[4].data(), p.grad[5].data());     \
+    }
+EMSLAM_DPP_KERNELS(Baseline, )
+EMSLAM_DPP_KERNELS(Avx2, EMSLAM_TARGET_AVX2)
+#undef EMSLAM_DPP_KERNELS
+
 /** The terms (and gradients, if asked) of every pair at (R, t) into
  * p.term (and p.grad). */
 void evaluatePairs(const Pairs& p, const Mat3& R, const Vec3& t, bool gradients)
 {
     const auto m = motionOf(R, t);
+    const bool avx2 = util::avx2Enabled();
     if (gradients)
     {
-        pairGradients(
-            p.n, p.columns.data(), m.data(), p.term.data(), p.grad[0].data(), p.grad[1].data(),
-            p.grad[2].data(), p.grad[3].data(), p.grad[4].data(), p.grad[5].data());
+        avx2 ? pairGradientsAvx2(p, m.data()) : pairGradientsBaseline(p, m.data());
     }
     else
     {
-        pairEnergies(p.n, p.columns.data(), m.data(), p.term.data());
+        avx2 ? pairEnergiesAvx2(p, m.data()) : pairEnergiesBaseline(p, m.data());
     }
 }
 

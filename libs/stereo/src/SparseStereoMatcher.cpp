@@ -15,6 +15,10 @@
 #include <opencv2/imgproc.hpp>
 #include <stdexcept>
 
+#if EMSLAM_HAVE_AVX2_PATHS
+#include <immintrin.h>
+#endif
+
 namespace emslam::stereo
 {
 namespace
@@ -24,12 +28,12 @@ constexpr int PREFILTER_CAP = 31;
 /** SAD costs of the disparities d = d_hi - j (j = 0 .. n-1) between the
  * block of `a` centred at column `ua` and the blocks of `b` centred at
  * ua + sign * d, rows v-h .. v+h, of two prefiltered images (values in
- * [0, 2 PREFILTER_CAP]). Written so that the inner loops run over contiguous
- * pixels of `b` in 8-bit lanes: a difference is at most 62, so four of them
- * add up in 8 bits before being widened into the 16-bit costs. Integer
- * arithmetic: the AVX2 clone (32 lanes instead of SSE2's 16, picked at run
- * time) gives the same costs, in ~half the time. */
-EMSLAM_CLONE_AVX2 void blockCosts(
+ * [0, 2 PREFILTER_CAP]), `first_col_b` the centre column in `b` of j = 0.
+ * Written so that the inner loops run over contiguous pixels of `b` in 8-bit
+ * lanes (the compiler vectorises them for the baseline's 16): a difference is
+ * at most 62, so four of them add up in 8 bits before being widened into the
+ * 16-bit costs. */
+void blockCostsBaseline(
     const cv::Mat& a,
     const cv::Mat& b,
     int ua,
@@ -68,6 +72,77 @@ EMSLAM_CLONE_AVX2 void blockCosts(
             }
         }
     }
+}
+
+#if EMSLAM_HAVE_AVX2_PATHS
+/** blockCosts() for AVX2: 32 disparities at a time whose 16-bit costs stay in
+ * two registers over the whole block (the baseline reads and writes them
+ * once per group of columns); the lanes left over go to the baseline.
+ * Integer arithmetic: the same costs. */
+EMSLAM_TARGET_AVX2 void blockCostsAvx2(
+    const cv::Mat& a,
+    const cv::Mat& b,
+    int ua,
+    int v,
+    int h,
+    int first_col_b,
+    int n,
+    std::uint16_t* cost)
+{
+    constexpr int LANES = 32, GROUP = 4;  // 4 * 62 < 256, as the baseline
+    int j0 = 0;
+    // A load of 32 bytes from column first_col_b + c + j0 must stay in the row.
+    for (; j0 + LANES <= n && first_col_b + h + j0 + LANES <= b.cols; j0 += LANES)
+    {
+        __m256i lo = _mm256_setzero_si256(), hi = _mm256_setzero_si256();
+        for (int r = v - h; r <= v + h; ++r)
+        {
+            const std::uint8_t* ra = a.ptr<std::uint8_t>(r) + ua;
+            const std::uint8_t* rb = b.ptr<std::uint8_t>(r) + first_col_b + j0;
+            for (int c0 = -h; c0 <= h; c0 += GROUP)
+            {
+                __m256i part = _mm256_setzero_si256();
+                for (int c = c0; c < std::min(c0 + GROUP, h + 1); ++c)
+                {
+                    const __m256i va = _mm256_set1_epi8(static_cast<char>(ra[c]));
+                    const __m256i vb = _mm256_loadu_si256(reinterpret_cast<const __m256i*>(rb + c));
+                    const __m256i diff =
+                        _mm256_or_si256(_mm256_subs_epu8(va, vb), _mm256_subs_epu8(vb, va));
+                    part = _mm256_add_epi8(part, diff);
+                }
+                lo = _mm256_add_epi16(lo, _mm256_cvtepu8_epi16(_mm256_castsi256_si128(part)));
+                hi = _mm256_add_epi16(hi, _mm256_cvtepu8_epi16(_mm256_extracti128_si256(part, 1)));
+            }
+        }
+        _mm256_storeu_si256(reinterpret_cast<__m256i*>(cost + j0), lo);
+        _mm256_storeu_si256(reinterpret_cast<__m256i*>(cost + j0 + 16), hi);
+    }
+    if (j0 < n)
+    {
+        blockCostsBaseline(a, b, ua, v, h, first_col_b + j0, n - j0, cost + j0);
+    }
+}
+#endif
+
+/** blockCostsBaseline(), on AVX2 where the CPU has it (util/CpuDispatch.h). */
+void blockCosts(
+    const cv::Mat& a,
+    const cv::Mat& b,
+    int ua,
+    int v,
+    int h,
+    int first_col_b,
+    int n,
+    std::uint16_t* cost)
+{
+#if EMSLAM_HAVE_AVX2_PATHS
+    if (util::avx2Enabled())
+    {
+        blockCostsAvx2(a, b, ua, v, h, first_col_b, n, cost);
+        return;
+    }
+#endif
+    blockCostsBaseline(a, b, ua, v, h, first_col_b, n, cost);
 }
 
 /** Gauss-Newton on the zero-mean sum of squared differences of the raw
