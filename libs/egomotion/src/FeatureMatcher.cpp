@@ -7,6 +7,7 @@
 #include <Eigen/Core>
 #include <algorithm>
 #include <cmath>
+#include <cstdint>
 #include <optional>
 #include <vector>
 
@@ -175,6 +176,8 @@ void forEachGuidedCandidate(
     const Visit& visit)
 {
     const auto dim = static_cast<Eigen::Index>(prev.dim);
+    std::vector<std::uint32_t> near;
+    std::vector<float> sims;
     for (std::size_t i = 0; i < prev.size(); ++i)
     {
         const cv::Point2f p = predicted[i];
@@ -182,14 +185,18 @@ void forEachGuidedCandidate(
         {
             continue;
         }
-        const Eigen::Map<const Eigen::VectorXf> pi(prev.row(i), dim);
+        near.clear();
         grid.forEachNear(
-            p, radius_px,
-            [&](std::size_t j)
-            {
-                // |rho|: a contrast inversion is still the same texture.
-                visit(i, j, std::abs(pi.dot(Eigen::Map<const Eigen::VectorXf>(cur.row(j), dim))));
-            });
+            p, radius_px, [&](std::size_t j) { near.push_back(static_cast<std::uint32_t>(j)); });
+        // All candidates of i at once: the products run four by four.
+        sims.resize(near.size());
+        DescriptorProducts::dotRows(
+            prev.row(i), cur.row(0), near.data(), near.size(), dim, sims.data());
+        for (std::size_t k = 0; k < near.size(); ++k)
+        {
+            // |rho|: a contrast inversion is still the same texture.
+            visit(i, static_cast<std::size_t>(near[k]), std::abs(sims[k]));
+        }
     }
 }
 

@@ -75,11 +75,49 @@ void blockCostsBaseline(
 }
 
 #if EMSLAM_HAVE_AVX2_PATHS
-/** blockCosts() for AVX2: 32 disparities at a time whose 16-bit costs stay in
- * two registers over the whole block (the baseline reads and writes them
- * once per group of columns); the lanes left over go to the baseline.
- * Integer arithmetic: the same costs. */
-EMSLAM_TARGET_AVX2 void blockCostsAvx2(
+/** blockCosts() of the 32 disparities j0 .. j0+31 on AVX2, their 16-bit
+ * costs in two registers over the whole block (the baseline reads and
+ * writes them once per group of columns). Integer arithmetic: the same
+ * costs. */
+EMSLAM_TARGET_AVX2 void blockCosts32(
+    const cv::Mat& a,
+    const cv::Mat& b,
+    int ua,
+    int v,
+    int h,
+    int first_col_b,
+    int j0,
+    std::uint16_t* cost)
+{
+    constexpr int GROUP = 4;  // 4 * 62 < 256, as the baseline
+    __m256i lo = _mm256_setzero_si256(), hi = _mm256_setzero_si256();
+    for (int r = v - h; r <= v + h; ++r)
+    {
+        const std::uint8_t* ra = a.ptr<std::uint8_t>(r) + ua;
+        const std::uint8_t* rb = b.ptr<std::uint8_t>(r) + first_col_b + j0;
+        for (int c0 = -h; c0 <= h; c0 += GROUP)
+        {
+            __m256i part = _mm256_setzero_si256();
+            for (int c = c0; c < std::min(c0 + GROUP, h + 1); ++c)
+            {
+                const __m256i va = _mm256_set1_epi8(static_cast<char>(ra[c]));
+                const __m256i vb = _mm256_loadu_si256(reinterpret_cast<const __m256i*>(rb + c));
+                const __m256i diff =
+                    _mm256_or_si256(_mm256_subs_epu8(va, vb), _mm256_subs_epu8(vb, va));
+                part = _mm256_add_epi8(part, diff);
+            }
+            lo = _mm256_add_epi16(lo, _mm256_cvtepu8_epi16(_mm256_castsi256_si128(part)));
+            hi = _mm256_add_epi16(hi, _mm256_cvtepu8_epi16(_mm256_extracti128_si256(part, 1)));
+        }
+    }
+    _mm256_storeu_si256(reinterpret_cast<__m256i*>(cost + j0), lo);
+    _mm256_storeu_si256(reinterpret_cast<__m256i*>(cost + j0 + 16), hi);
+}
+
+/** blockCosts() for AVX2: 32 disparities at a time (blockCosts32()); the
+ * last 32 end at n (some computed twice, to the same values); fewer than 32
+ * go to the baseline. */
+void blockCostsAvx2(
     const cv::Mat& a,
     const cv::Mat& b,
     int ua,
@@ -89,33 +127,18 @@ EMSLAM_TARGET_AVX2 void blockCostsAvx2(
     int n,
     std::uint16_t* cost)
 {
-    constexpr int LANES = 32, GROUP = 4;  // 4 * 62 < 256, as the baseline
-    int j0 = 0;
+    constexpr int LANES = 32;
     // A load of 32 bytes from column first_col_b + c + j0 must stay in the row.
-    for (; j0 + LANES <= n && first_col_b + h + j0 + LANES <= b.cols; j0 += LANES)
+    const auto fits = [&](int j0) { return first_col_b + h + j0 + LANES <= b.cols; };
+    int j0 = 0;
+    for (; j0 + LANES <= n && fits(j0); j0 += LANES)
     {
-        __m256i lo = _mm256_setzero_si256(), hi = _mm256_setzero_si256();
-        for (int r = v - h; r <= v + h; ++r)
-        {
-            const std::uint8_t* ra = a.ptr<std::uint8_t>(r) + ua;
-            const std::uint8_t* rb = b.ptr<std::uint8_t>(r) + first_col_b + j0;
-            for (int c0 = -h; c0 <= h; c0 += GROUP)
-            {
-                __m256i part = _mm256_setzero_si256();
-                for (int c = c0; c < std::min(c0 + GROUP, h + 1); ++c)
-                {
-                    const __m256i va = _mm256_set1_epi8(static_cast<char>(ra[c]));
-                    const __m256i vb = _mm256_loadu_si256(reinterpret_cast<const __m256i*>(rb + c));
-                    const __m256i diff =
-                        _mm256_or_si256(_mm256_subs_epu8(va, vb), _mm256_subs_epu8(vb, va));
-                    part = _mm256_add_epi8(part, diff);
-                }
-                lo = _mm256_add_epi16(lo, _mm256_cvtepu8_epi16(_mm256_castsi256_si128(part)));
-                hi = _mm256_add_epi16(hi, _mm256_cvtepu8_epi16(_mm256_extracti128_si256(part, 1)));
-            }
-        }
-        _mm256_storeu_si256(reinterpret_cast<__m256i*>(cost + j0), lo);
-        _mm256_storeu_si256(reinterpret_cast<__m256i*>(cost + j0 + 16), hi);
+        blockCosts32(a, b, ua, v, h, first_col_b, j0, cost);
+    }
+    if (j0 < n && n >= LANES && fits(n - LANES))
+    {
+        blockCosts32(a, b, ua, v, h, first_col_b, n - LANES, cost);
+        j0 = n;
     }
     if (j0 < n)
     {

@@ -2,6 +2,8 @@
 #pragma once
 
 #include <Eigen/Core>
+#include <cstddef>
+#include <cstdint>
 #include <vector>
 
 namespace emslam::egomotion
@@ -41,6 +43,20 @@ public:
 
     /** Whether multiply() runs the AVX2 + FMA kernel on this CPU. */
     static bool vectorized();
+
+    /** out[k] = p . c[rows[k]] for k < n: one descriptor `p` against chosen
+     * rows of C (`dim` floats each, row-major), as the guided matching
+     * compares a feature with the features near its prediction. Each dot
+     * product is summed in eight lanes then in a fixed tree, four rows at a
+     * time; compiled for the x86-64 baseline and for AVX2 (picked at run time,
+     * util/CpuDispatch.h), which give the same bits. */
+    static void dotRows(
+        const float* p,
+        const float* c,
+        const std::uint32_t* rows,
+        std::size_t n,
+        Eigen::Index dim,
+        float* out);
 
 private:
     const float* m_c;
