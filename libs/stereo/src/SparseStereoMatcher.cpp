@@ -168,46 +168,86 @@ void blockCosts(
     blockCostsBaseline(a, b, ua, v, h, first_col_b, n, cost);
 }
 
+/** Sums over a block of the intensities that refineByGradient() needs at
+ * one whole-pixel shift x0, exact in integers. With the right image sampled
+ * between columns k - 1 and k (k = u + c - x0, weight a on k - 1):
+ *   R(a) = R0 + a R1,          R0 = R[k],  R1 = R[k-1] - R[k],
+ *   g(a) = -(D0 + a D1) / 2,   D0 = R[k+1] - R[k-1],
+ *                              D1 = (R[k] - R[k-2]) - D0,
+ * so every sum of refineByGradient() is a polynomial in a of these. */
+struct ShiftSums
+{
+    int l = 0, r0 = 0, r1 = 0, d0 = 0, d1 = 0;
+    int l_d0 = 0, l_d1 = 0, r0_d0 = 0, r0_d1 = 0, r1_d0 = 0, r1_d1 = 0;
+    int d0_d0 = 0, d0_d1 = 0, d1_d1 = 0;
+};
+
+/** ShiftSums of the block at (u, v), half size h, right image shifted by x0.
+ * Values below 2^8 and differences below 2^10: every sum of at most 15 x 15
+ * products fits in 32 bits. */
+ShiftSums shiftSums(const cv::Mat& left, const cv::Mat& right, int u, int v, int h, int x0)
+{
+    ShiftSums s;
+    for (int r = v - h; r <= v + h; ++r)
+    {
+        const std::uint8_t* pl = left.ptr<std::uint8_t>(r) + u;
+        const std::uint8_t* pr = right.ptr<std::uint8_t>(r) + u - x0;
+        for (int c = -h; c <= h; ++c)
+        {
+            const int l = pl[c], rk = pr[c];
+            const int r1 = pr[c - 1] - rk;
+            const int d0 = pr[c + 1] - pr[c - 1];
+            const int d1 = (rk - pr[c - 2]) - d0;
+            s.l += l;
+            s.r0 += rk;
+            s.r1 += r1;
+            s.d0 += d0;
+            s.d1 += d1;
+            s.l_d0 += l * d0;
+            s.l_d1 += l * d1;
+            s.r0_d0 += rk * d0;
+            s.r0_d1 += rk * d1;
+            s.r1_d0 += r1 * d0;
+            s.r1_d1 += r1 * d1;
+            s.d0_d0 += d0 * d0;
+            s.d0_d1 += d0 * d1;
+            s.d1_d1 += d1 * d1;
+        }
+    }
+    return s;
+}
+
 /** Gauss-Newton on the zero-mean sum of squared differences of the raw
  * intensities, R linearly interpolated: the disparity near `d` that aligns
  * the two blocks best, free of the pixel-locking of a fit to integer costs.
  * Returns `d` unchanged if the block has no horizontal texture or the
- * iteration leaves [d - 1, d + 1]. */
+ * iteration leaves [d - 1, d + 1]. The block's sums are exact integers
+ * (ShiftSums), computed again only when the whole-pixel shift changes. */
 double refineByGradient(const cv::Mat& left, const cv::Mat& right, int u, int v, int h, double d)
 {
-    const int side = 2 * h + 1;
-    const double n = side * side;
+    const double n = (2 * h + 1) * (2 * h + 1);
     double x = d;
+    int x0_sums = std::numeric_limits<int>::min();
+    ShiftSums s;
     for (int it = 0; it < 4; ++it)
     {
         const double x0 = std::floor(x), a = x - x0;
-        // Right sample at column u + c - x, between columns k - 1 and k
-        // with k = u + c - x0: weight a on k - 1.
-        double sl = 0, sr = 0, sg = 0, slg = 0, srg = 0, sgg = 0;
-        for (int r = v - h; r <= v + h; ++r)
+        const int ix0 = static_cast<int>(x0);
+        if (ix0 != x0_sums)
         {
-            const std::uint8_t* pl = left.ptr<std::uint8_t>(r);
-            const std::uint8_t* pr = right.ptr<std::uint8_t>(r);
-            for (int c = -h; c <= h; ++c)
+            // Right columns k - 2 .. k + 1 for k = u + c - x0, c in [-h, h].
+            if (u - h - ix0 - 2 < 0 || u + h - ix0 + 1 >= right.cols)
             {
-                const int k = u + c - static_cast<int>(x0);
-                if (k - 2 < 0 || k + 1 >= right.cols)
-                {
-                    return d;
-                }
-                const double lv = pl[u + c];
-                const double rv = (1 - a) * pr[k] + a * pr[k - 1];
-                // dR(u + c - x)/dx = -R'(column)
-                const double g =
-                    -0.5 * ((1 - a) * (pr[k + 1] - pr[k - 1]) + a * (pr[k] - pr[k - 2]));
-                sl += lv;
-                sr += rv;
-                sg += g;
-                slg += lv * g;
-                srg += rv * g;
-                sgg += g * g;
+                return d;
             }
+            s = shiftSums(left, right, u, v, h, ix0);
+            x0_sums = ix0;
         }
+        const double sl = s.l, sr = s.r0 + a * s.r1;
+        const double sg = -0.5 * (s.d0 + a * s.d1);
+        const double slg = -0.5 * (s.l_d0 + a * s.l_d1);
+        const double srg = -0.5 * (s.r0_d0 + a * (s.r0_d1 + s.r1_d0) + a * a * s.r1_d1);
+        const double sgg = 0.25 * (s.d0_d0 + 2 * a * s.d0_d1 + a * a * s.d1_d1);
         // Residual e = (L - mean L) - (R - mean R); de/dx = -(g - mean g).
         const double gg = sgg - sg * sg / n;
         if (gg < 1e-6)
