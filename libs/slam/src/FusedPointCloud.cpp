@@ -7,7 +7,9 @@
 #include <cmath>
 #include <stdexcept>
 #include <string>
+#include <thread>
 #include <unordered_map>
+#include <vector>
 
 namespace emslam::slam
 {
@@ -32,7 +34,86 @@ struct VoxelSum
 };
 
 constexpr std::uint64_t UNUSED = ~std::uint64_t{0};
-using Evidence = std::unordered_map<std::uint64_t, double>;
+
+/** Weight per voxel key, in one open-addressing table (linear probing,
+ * power-of-two size, at most half full): the ray search looks up tens of
+ * voxels per point, and std::unordered_map's node per key made that most of
+ * the fusion's time. Keys are voxelKey()s (63 bits), so UNUSED marks a free
+ * slot. */
+class Evidence
+{
+public:
+    explicit Evidence(std::size_t expected)
+    {
+        std::size_t capacity = 16;
+        while (capacity < 2 * expected)
+        {
+            capacity *= 2;
+        }
+        m_keys.assign(capacity, UNUSED);
+        m_values.assign(capacity, 0.0);
+        m_mask = capacity - 1;
+    }
+
+    void add(std::uint64_t key, double w)
+    {
+        if (2 * (m_used + 1) > m_keys.size())
+        {
+            grow();
+        }
+        std::size_t i = slot(key);
+        while (m_keys[i] != key && m_keys[i] != UNUSED)
+        {
+            i = (i + 1) & m_mask;
+        }
+        if (m_keys[i] == UNUSED)
+        {
+            m_keys[i] = key;
+            ++m_used;
+        }
+        m_values[i] += w;
+    }
+
+    /** The weight of `key`, or nullptr if no point is in it. */
+    const double* find(std::uint64_t key) const
+    {
+        for (std::size_t i = slot(key);; i = (i + 1) & m_mask)
+        {
+            if (m_keys[i] == key)
+            {
+                return &m_values[i];
+            }
+            if (m_keys[i] == UNUSED)
+            {
+                return nullptr;
+            }
+        }
+    }
+
+private:
+    std::size_t slot(std::uint64_t key) const
+    {
+        // Fibonacci hashing: neighbouring voxels land far apart.
+        return static_cast<std::size_t>((key * 0x9E3779B97F4A7C15ull) >> 32) & m_mask;
+    }
+
+    void grow()
+    {
+        Evidence bigger(m_keys.size());
+        for (std::size_t i = 0; i < m_keys.size(); ++i)
+        {
+            if (m_keys[i] != UNUSED)
+            {
+                bigger.add(m_keys[i], m_values[i]);
+            }
+        }
+        *this = std::move(bigger);
+    }
+
+    std::vector<std::uint64_t> m_keys;
+    std::vector<double> m_values;
+    std::size_t m_mask{0}, m_used{0};
+};
 
 /** The voxel, along the ray from `o` through `p` within ±RAY_SEARCH_SIGMAS σ,
  * with the most evidence, nearer ones preferred softly (a Gaussian of
@@ -75,13 +156,13 @@ std::uint64_t bestVoxelAlongRay(
             continue;
         }
         last = key;
-        const auto it = evidence.find(key);
-        if (it == evidence.end())
+        const double* weight = evidence.find(key);
+        if (weight == nullptr || !(*weight > best_score))
         {
-            continue;
+            continue;  // absent, or cannot win: the preference is at most 1
         }
         const double tt = key == own ? 0.0 : t;
-        const double score = it->second * std::exp(-tt * tt * inv_two_var);
+        const double score = *weight * std::exp(-tt * tt * inv_two_var);
         if (score > best_score)
         {
             best_score = score;
@@ -91,17 +172,42 @@ std::uint64_t bestVoxelAlongRay(
     return best;
 }
 
+/** visit(i) for i < n, in contiguous ranges on up to as many threads as the
+ * machine has cores (one below 20,000 items: not worth a thread). */
+template <typename Visit>
+void forEachInParallel(std::size_t n, const Visit& visit)
+{
+    const std::size_t threads =
+        n < 20000 ? 1 : std::clamp<std::size_t>(std::thread::hardware_concurrency(), 1, 8);
+    const auto range = [&](std::size_t t)
+    {
+        for (std::size_t i = n * t / threads; i < n * (t + 1) / threads; ++i)
+        {
+            visit(i);
+        }
+    };
+    std::vector<std::thread> workers;
+    for (std::size_t t = 1; t < threads; ++t)
+    {
+        workers.emplace_back(range, t);
+    }
+    range(0);
+    for (auto& w : workers)
+    {
+        w.join();
+    }
+}
+
 /** Each point's voxel weighted by 1/σ²: the evidence of the assignment. */
 Evidence evidenceOf(
     const std::vector<std::uint64_t>& voxel, const std::vector<float>& sigma, std::size_t used)
 {
-    Evidence evidence;
-    evidence.reserve(used / 2 + 16);
+    Evidence evidence(used / 2 + 16);
     for (std::size_t i = 0; i < voxel.size(); ++i)
     {
         if (voxel[i] != UNUSED)
         {
-            evidence[voxel[i]] += weightOf(sigma[i]);
+            evidence.add(voxel[i], weightOf(sigma[i]));
         }
     }
     return evidence;
@@ -221,15 +327,19 @@ void FusedPointCloud::fuse()
     {
         const Evidence evidence = evidenceOf(voxel, m_sigma, m_stats.used_points);
         std::vector<std::uint64_t> next = voxel;
-        for (std::size_t i = 0; i < n; ++i)
-        {
-            if (voxel[i] != UNUSED && m_sigma[i] > 0.5 * m_o.voxel_size)
+        // Each point reads the evidence and writes its own voxel: the points
+        // split between threads give the same result as one thread.
+        forEachInParallel(
+            n,
+            [&](std::size_t i)
             {
-                next[i] = bestVoxelAlongRay(
-                    m_points[i], m_origins[m_view[i]], m_sigma[i], voxel[i], evidence,
-                    m_o.voxel_size);
-            }
-        }
+                if (voxel[i] != UNUSED && m_sigma[i] > 0.5 * m_o.voxel_size)
+                {
+                    next[i] = bestVoxelAlongRay(
+                        m_points[i], m_origins[m_view[i]], m_sigma[i], voxel[i], evidence,
+                        m_o.voxel_size);
+                }
+            });
         voxel.swap(next);
     }
     std::vector<std::size_t> sum_of;
