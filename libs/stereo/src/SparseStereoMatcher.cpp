@@ -114,9 +114,42 @@ EMSLAM_TARGET_AVX2 void blockCosts32(
     _mm256_storeu_si256(reinterpret_cast<__m256i*>(cost + j0 + 16), hi);
 }
 
-/** blockCosts() for AVX2: 32 disparities at a time (blockCosts32()); the
- * last 32 end at n (some computed twice, to the same values); fewer than 32
- * go to the baseline. */
+/** blockCosts32() for 16 disparities, in 128-bit registers. */
+EMSLAM_TARGET_AVX2 void blockCosts16(
+    const cv::Mat& a,
+    const cv::Mat& b,
+    int ua,
+    int v,
+    int h,
+    int first_col_b,
+    int j0,
+    std::uint16_t* cost)
+{
+    constexpr int GROUP = 4;  // 4 * 62 < 256, as the baseline
+    __m256i sum = _mm256_setzero_si256();
+    for (int r = v - h; r <= v + h; ++r)
+    {
+        const std::uint8_t* ra = a.ptr<std::uint8_t>(r) + ua;
+        const std::uint8_t* rb = b.ptr<std::uint8_t>(r) + first_col_b + j0;
+        for (int c0 = -h; c0 <= h; c0 += GROUP)
+        {
+            __m128i part = _mm_setzero_si128();
+            for (int c = c0; c < std::min(c0 + GROUP, h + 1); ++c)
+            {
+                const __m128i va = _mm_set1_epi8(static_cast<char>(ra[c]));
+                const __m128i vb = _mm_loadu_si128(reinterpret_cast<const __m128i*>(rb + c));
+                part =
+                    _mm_add_epi8(part, _mm_or_si128(_mm_subs_epu8(va, vb), _mm_subs_epu8(vb, va)));
+            }
+            sum = _mm256_add_epi16(sum, _mm256_cvtepu8_epi16(part));
+        }
+    }
+    _mm256_storeu_si256(reinterpret_cast<__m256i*>(cost + j0), sum);
+}
+
+/** blockCosts() for AVX2: 32 disparities at a time (blockCosts32()), the
+ * last 32 (or 16, blockCosts16()) ending at n, some computed twice to the
+ * same values; fewer than 16 go to the baseline. */
 void blockCostsAvx2(
     const cv::Mat& a,
     const cv::Mat& b,
@@ -127,17 +160,26 @@ void blockCostsAvx2(
     int n,
     std::uint16_t* cost)
 {
-    constexpr int LANES = 32;
-    // A load of 32 bytes from column first_col_b + c + j0 must stay in the row.
-    const auto fits = [&](int j0) { return first_col_b + h + j0 + LANES <= b.cols; };
+    constexpr int LANES = 32, HALF = 16;
+    // A load of `width` bytes from column first_col_b + c + j0 must stay in the row.
+    const auto fits = [&](int j0, int width) { return first_col_b + h + j0 + width <= b.cols; };
     int j0 = 0;
-    for (; j0 + LANES <= n && fits(j0); j0 += LANES)
+    for (; j0 + LANES <= n && fits(j0, LANES); j0 += LANES)
     {
         blockCosts32(a, b, ua, v, h, first_col_b, j0, cost);
     }
-    if (j0 < n && n >= LANES && fits(n - LANES))
+    if (j0 < n && n >= LANES && fits(n - LANES, LANES))
     {
         blockCosts32(a, b, ua, v, h, first_col_b, n - LANES, cost);
+        j0 = n;
+    }
+    if (j0 < n && n >= HALF && fits(n - HALF, HALF) && n - HALF <= j0 + HALF)
+    {
+        if (n - j0 > HALF)
+        {
+            blockCosts16(a, b, ua, v, h, first_col_b, j0, cost);
+        }
+        blockCosts16(a, b, ua, v, h, first_col_b, n - HALF, cost);
         j0 = n;
     }
     if (j0 < n)
