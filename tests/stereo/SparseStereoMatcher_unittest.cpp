@@ -287,10 +287,10 @@ TEST(SparseStereoMatcher, agreesWithSgbmOnKitti)
     EXPECT_GT(static_cast<double>(agree), 0.9 * static_cast<double>(both));
 }
 
-// The row search's costs run on AVX2 where the CPU has it (32 disparities in
-// registers, the rest on the baseline): integer sums, so every disparity must
-// be the baseline's to the bit, also where the range is not a multiple of 32
-// and where a 32-byte load would leave the image (near its right border).
+// The row search's costs run in blocks of 32 disparities on AVX2 where the
+// CPU has it, of 16 on the baseline (SSE2), and by a portable loop below 16:
+// integer sums, so every disparity must be the same to the bit, also where
+// the range is not a multiple of 32 or 16 (near the image borders).
 TEST(SparseStereoMatcher, avx2AndBaselineCostsGiveTheSameDisparities)
 {
     emslam::util::setBaselineOnly(false);

@@ -30,10 +30,10 @@ constexpr int PREFILTER_CAP = 31;
  * ua + sign * d, rows v-h .. v+h, of two prefiltered images (values in
  * [0, 2 PREFILTER_CAP]), `first_col_b` the centre column in `b` of j = 0.
  * Written so that the inner loops run over contiguous pixels of `b` in 8-bit
- * lanes (the compiler vectorises them for the baseline's 16): a difference is
- * at most 62, so four of them add up in 8 bits before being widened into the
- * 16-bit costs. */
-void blockCostsBaseline(
+ * lanes (the compiler vectorises them): a difference is at most 62, so four
+ * of them add up in 8 bits before being widened into the 16-bit costs. The
+ * portable path; blockCosts() runs register-blocked kernels where it can. */
+void blockCostsPortable(
     const cv::Mat& a,
     const cv::Mat& b,
     int ua,
@@ -114,8 +114,10 @@ EMSLAM_TARGET_AVX2 void blockCosts32(
     _mm256_storeu_si256(reinterpret_cast<__m256i*>(cost + j0 + 16), hi);
 }
 
-/** blockCosts32() for 16 disparities, in 128-bit registers. */
-EMSLAM_TARGET_AVX2 void blockCosts16(
+/** blockCosts32() for 16 disparities, in 128-bit registers: SSE2, the
+ * x86-64 baseline's own register-blocked kernel (and AVX2's for 16 to 31
+ * disparities). */
+void blockCosts16(
     const cv::Mat& a,
     const cv::Mat& b,
     int ua,
@@ -126,14 +128,15 @@ EMSLAM_TARGET_AVX2 void blockCosts16(
     std::uint16_t* cost)
 {
     constexpr int GROUP = 4;  // 4 * 62 < 256, as the baseline
-    __m256i sum = _mm256_setzero_si256();
+    const __m128i zero = _mm_setzero_si128();
+    __m128i lo = zero, hi = zero;
     for (int r = v - h; r <= v + h; ++r)
     {
         const std::uint8_t* ra = a.ptr<std::uint8_t>(r) + ua;
         const std::uint8_t* rb = b.ptr<std::uint8_t>(r) + first_col_b + j0;
         for (int c0 = -h; c0 <= h; c0 += GROUP)
         {
-            __m128i part = _mm_setzero_si128();
+            __m128i part = zero;
             for (int c = c0; c < std::min(c0 + GROUP, h + 1); ++c)
             {
                 const __m128i va = _mm_set1_epi8(static_cast<char>(ra[c]));
@@ -141,55 +144,39 @@ EMSLAM_TARGET_AVX2 void blockCosts16(
                 part =
                     _mm_add_epi8(part, _mm_or_si128(_mm_subs_epu8(va, vb), _mm_subs_epu8(vb, va)));
             }
-            sum = _mm256_add_epi16(sum, _mm256_cvtepu8_epi16(part));
+            lo = _mm_add_epi16(lo, _mm_unpacklo_epi8(part, zero));
+            hi = _mm_add_epi16(hi, _mm_unpackhi_epi8(part, zero));
         }
     }
-    _mm256_storeu_si256(reinterpret_cast<__m256i*>(cost + j0), sum);
+    _mm_storeu_si128(reinterpret_cast<__m128i*>(cost + j0), lo);
+    _mm_storeu_si128(reinterpret_cast<__m128i*>(cost + j0 + 8), hi);
 }
 
-/** blockCosts() for AVX2: 32 disparities at a time (blockCosts32()), the
- * last 32 (or 16, blockCosts16()) ending at n, some computed twice to the
- * same values; fewer than 16 go to the baseline. */
-void blockCostsAvx2(
-    const cv::Mat& a,
-    const cv::Mat& b,
-    int ua,
-    int v,
-    int h,
-    int first_col_b,
-    int n,
-    std::uint16_t* cost)
+/** Calls kernel(j0) on blocks of `width` disparities that cover 0 .. n-1,
+ * the last one ending at n (overlapping the one before: the same costs
+ * computed twice), if n >= width and every load of `width` bytes from
+ * column first_col_b + c + j0 (|c| <= h) stays in the row of `cols`
+ * pixels. Returns whether it did. */
+template <typename Kernel>
+bool coverByBlocks(int n, int width, int first_col_b, int h, int cols, const Kernel& kernel)
 {
-    constexpr int LANES = 32, HALF = 16;
-    // A load of `width` bytes from column first_col_b + c + j0 must stay in the row.
-    const auto fits = [&](int j0, int width) { return first_col_b + h + j0 + width <= b.cols; };
-    int j0 = 0;
-    for (; j0 + LANES <= n && fits(j0, LANES); j0 += LANES)
+    if (n < width || first_col_b + h + n > cols)
     {
-        blockCosts32(a, b, ua, v, h, first_col_b, j0, cost);
+        return false;
     }
-    if (j0 < n && n >= LANES && fits(n - LANES, LANES))
+    for (int j0 = 0; j0 < n - width; j0 += width)
     {
-        blockCosts32(a, b, ua, v, h, first_col_b, n - LANES, cost);
-        j0 = n;
+        kernel(j0);
     }
-    if (j0 < n && n >= HALF && fits(n - HALF, HALF) && n - HALF <= j0 + HALF)
-    {
-        if (n - j0 > HALF)
-        {
-            blockCosts16(a, b, ua, v, h, first_col_b, j0, cost);
-        }
-        blockCosts16(a, b, ua, v, h, first_col_b, n - HALF, cost);
-        j0 = n;
-    }
-    if (j0 < n)
-    {
-        blockCostsBaseline(a, b, ua, v, h, first_col_b + j0, n - j0, cost + j0);
-    }
+    kernel(n - width);
+    return true;
 }
 #endif
 
-/** blockCostsBaseline(), on AVX2 where the CPU has it (util/CpuDispatch.h). */
+/** The SAD costs of blockCostsPortable(), by the widest register-blocked
+ * kernel the CPU runs (util/CpuDispatch.h): 32 disparities per block on
+ * AVX2, 16 on SSE2; what no block covers, by the portable loop. Integer
+ * arithmetic: every path gives the same costs. */
 void blockCosts(
     const cv::Mat& a,
     const cv::Mat& b,
@@ -201,13 +188,16 @@ void blockCosts(
     std::uint16_t* cost)
 {
 #if EMSLAM_HAVE_AVX2_PATHS
-    if (util::avx2Enabled())
+    const auto block = [&](auto kernel)
+    { return [&, kernel](int j0) { kernel(a, b, ua, v, h, first_col_b, j0, cost); }; };
+    if ((util::avx2Enabled() &&
+         coverByBlocks(n, 32, first_col_b, h, b.cols, block(blockCosts32))) ||
+        coverByBlocks(n, 16, first_col_b, h, b.cols, block(blockCosts16)))
     {
-        blockCostsAvx2(a, b, ua, v, h, first_col_b, n, cost);
         return;
     }
 #endif
-    blockCostsBaseline(a, b, ua, v, h, first_col_b, n, cost);
+    blockCostsPortable(a, b, ua, v, h, first_col_b, n, cost);
 }
 
 /** Sums over a block of the intensities that refineByGradient() needs at
