@@ -2,7 +2,8 @@
 // The whole per-frame path of emslam-mapper on the KITTI 06 excerpt (51
 // frames), one core: the stereo front-end and the egomotion as the mapper
 // wires them (config/mapper/kitti.ini: sparse stereo at the features, guided
-// matching), at full resolution (1226x370) and at 320x240; and Mapper itself
+// matching), at full resolution (1226x370), at half (613x185) and at 320x240
+// (how the cost grows with the pixels and the features); and Mapper itself
 // (front-end, egomotion, dense cloud of the accepted frames, map insertion,
 // serial rectification). Times are per frame (items). Run: bench_frame_path
 // Needs the KITTI excerpt (EMSLAM_TEST_DATA, default ../shared/data).
@@ -122,6 +123,9 @@ void runMapper(benchmark::State& state)
 }  // namespace
 
 BENCHMARK_CAPTURE(runFrontEndEgomotion, KittiFull, 0, 0)
+    ->Unit(benchmark::kMillisecond)
+    ->MinTime(3.0);
+BENCHMARK_CAPTURE(runFrontEndEgomotion, Kitti613x185, 613, 185)
     ->Unit(benchmark::kMillisecond)
     ->MinTime(3.0);
 BENCHMARK_CAPTURE(runFrontEndEgomotion, Kitti320x240, 320, 240)
