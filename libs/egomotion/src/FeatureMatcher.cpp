@@ -118,6 +118,14 @@ public:
         {
             m_in_cell[fill[cellOf(j)]++] = j;
         }
+        // The positions in the same order: a search reads them in one sweep.
+        m_u_in_cell.resize(features.size());
+        m_v_in_cell.resize(features.size());
+        for (std::size_t k = 0; k < features.size(); ++k)
+        {
+            m_u_in_cell[k] = static_cast<float>(features[m_in_cell[k]].u);
+            m_v_in_cell[k] = static_cast<float>(features[m_in_cell[k]].v);
+        }
     }
 
     /** Calls visit(j) for every feature j within `radius` px of p. */
@@ -127,21 +135,23 @@ public:
         const float r2 = radius * radius;
         const int cu = static_cast<int>(std::floor(p.x / m_cell));
         const int cv_ = static_cast<int>(std::floor(p.y / m_cell));
+        const int x0 = std::max(cu - 1, 0), x1 = std::min(cu + 1, m_cols - 1);
+        if (x0 > x1)
+        {
+            return;
+        }
         for (int y = std::max(cv_ - 1, 0); y <= std::min(cv_ + 1, m_rows - 1); ++y)
         {
-            for (int x = std::max(cu - 1, 0); x <= std::min(cu + 1, m_cols - 1); ++x)
+            // Cells x0 .. x1 of a row are one run of the cell order.
+            const auto first = m_start[static_cast<std::size_t>(y * m_cols + x0)];
+            const auto last = m_start[static_cast<std::size_t>(y * m_cols + x1) + 1];
+            for (std::size_t k = first; k < last; ++k)
             {
-                const auto c = static_cast<std::size_t>(y * m_cols + x);
-                for (std::size_t k = m_start[c]; k < m_start[c + 1]; ++k)
+                const float du = m_u_in_cell[k] - p.x;
+                const float dv = m_v_in_cell[k] - p.y;
+                if (du * du + dv * dv <= r2)
                 {
-                    const std::size_t j = m_in_cell[k];
-                    const float du = static_cast<float>(m_features[j].u) - p.x;
-                    const float dv = static_cast<float>(m_features[j].v) - p.y;
-                    if (du * du + dv * dv > r2)
-                    {
-                        continue;
-                    }
-                    visit(j);
+                    visit(m_in_cell[k]);
                 }
             }
         }
@@ -161,6 +171,7 @@ private:
     int m_cols{0}, m_rows{0};
     std::vector<std::size_t> m_start;
     std::vector<std::size_t> m_in_cell;
+    std::vector<float> m_u_in_cell, m_v_in_cell;
 };
 
 /** Calls visit(i, j, s) for every previous feature i with a finite

@@ -300,6 +300,18 @@ int argMin(const std::uint16_t* cost, int n)
 {
     return static_cast<int>(std::min_element(cost, cost + n) - cost);
 }
+
+/** The smallest of cost[0 .. n-1] (65535 if n <= 0): a loop without an early
+ * exit, which the compiler vectorises. */
+int minCost(const std::uint16_t* cost, int n)
+{
+    std::uint16_t m = std::numeric_limits<std::uint16_t>::max();
+    for (int j = 0; j < n; ++j)
+    {
+        m = std::min(m, cost[j]);
+    }
+    return m;
+}
 }  // namespace
 
 void SparseStereoMatcher::TParameters::validate() const
@@ -391,14 +403,12 @@ double SparseStereoMatcher::disparityAt(const cv::Mat& lf, const cv::Mat& rf, in
     }
     const int c1 = cost[static_cast<std::size_t>(j_best)];
     // Uniqueness, as SGBM: any disparity more than 1 px away must cost more
-    // than c1 * 100 / (100 - ratio).
-    for (int j = 0; j < n; ++j)
+    // than c1 * 100 / (100 - ratio), so the cheapest of them must.
+    const int runner_up = std::min(
+        minCost(cost.data(), j_best - 1), minCost(cost.data() + j_best + 2, n - j_best - 2));
+    if (runner_up * (100 - m_params.uniqueness_ratio) <= c1 * 100)
     {
-        if (std::abs(j - j_best) > 1 &&
-            cost[static_cast<std::size_t>(j)] * (100 - m_params.uniqueness_ratio) <= c1 * 100)
-        {
-            return -1;
-        }
+        return -1;
     }
     const int d_best = d_hi - j_best;
     // Costs at d - 1 and d + 1 (j grows as d shrinks).
