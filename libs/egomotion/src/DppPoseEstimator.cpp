@@ -134,37 +134,10 @@ std::array<double, 12> motionOf(const Mat3& R, const Vec3& t)
 // where w perturbs the rotation on the left (dc = w x c).
 
 /** Dpp of each of the n pairs (`pairs`: Pairs::columns) at `motion`
- * (motionOf()) into e. */
-[[gnu::always_inline]] inline void pairEnergies(
-    std::size_t n,
-    const double* __restrict pairs,
-    const double* __restrict motion,
-    double* __restrict e)
-{
-    const double *ax = pairs, *ay = ax + n, *az = ay + n, *bx = az + n, *by = bx + n, *bz = by + n,
-                 *ina = bz + n, *inb = ina + n;
-    const double r00 = motion[0], r01 = motion[1], r02 = motion[2], r10 = motion[3],
-                 r11 = motion[4], r12 = motion[5], r20 = motion[6], r21 = motion[7],
-                 r22 = motion[8], tx = motion[9], ty = motion[10], tz = motion[11];
-    for (std::size_t i = 0; i < n; ++i)
-    {
-        const double cx = r00 * bx[i] + r01 * by[i] + r02 * bz[i];
-        const double cy = r10 * bx[i] + r11 * by[i] + r12 * bz[i];
-        const double cz = r20 * bx[i] + r21 * by[i] + r22 * bz[i];
-        const double qx = ax[i] - tx, qy = ay[i] - ty, qz = az[i] - tz;
-        const double ux = qy * cz - qz * cy, uy = qz * cx - qx * cz, uz = qx * cy - qy * cx;
-        const double wx = cx + tx, wy = cy + ty, wz = cz + tz;
-        const double vx = wy * az[i] - wz * ay[i], vy = wz * ax[i] - wx * az[i],
-                     vz = wx * ay[i] - wy * ax[i];
-        const double nu = std::sqrt(ux * ux + uy * uy + uz * uz);
-        const double nv = std::sqrt(vx * vx + vy * vy + vz * vz);
-        e[i] = (nu * inb[i]) * (nv * ina[i]);
-    }
-}
-
-/** As pairEnergies(), and the gradient of each Dpp with respect to t (gt*)
- * and to w (gw*). */
-[[gnu::always_inline]] inline void pairGradients(
+ * (motionOf()) into e and, with GRADIENTS, its gradient with respect to t
+ * (gt*) and to w (gw*); the gradient pointers are not read without. */
+template <bool GRADIENTS>
+[[gnu::always_inline]] inline void pairTerms(
     std::size_t n,
     const double* __restrict pairs,
     const double* __restrict motion,
@@ -195,6 +168,10 @@ std::array<double, 12> motionOf(const Mat3& R, const Vec3& t)
         const double nv = std::sqrt(vx * vx + vy * vy + vz * vz);
         const double d1 = nu * inb[i], d2 = nv * ina[i];
         e[i] = d1 * d2;
+        if constexpr (!GRADIENTS)
+        {
+            continue;
+        }
         const double s1 = d2 * (inb[i] / std::max(nu, TINY));
         const double s2 = d1 * (ina[i] / std::max(nv, TINY));
         // u x c, a x v, q x u
@@ -213,16 +190,18 @@ std::array<double, 12> motionOf(const Mat3& R, const Vec3& t)
 }
 
 // Each loop compiled for the baseline and for AVX2 (util/CpuDispatch.h).
-#define EMSLAM_DPP_KERNELS(SUFFIX, TARGET)                                               \
-    TARGET void pairEnergies##SUFFIX(const Pairs& p, const double* m)                    \
-    {                                                                                    \
-        pairEnergies(p.n, p.columns.data(), m, p.term.data());                           \
-    }                                                                                    \
-    TARGET void pairGradients##SUFFIX(const Pairs& p, const double* m)                   \
-    {                                                                                    \
-        pairGradients(                                                                   \
-            p.n, p.columns.data(), m, p.term.data(), p.grad[0].data(), p.grad[1].data(), \
-            p.grad[2].data(), p.grad[3].data(), p.grad[4].data(), p.grad[5].data());     \
+#define EMSLAM_DPP_KERNELS(SUFFIX, TARGET)                                                        \
+    TARGET void pairEnergies##SUFFIX(const Pairs& p, const double* m)                             \
+    {                                                                                             \
+        pairTerms<false>(                                                                         \
+            p.n, p.columns.data(), m, p.term.data(), nullptr, nullptr, nullptr, nullptr, nullptr, \
+            nullptr);                                                                             \
+    }                                                                                             \
+    TARGET void pairGradients##SUFFIX(const Pairs& p, const double* m)                            \
+    {                                                                                             \
+        pairTerms<true>(                                                                          \
+            p.n, p.columns.data(), m, p.term.data(), p.grad[0].data(), p.grad[1].data(),          \
+            p.grad[2].data(), p.grad[3].data(), p.grad[4].data(), p.grad[5].data());              \
     }
 EMSLAM_DPP_KERNELS(Baseline, )
 EMSLAM_DPP_KERNELS(Avx2, EMSLAM_TARGET_AVX2)
