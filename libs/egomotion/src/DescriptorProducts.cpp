@@ -161,27 +161,17 @@ inline float laneSum(const float* s, float tail)
     }
 }
 
-void dotRowsBaseline(
-    const float* p,
-    const float* c,
-    const std::uint32_t* rows,
-    std::size_t n,
-    Eigen::Index dim,
-    float* out)
-{
-    dotRowsBody(p, c, rows, n, dim, out);
-}
-
-EMSLAM_TARGET_AVX2 void dotRowsAvx2(
-    const float* p,
-    const float* c,
-    const std::uint32_t* rows,
-    std::size_t n,
-    Eigen::Index dim,
-    float* out)
-{
-    dotRowsBody(p, c, rows, n, dim, out);
-}
+// dotRowsBody() compiled for the baseline and for AVX2 (util/CpuDispatch.h).
+#define EMSLAM_DOT_ROWS(SUFFIX, TARGET)                                           \
+    TARGET void dotRows##SUFFIX(                                                  \
+        const float* p, const float* c, const std::uint32_t* rows, std::size_t n, \
+        Eigen::Index dim, float* out)                                             \
+    {                                                                             \
+        dotRowsBody(p, c, rows, n, dim, out);                                     \
+    }
+EMSLAM_DOT_ROWS(Baseline, )
+EMSLAM_DOT_ROWS(Avx2, EMSLAM_TARGET_AVX2)
+#undef EMSLAM_DOT_ROWS
 }  // namespace
 
 bool DescriptorProducts::vectorized()
