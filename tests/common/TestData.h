@@ -1,6 +1,7 @@
 // SPDX-License-Identifier: BSD-3-Clause
 #pragma once
 
+#include <cstddef>
 #include <string>
 
 namespace emslam::test
@@ -16,8 +17,14 @@ std::string testDataPath(const std::string& rel);
 /** The project source folder (for config/ and share/ files). */
 std::string sourceDir();
 
-/** A fresh, empty temporary folder, unique to this process and `tag`. */
+/** A fresh, empty temporary folder, unique to this process and `tag`;
+ * removed by removeTempDirs() when the process's tests have passed. */
 std::string makeTempDir(const std::string& tag);
+
+/** Removes the folders makeTempDir() made (test_main calls it after the
+ * tests, unless one failed or EMSLAM_KEEP_TEST_DIRS is set: then they stay
+ * for a look). Returns how many it removed. */
+std::size_t removeTempDirs();
 
 }  // namespace emslam::test
 
