@@ -76,7 +76,7 @@ void blockCostsPortable(
 
 #if EMSLAM_HAVE_AVX2_PATHS
 /** blockCosts() of the 32 disparities j0 .. j0+31 on AVX2, their 16-bit
- * costs in two registers over the whole block (the baseline reads and
+ * costs in two registers over the whole block (the portable loop reads and
  * writes them once per group of columns). Integer arithmetic: the same
  * costs. */
 EMSLAM_TARGET_AVX2 void blockCosts32(
