@@ -17,10 +17,14 @@
  * util::setBaselineOnly(true) keeps every loop on the baseline, e.g. to
  * compare the two on one machine (doc/performance.md). */
 #if defined(__x86_64__) && (defined(__GNUC__) || defined(__clang__))
+/** 1 where x86 kernels (SSE2, and AVX2 behind EMSLAM_TARGET_AVX2) compile. */
 #define EMSLAM_HAVE_AVX2_PATHS 1
+/** Compiles the function it precedes for AVX2 (without FMA). */
 #define EMSLAM_TARGET_AVX2 __attribute__((target("avx2")))
 #else
+/** 0: no x86 kernels here, every loop takes its portable path. */
 #define EMSLAM_HAVE_AVX2_PATHS 0
+/** Empty: no AVX2 compilation here. */
 #define EMSLAM_TARGET_AVX2
 #endif
 
@@ -35,6 +39,7 @@ inline std::atomic<int>& simdChoice()
     return choice;
 }
 
+/** Whether this CPU runs AVX2 instructions. */
 inline bool cpuHasAvx2()
 {
 #if EMSLAM_HAVE_AVX2_PATHS
