@@ -39,7 +39,8 @@ constexpr std::uint64_t UNUSED = ~std::uint64_t{0};
  * power-of-two size, at most three quarters full): the ray search looks up tens of
  * voxels per point, and std::unordered_map's node per key made that most of
  * the fusion's time. Keys are voxelKey()s (63 bits), so UNUSED marks a free
- * slot. */
+ * slot. Not maps::WeightedHistogram: its entropy bookkeeping and load of at
+ * most 1/2 raised the KITTI run's peak RSS from 216 to 230 MB (same map). */
 class Evidence
 {
 public:
