@@ -18,24 +18,35 @@ TReplayOptions::TReplayOptions(std::string sensor, std::string source_clock)
 {
 }
 
+void TReplayOptions::visitKeys(util::ConfigVisitor& v)
+{
+    visitSourceKeys(v);
+    const auto count = [&v](const std::string& key, std::size_t& n)
+    {
+        v.text(
+            key, n, [](std::size_t value) { return std::to_string(value); },
+            [&](const std::string& text) { return parseCount(text, v.section(), key, n); });
+    };
+    count("first_frame", first_frame);
+    count("max_frames", max_frames);
+    v.field("loop", loop);
+    v.field("timestamps", timestamps);
+}
+
 void TReplayOptions::loadFromConfigFile(
     const mrpt::config::CConfigFileBase& c, const std::string& s)
 {
-    loadSourceKeys(c, s);
-    first_frame = readCount(c, s, "first_frame", first_frame);
-    max_frames = readCount(c, s, "max_frames", max_frames);
-    loop = c.read_bool(s, "loop", loop);
-    timestamps = c.read_string(s, "timestamps", timestamps);
+    auto v = util::ConfigVisitor::loader(c, s);
+    visitKeys(v);
     validate();
 }
 
 void TReplayOptions::saveToConfigFile(mrpt::config::CConfigFileBase& c, const std::string& s) const
 {
-    saveSourceKeys(c, s);
-    c.write(s, "first_frame", static_cast<std::uint64_t>(first_frame));
-    c.write(s, "max_frames", static_cast<std::uint64_t>(max_frames));
-    c.write(s, "loop", loop);
-    c.write(s, "timestamps", timestamps);
+    // A saver only reads the fields: the walk is shared with loading, so it
+    // takes them non-const (a polymorphic struct cannot walk a copy).
+    auto v = util::ConfigVisitor::saver(c, s);
+    const_cast<TReplayOptions*>(this)->visitKeys(v);
 }
 
 void TReplayOptions::validate() const

@@ -12,16 +12,9 @@ IMPLEMENTS_GENERIC_SENSOR(CSimulatedStereoCamera, emslam::hwdrivers)
 
 namespace emslam::hwdrivers
 {
-void CSimulatedStereoCamera::TParameters::loadSourceKeys(
-    const mrpt::config::CConfigFileBase& c, const std::string& s)
+void CSimulatedStereoCamera::TParameters::visitSourceKeys(util::ConfigVisitor& v)
 {
-    world_file = c.read_string(s, "world_file", world_file);
-}
-
-void CSimulatedStereoCamera::TParameters::saveSourceKeys(
-    mrpt::config::CConfigFileBase& c, const std::string& s) const
-{
-    c.write(s, "world_file", world_file);
+    v.field("world_file", world_file);
 }
 
 void CSimulatedStereoCamera::TParameters::validate() const

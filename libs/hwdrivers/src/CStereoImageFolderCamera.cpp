@@ -16,21 +16,16 @@ IMPLEMENTS_GENERIC_SENSOR(CStereoImageFolderCamera, emslam::hwdrivers)
 
 namespace emslam::hwdrivers
 {
-void CStereoImageFolderCamera::TParameters::loadSourceKeys(
-    const mrpt::config::CConfigFileBase& c, const std::string& s)
+void CStereoImageFolderCamera::TParameters::visitSourceKeys(util::ConfigVisitor& v)
 {
-    format = c.read_string(s, "format", format);
-    folder = c.read_string(s, "folder", folder);
-    time_offset = c.read_double(s, "time_offset", time_offset);
-}
-
-void CStereoImageFolderCamera::TParameters::saveSourceKeys(
-    mrpt::config::CConfigFileBase& c, const std::string& s) const
-{
-    c.write(s, "format", format);
-    c.write(s, "folder", folder);
-    // With a decimal point even when whole: a number key, not an integer one.
-    c.write(s, "time_offset", mrpt::format("%#.17g", time_offset));
+    v.field("format", format);
+    v.field("folder", folder);
+    // Written with a decimal point even when whole (a number key, not an
+    // integer one); read as MRPT reads any double.
+    v.text(
+        "time_offset", time_offset, [](double t) { return mrpt::format("%#.17g", t); },
+        [&v, this](const std::string&)
+        { return v.input().read_double(v.section(), "time_offset", time_offset); });
 }
 
 void CStereoImageFolderCamera::TParameters::validate() const

@@ -10,13 +10,13 @@
 
 namespace emslam::hwdrivers
 {
-std::size_t readCount(
-    const mrpt::config::CConfigFileBase& c,
+std::size_t parseCount(
+    const std::string& raw,
     const std::string& section,
     const std::string& key,
     std::size_t fallback)
 {
-    const std::string text = mrpt::system::trim(c.read_string(section, key, ""));
+    const std::string text = mrpt::system::trim(raw);
     if (text.empty())
     {
         return fallback;

@@ -1,6 +1,8 @@
 // SPDX-License-Identifier: BSD-3-Clause
 #pragma once
 
+#include <emslam/util/ConfigVisitor.h>
+
 #include <mrpt/config/CConfigFileBase.h>
 #include <mrpt/config/CLoadableOptions.h>
 #include <mrpt/hwdrivers/CGenericSensor.h>
@@ -14,7 +16,7 @@ namespace emslam::hwdrivers
 /** The INI keys every replayed source shares: frames first_frame ..
  * first_frame + max_frames - 1, then loop or end, stamped with the source's
  * own clock or the wall clock. A sensor's TParameters derive from it and add
- * their source's keys (loadSourceKeys(), saveSourceKeys(), validate()).
+ * their source's keys (visitSourceKeys(), validate()).
  * \ingroup emslam_hwdrivers_grp \sa CReplayStereoCamera */
 struct TReplayOptions : public mrpt::config::CLoadableOptions
 {
@@ -46,14 +48,16 @@ struct TReplayOptions : public mrpt::config::CLoadableOptions
     bool stampNow() const { return timestamps == "now"; }
 
 protected:
-    /** Reads the keys of the concrete source (its files, world, ...). */
-    virtual void loadSourceKeys(const mrpt::config::CConfigFileBase& c, const std::string& s) = 0;
-    /** Writes the keys of the concrete source. */
-    virtual void saveSourceKeys(mrpt::config::CConfigFileBase& c, const std::string& s) const = 0;
+    /** Walks the keys of the concrete source (its files, world, ...), for
+     * loading and for saving alike (util::ConfigVisitor). */
+    virtual void visitSourceKeys(util::ConfigVisitor& v) = 0;
     /** The sensor's class name, for messages. */
     const std::string& sensorName() const { return m_sensor; }
 
 private:
+    /** The source's keys, then first_frame, max_frames, loop, timestamps. */
+    void visitKeys(util::ConfigVisitor& v);
+
     std::string m_sensor, m_source_clock;
 };
 

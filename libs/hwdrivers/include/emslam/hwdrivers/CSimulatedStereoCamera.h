@@ -57,10 +57,8 @@ public:
         std::string world_file;
 
     protected:
-        /** Reads `world_file`. */
-        void loadSourceKeys(const mrpt::config::CConfigFileBase& c, const std::string& s) override;
-        /** Writes `world_file`. */
-        void saveSourceKeys(mrpt::config::CConfigFileBase& c, const std::string& s) const override;
+        /** Walks `world_file`. */
+        void visitSourceKeys(util::ConfigVisitor& v) override;
     };
 
     CSimulatedStereoCamera() = default;

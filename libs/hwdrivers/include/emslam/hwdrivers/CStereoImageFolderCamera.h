@@ -58,10 +58,8 @@ public:
         double time_offset{1317340800.0};
 
     protected:
-        /** Reads the folder's keys. */
-        void loadSourceKeys(const mrpt::config::CConfigFileBase& c, const std::string& s) override;
-        /** Writes the folder's keys. */
-        void saveSourceKeys(mrpt::config::CConfigFileBase& c, const std::string& s) const override;
+        /** Walks the folder's keys. */
+        void visitSourceKeys(util::ConfigVisitor& v) override;
     };
 
     CStereoImageFolderCamera() = default;
