@@ -749,6 +749,15 @@ void MapperApp::printSummary(const emslam::io::TumTrajectory& ground_truth) cons
             lc.loop_edges, lc.registrations, lc.dropped_edges, lc.local_edges,
             lc.local_registrations, (lc.ms - lc.polish_ms) / 1000.0, lc.polish_ms / 1000.0,
             lc.latency_ms_mean / 1000.0, lc.latency_ms_max / 1000.0);
+        if (lc.new_loops > 0)
+        {
+            std::printf(
+                "new loops: %zu, in the live estimate %.2f s (mean; max %.2f s) and %.1f m of "
+                "path (mean; max %.1f m) after the first keyframe that saw the place again\n",
+                lc.new_loops, lc.new_loop_latency_ms_mean / 1000.0,
+                lc.new_loop_latency_ms_max / 1000.0, lc.new_loop_wait_m_mean,
+                lc.new_loop_wait_m_max);
+        }
         if (m.parameters().loop_closer.vertical_prior)
         {
             // The bias is NaN until the keyframes' orientations observe it.

@@ -273,6 +273,11 @@ void writeLoopClosingJson(std::ostream& j, const slam::EntropySlam& m)
       << ", \"local_solves\": " << lc.local_solves
       << ", \"latency_ms_mean\": " << io::jsonNumber(lc.latency_ms_mean)
       << ", \"latency_ms_max\": " << io::jsonNumber(lc.latency_ms_max)
+      << ", \"new_loops\": " << lc.new_loops
+      << ", \"new_loop_latency_ms_mean\": " << io::jsonNumber(lc.new_loop_latency_ms_mean)
+      << ", \"new_loop_latency_ms_max\": " << io::jsonNumber(lc.new_loop_latency_ms_max)
+      << ", \"new_loop_wait_m_mean\": " << io::jsonNumber(lc.new_loop_wait_m_mean)
+      << ", \"new_loop_wait_m_max\": " << io::jsonNumber(lc.new_loop_wait_m_max)
       << ", \"place_candidates\": " << lc.place_candidates
       << ", \"place_index_bytes\": " << lc.place_index_bytes
       << ", \"place_ms\": " << io::jsonNumber(lc.place_ms)

@@ -104,7 +104,9 @@ namespace emslam::slam
  *    that (and than the 99.73 % bulk of the Poisson count of chance
  *    failures) mean a world of look-alikes the registrations cannot tell
  *    apart (a periodic texture, identical floors): the run's loop closing
- *    is unreliable (Stats::unreliable), its loop edges are withdrawn, no
+ *    is unreliable (Stats::unreliable), its loop edges are withdrawn, the
+ *    keyframes placed again along the odometry edges and the graph solved
+ *    from there (from the bent graph, a few iterations stay bent), no
  *    further loop closes and close() does not polish.
  *
  * Levelling (`vertical_prior`) is online too: the up each keyframe saw in
@@ -220,7 +222,18 @@ public:
         ///@{
         double latency_ms_mean{0}, latency_ms_max{0};
         ///@}
-        std::size_t latency_count{0};   //!< keyframes the mean is over
+        std::size_t latency_count{0};  //!< keyframes the mean is over
+        /** New loops (none accepted in the consensus window before): from
+         * the first keyframe that registered the place seen again to the
+         * loop in the current poses, in wall time [ms] and in path [m]. The
+         * path is the wait of step 5 (a look-alike seen first must compete
+         * with the place truly revisited); it is what a frame rate turns
+         * into sensor time. */
+        ///@{
+        double new_loop_latency_ms_mean{0}, new_loop_latency_ms_max{0};
+        double new_loop_wait_m_mean{0}, new_loop_wait_m_max{0};
+        ///@}
+        std::size_t new_loops{0};       //!< loops closed where none was in the window
         std::size_t dropped_edges{0};   //!< loop edges the solved graph disagreed with
         std::size_t refused_groups{0};  //!< consensus groups the solved graph refused
         /** Of those, the groups asking for another correction than the loop
@@ -426,6 +439,10 @@ private:
         const std::vector<std::unique_ptr<Registration>>& group, std::size_t first_tag);
     /** Time from keyframe j's arrival to its loop edges' acceptance. */
     void recordLatency(std::size_t j);
+    /** Every keyframe placed by the odometry edges from the first. */
+    void placeAlongOdometry();
+    /** New-loop latency (Stats::new_loops) of a group about to be accepted. */
+    void recordNewLoop(const std::vector<std::unique_ptr<Registration>>& group);
     /** The group's registrations become loop edges (and drift shortcuts). */
     void acceptGroup(std::vector<std::unique_ptr<Registration>>& group);
     /** The χ² gate a loop edge's cost (times 2) must pass in the solved
