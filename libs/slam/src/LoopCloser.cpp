@@ -1282,35 +1282,41 @@ bool LoopCloser::refuseGroup(
     return checkContradictions();
 }
 
+namespace
+{
+/** Adds `value` as the (n+1)-th sample to a running mean and maximum. */
+void addSample(double value, std::size_t n, double& mean, double& max)
+{
+    mean = (mean * static_cast<double>(n) + value) / static_cast<double>(n + 1);
+    max = std::max(max, value);
+}
+}  // namespace
+
+double LoopCloser::msSinceAdded(std::size_t k) const
+{
+    return std::chrono::duration<double, std::milli>(
+               std::chrono::steady_clock::now() - m_keyframes[k].added)
+        .count();
+}
+
 void LoopCloser::recordLatency(std::size_t j)
 {
-    const double latency_ms = std::chrono::duration<double, std::milli>(
-                                  std::chrono::steady_clock::now() - m_keyframes[j].added)
-                                  .count();
-    m_stats.latency_ms_mean =
-        (m_stats.latency_ms_mean * static_cast<double>(m_stats.latency_count) + latency_ms) /
-        static_cast<double>(m_stats.latency_count + 1);
-    m_stats.latency_ms_max = std::max(m_stats.latency_ms_max, latency_ms);
-    ++m_stats.latency_count;
+    addSample(
+        msSinceAdded(j), m_stats.latency_count++, m_stats.latency_ms_mean, m_stats.latency_ms_max);
 }
 
 void LoopCloser::recordNewLoop(const std::vector<std::unique_ptr<Registration>>& group)
 {
-    std::size_t first = group.front()->j;
-    for (const auto& r : group)
-    {
-        first = std::min(first, r->j);
-    }
-    const double ms = std::chrono::duration<double, std::milli>(
-                          std::chrono::steady_clock::now() - m_keyframes[first].added)
-                          .count();
-    const double wait_m = m_path.back() - m_path[first];
-    const double n = static_cast<double>(m_stats.new_loops);
-    m_stats.new_loop_latency_ms_mean = (m_stats.new_loop_latency_ms_mean * n + ms) / (n + 1);
-    m_stats.new_loop_wait_m_mean = (m_stats.new_loop_wait_m_mean * n + wait_m) / (n + 1);
-    m_stats.new_loop_latency_ms_max = std::max(m_stats.new_loop_latency_ms_max, ms);
-    m_stats.new_loop_wait_m_max = std::max(m_stats.new_loop_wait_m_max, wait_m);
-    ++m_stats.new_loops;
+    const std::size_t first =
+        (*std::min_element(
+             group.begin(), group.end(), [](const auto& a, const auto& b) { return a->j < b->j; }))
+            ->j;
+    const std::size_t n = m_stats.new_loops++;
+    addSample(
+        msSinceAdded(first), n, m_stats.new_loop_latency_ms_mean, m_stats.new_loop_latency_ms_max);
+    addSample(
+        m_path.back() - m_path[first], n, m_stats.new_loop_wait_m_mean,
+        m_stats.new_loop_wait_m_max);
 }
 
 void LoopCloser::acceptGroup(std::vector<std::unique_ptr<Registration>>& group)

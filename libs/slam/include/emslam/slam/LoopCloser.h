@@ -437,6 +437,8 @@ private:
      * checkContradictions()'s answer, or false. */
     bool refuseGroup(
         const std::vector<std::unique_ptr<Registration>>& group, std::size_t first_tag);
+    /** Wall time since keyframe k was added [ms]. */
+    double msSinceAdded(std::size_t k) const;
     /** Time from keyframe j's arrival to its loop edges' acceptance. */
     void recordLatency(std::size_t j);
     /** Every keyframe placed by the odometry edges from the first. */
