@@ -49,6 +49,28 @@ std::string readFile(const std::string& f)
     return s.str();
 }
 
+/** A suite in `out` of one experiment of a shipped suite (its world, `set`,
+ * `world_set` and `full` variant), one seed, one mapper config. */
+std::string oneExperimentSuite(
+    const std::string& out,
+    const std::string& shipped_suite,
+    const std::string& exp,
+    int seed,
+    const std::string& mapper)
+{
+    const std::string src = emslam::test::sourceDir() + "/config/";
+    const mrpt::config::CConfigFile shipped(src + "experiments/" + shipped_suite);
+    const std::string file = out + "/suite.ini";
+    std::ofstream ini(file);
+    ini << "[Experiments]\nexperiments = " << exp << "\nseeds = " << seed << "\nvariants = full\n"
+        << "[Variants]\nfull = " << shipped.read_string("Variants", "full", "", true) << "\n"
+        << "[" << exp << "]\nworld = " << src << "sim/" << exp << ".ini\n"
+        << "world_set = " << shipped.read_string(exp, "world_set", "", false) << "\n"
+        << "set = " << shipped.read_string(exp, "set", "", true) << "\n"
+        << "loop = true\nmappers = " << src << "mapper/" << mapper << "\n";
+    return file;
+}
+
 std::size_t count(const std::string& text, const std::string& what)
 {
     std::size_t n = 0;
@@ -305,20 +327,11 @@ TEST(ExperimentsApp, ctrlCWritesTheTablesOfTheFinishedRuns)
 TEST(ExperimentsApp, paperRegimeLookAlikesWithdrawnLeaveTheEgomotionsShape)
 {
     const std::string out = emslam::test::makeTempDir("experiments-paper-regime");
-    const std::string src = emslam::test::sourceDir() + "/config/";
-    const mrpt::config::CConfigFile shipped(src + "experiments/paper-regime.ini");
     const std::string exp = "chancellor_zero_loop";
-    {
-        std::ofstream ini(out + "/suite.ini");
-        ini << "[Experiments]\nexperiments = " << exp << "\nseeds = 3\nvariants = full\n"
-            << "[Variants]\nfull = " << shipped.read_string("Variants", "full", "", true) << "\n"
-            << "[" << exp << "]\nworld = " << src << "sim/" << exp << ".ini\n"
-            << "world_set = " << shipped.read_string(exp, "world_set", "", true) << "\n"
-            << "set = " << shipped.read_string(exp, "set", "", true) << "\n"
-            << "loop = true\nmappers = " << src << "mapper/6dof-unstructured.ini\n";
-    }
     ExperimentsApp app;
-    initApp(app, {out + "/suite.ini", "--out", out, "--quiet"});
+    initApp(
+        app, {oneExperimentSuite(out, "paper-regime.ini", exp, 3, "6dof-unstructured.ini"), "--out",
+              out, "--quiet"});
     app.run();
     ASSERT_EQ(app.results().size(), 1u);
     const auto& r = app.results().front();
@@ -331,6 +344,29 @@ TEST(ExperimentsApp, paperRegimeLookAlikesWithdrawnLeaveTheEgomotionsShape)
         readFile(out + "/runs/" + exp + "/6dof-unstructured/full/seed3/summary.json");
     EXPECT_NE(summary.find("look-alike places, loop edges withdrawn"), std::string::npos);
     EXPECT_LE(r.slam_ate_m, 1.05 * r.egomotion_ate_m);
+}
+
+// The outdoor eight, seed 3, Exp. 8 with loop closing: its one new loop
+// comes at the end, 2.25 m of misclosure that every keyframe shares. Solved
+// with the few iterations of a local solve, the middle of the eight stayed
+// 0.84 m off the truth (SLAM ATE 0.282 m against the egomotion's 0.543 m);
+// solved until it converges, 0.13 m.
+TEST(ExperimentsApp, aNewLoopIsSolvedOverTheWholePath)
+{
+    const std::string out = emslam::test::makeTempDir("experiments-eight");
+    const std::string exp = "outdoor_eight";
+    ExperimentsApp app;
+    initApp(
+        app, {oneExperimentSuite(out, "paper.ini", exp, 3, "6dof-unstructured.ini"), "--out", out,
+              "--quiet"});
+    app.run();
+    ASSERT_EQ(app.results().size(), 1u);
+    const auto& r = app.results().front();
+    std::printf(
+        "%s seed 3, Exp. 8: egomotion gap %.3f m ATE %.3f m, SLAM gap %.4f m ATE %.3f m\n",
+        exp.c_str(), r.egomotion_gap_m, r.egomotion_ate_m, r.slam_gap_m, r.slam_ate_m);
+    EXPECT_LE(r.slam_gap_m, 0.0002 * r.path_m);
+    EXPECT_LE(r.slam_ate_m, 0.5 * r.egomotion_ate_m);
 }
 
 TEST(ExperimentsApp, badArgumentsAreRefusedBeforeAnyWork)

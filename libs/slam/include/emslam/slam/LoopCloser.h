@@ -416,6 +416,13 @@ private:
     void addGroupEdges(std::vector<std::unique_ptr<Registration>>& group, std::size_t first_tag);
     /** The first keyframe a solve for the group may move. */
     std::size_t firstFreeKeyframe(const std::vector<std::unique_ptr<Registration>>& group) const;
+    /** After a solve of the keyframes from `first_free` on: if it stopped
+     * at `max_iterations` rather than converging, the next solve frees
+     * them too. */
+    void leaveUnconverged(
+        const emslam::rectify::PoseGraph::Result& solved,
+        int max_iterations,
+        std::size_t first_free);
     /** Solves with the keyframes from `free_from` on free; keeps the
      * solution if it satisfies (within `gate`) every edge from `first_tag`
      * on and every loop edge accepted in the window, else puts the graph
