@@ -14,6 +14,7 @@
 #include <cmath>
 #include <cstdint>
 #include <random>
+#include <utility>
 #include <vector>
 
 using emslam::slam::FusedPointCloud;
@@ -281,6 +282,47 @@ TEST(FusedPointCloud, aPreciseViewGathersTheImpreciseOnes)
     EXPECT_LT(e.back(), 0.06);
     EXPECT_LE(f.cloud().size(), 220u);
     EXPECT_GE(f.cloud().size(), 180u);
+}
+
+TEST(FusedPointCloud, aVeryUncertainPointJoinsTheSurfaceOnItsRay)
+{
+    // A wall seen precisely from 1 m, and two lone points whose rays cross
+    // it, measured 1 m and 3 m in front of it with sigma 1.5 m and 8 m: both
+    // searches reach the wall (±2 sigma), the second one beyond the 127
+    // samples the search records per point, so it searches its ray again in
+    // each pass. Both join the wall's voxels.
+    const double wall_z = 6.05;
+    FusedPointCloud::TOptions o;
+    o.voxel_size = 0.1;
+    o.max_sigma = 0.05;
+    FusedPointCloud f(o);
+    std::mt19937 rng(3);
+    const TPoint3D near_view(0, 0, wall_z - 1.0);
+    f.add(wallView(near_view, wall_z, 0.005, rng), near_view);
+    const TPoint3D far_view(0.1, 0.05, 0.0);
+    std::vector<std::size_t> lone;
+    for (const auto& [in_front, sigma] : {std::pair{1.0, 1.5}, std::pair{3.0, 8.0}})
+    {
+        // On the ray from far_view through the wall cell (0.05, 0.05).
+        const TPoint3D on_wall(0.05, 0.05, wall_z);
+        const TPoint3D d = on_wall - far_view;
+        const TPoint3D p = on_wall - d * (in_front / d.norm());
+        IntensityCloud c;
+        c.points.emplace_back(
+            static_cast<float>(p.x), static_cast<float>(p.y), static_cast<float>(p.z));
+        c.intensity.push_back(50);
+        c.sigma.push_back(static_cast<float>(sigma));
+        lone.push_back(f.add(c, far_view));
+    }
+    f.fuse();
+    EXPECT_EQ(f.stats().used_points, 202u);
+    for (const std::size_t i : lone)
+    {
+        const std::int32_t fused = f.fusedIndexOf(i);
+        ASSERT_GE(fused, 0) << "point " << i;
+        EXPECT_NEAR(f.cloud().points[static_cast<std::size_t>(fused)].z, wall_z, 0.06);
+    }
+    EXPECT_EQ(f.stats().moved_points, 2u);
 }
 
 TEST(FusedPointCloud, refusesBadOptions)

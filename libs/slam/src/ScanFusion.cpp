@@ -15,6 +15,12 @@ FusedPointCloud fuseScans(
 {
     const PoseIndex index = indexPoses(poses);
     FusedPointCloud fused(options);
+    std::size_t points = 0;
+    for (const auto& s : scans)
+    {
+        points += s.cloud.size();
+    }
+    fused.reserve(points, scans.size());
     for (const auto& s : scans)
     {
         if (const auto it = index.find(s.frame_index); it != index.end())

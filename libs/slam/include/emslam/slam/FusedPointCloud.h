@@ -77,6 +77,9 @@ public:
      * the voxel size. Returns the index of its first point (points are
      * numbered in the order they are added). */
     std::size_t add(const IntensityCloud& cloud, const mrpt::math::TPoint3D& origin);
+    /** Makes room for `points` more points in `views` more views (add() and
+     * addView() then never copy what was added). */
+    void reserve(std::size_t points, std::size_t views);
     /** Adds a view given in its camera frame, the camera at `T_world_cam`. */
     std::size_t addView(
         const IntensityCloud& cloud_in_camera, const mrpt::poses::CPose3D& T_world_cam);
@@ -95,6 +98,11 @@ public:
     const Stats& stats() const { return m_stats; }
 
 private:
+    /** add() of `cloud`'s points mapped by `to_world`. */
+    template <typename ToWorld>
+    std::size_t addPoints(
+        const IntensityCloud& cloud, const mrpt::math::TPoint3D& origin, const ToWorld& to_world);
+
     TOptions m_o;
     std::vector<mrpt::math::TPoint3Df> m_points;
     std::vector<float> m_sigma;
