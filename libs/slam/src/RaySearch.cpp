@@ -91,7 +91,7 @@ public:
             return;  // empty, or cannot win: the preference is at most 1
         }
         const double t = slot == m_own ? 0.0 : k * m_step;
-        const double score = weight * std::exp(-t * t * m_inv_two_var);
+        const double score = t == 0.0 ? weight : weight * std::exp(-t * t * m_inv_two_var);
         if (score > m_best_score)
         {
             m_best_score = score;
@@ -308,7 +308,7 @@ void assignAlongRays(
     std::vector<double> weight(slot_of_id.size());
     for (int pass = 0; pass < passes; ++pass)
     {
-        // The voxels of the last assignment, summed in the points' order.
+        // The evidence of the last assignment, summed in the points' order.
         std::fill(weight.begin(), weight.end(), 0.0);
         for (std::size_t i = 0; i < n; ++i)
         {
@@ -317,7 +317,7 @@ void assignAlongRays(
                 weight[slot[i]] += inverseVariance(rays.sigma[i]);
             }
         }
-        // Each point reads the voxels and writes its own voxel: the points
+        // Each point reads the evidence and writes its own voxel: the points
         // split between threads give the same result as one thread.
         forEachRangeInParallel(
             n,
@@ -339,7 +339,7 @@ void assignAlongRays(
                         sample(i, samples);
                         for (const auto& [key, k] : samples)
                         {
-                            // Every voxel holding voxels is some point's: numbered.
+                            // Every voxel holding points is some point's: numbered.
                             if (const std::size_t s = voxels.slotOf(key); s != VoxelTable::NONE)
                             {
                                 best.consider(id_of[s], k, weight[id_of[s]]);
