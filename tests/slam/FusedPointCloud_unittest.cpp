@@ -80,6 +80,15 @@ std::vector<double> wallErrors(const IntensityCloud& c, double wall_z)
     return e;
 }
 
+/** 0.1 m voxels, kept up to a fused sigma of 0.05 m. */
+FusedPointCloud::TOptions decimetreVoxels()
+{
+    FusedPointCloud::TOptions o;
+    o.voxel_size = 0.1;
+    o.max_sigma = 0.05;
+    return o;
+}
+
 double median(const std::vector<double>& sorted)
 {
     return sorted.empty() ? NAN : sorted[sorted.size() / 2];
@@ -264,10 +273,7 @@ TEST(FusedPointCloud, aPreciseViewGathersTheImpreciseOnes)
     // the rays the far points join the near view's voxels, and the map has
     // the wall where the near view put it, with no ghost layers.
     const double wall_z = 6.05, k = 0.005;
-    FusedPointCloud::TOptions o;
-    o.voxel_size = 0.1;
-    o.max_sigma = 0.05;
-    FusedPointCloud f(o);
+    FusedPointCloud f(decimetreVoxels());
     std::mt19937 rng(9);
     const TPoint3D near_view(0, 0, wall_z - 1.0);
     f.add(wallView(near_view, wall_z, k, rng), near_view);
@@ -292,10 +298,7 @@ TEST(FusedPointCloud, aVeryUncertainPointJoinsTheSurfaceOnItsRay)
     // samples the search records per point, so it searches its ray again in
     // each pass. Both join the wall's voxels.
     const double wall_z = 6.05;
-    FusedPointCloud::TOptions o;
-    o.voxel_size = 0.1;
-    o.max_sigma = 0.05;
-    FusedPointCloud f(o);
+    FusedPointCloud f(decimetreVoxels());
     std::mt19937 rng(3);
     const TPoint3D near_view(0, 0, wall_z - 1.0);
     f.add(wallView(near_view, wall_z, 0.005, rng), near_view);
