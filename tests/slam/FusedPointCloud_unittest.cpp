@@ -294,9 +294,9 @@ TEST(FusedPointCloud, aVeryUncertainPointJoinsTheSurfaceOnItsRay)
 {
     // A wall seen precisely from 1 m, and two lone points whose rays cross
     // it, measured 1 m and 3 m in front of it with sigma 1.5 m and 8 m: both
-    // searches reach the wall (±2 sigma), the second one beyond the 127
-    // samples the search records per point, so it searches its ray again in
-    // each pass. Both join the wall's voxels.
+    // searches reach the wall (±2 sigma), the second one beyond the 126
+    // samples a side that the search records, so it searches its ray again
+    // in each pass. Both join the wall's voxels.
     const double wall_z = 6.05;
     FusedPointCloud f(decimetreVoxels());
     std::mt19937 rng(3);

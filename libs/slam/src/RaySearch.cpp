@@ -110,13 +110,16 @@ private:
 /** The voxels holding points along the rays of a range of points, in the
  * order the search meets them, each packed as its slot in the table (24 bits)
  * and its sample k + 128 (8 bits): 4 bytes, as the hall's 8 laps hold 9 per
- * point. A point whose search reaches beyond 127 samples, or all of them in
- * a table beyond 2^24 slots, is marked WALKS and searches its ray again in
- * each pass. The words are kept in chunks (a point's in one), so that
- * growing never holds two copies. */
+ * point. A point whose search reaches beyond MAX_STEPS samples on a side (σ
+ * above 31 voxels), or all of them in a table beyond 2^24 slots, is marked
+ * WALKS and searches its ray again in each pass. The words are kept in chunks (a point's in one),
+ * so that growing never holds two copies. */
 class RayCandidates
 {
 public:
+    /** Samples on each side a recorded search reaches at most: k + 128 fits
+     * 8 bits, and a point's at most 2 · 126 + 1 words never count WALKS. */
+    static constexpr int MAX_STEPS = 126;
     static constexpr std::uint8_t WALKS = 255;
 
     explicit RayCandidates(std::size_t points) : m_count(points, 0) {}
@@ -221,8 +224,10 @@ void assignAlongRays(
     { return slot[i] != NO_VOXEL && rays.sigma[i] > 0.5 * rays.voxel_size; };
     const auto steps = [&](std::size_t i)
     { return static_cast<int>(searchSteps(rays.sigma[i], rays.voxel_size)); };
-    const auto walks = [&](std::size_t i)
-    { return !packable || !(searchSteps(rays.sigma[i], rays.voxel_size) <= 127); };
+    const auto walks = [&](std::size_t i) {
+        return !packable ||
+               !(searchSteps(rays.sigma[i], rays.voxel_size) <= RayCandidates::MAX_STEPS);
+    };
     using Samples = std::vector<std::pair<std::uint64_t, int>>;
     const auto sample = [&](std::size_t i, Samples& samples)
     {
@@ -243,7 +248,7 @@ void assignAlongRays(
             const auto record = [&](std::size_t i, const Samples& samples)
             {
                 c.beginPoint();
-                std::uint8_t count = 0;  // at most 2 · 127 + 1 samples
+                std::uint8_t count = 0;  // at most 2 · MAX_STEPS + 1 samples
                 for (const auto& [key, k] : samples)
                 {
                     if (const std::size_t s = voxels.slotOf(key); s != VoxelTable::NONE)
