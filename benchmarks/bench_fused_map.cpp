@@ -19,6 +19,7 @@ using mrpt::math::TPoint3D;
 
 namespace
 {
+/** The corridor's views per walk, 0.2 m apart, and points per view. */
 constexpr int VIEWS_PER_WALK = 150;
 constexpr int POINTS_PER_VIEW = 6000;
 /** σ_z = K · z² [m]: 0.2 px of disparity noise at f·b = 40 px·m. */
