@@ -13,10 +13,6 @@
 #include <random>
 #include <vector>
 
-using emslam::slam::FusedPointCloud;
-using emslam::slam::IntensityCloud;
-using mrpt::math::TPoint3D;
-
 namespace
 {
 /** The corridor's views per walk, 0.2 m apart, and points per view. */
@@ -24,6 +20,10 @@ constexpr int VIEWS_PER_WALK = 150;
 constexpr int POINTS_PER_VIEW = 6000;
 /** σ_z = K · z² [m]: 0.2 px of disparity noise at f·b = 40 px·m. */
 constexpr double K = 0.2 / 40.0;
+
+using emslam::slam::FusedPointCloud;
+using emslam::slam::IntensityCloud;
+using mrpt::math::TPoint3D;
 
 struct View
 {
