@@ -147,12 +147,13 @@ public:
         {
             for (auto& word : chunk)
             {
-                word = (id(word >> 8) << 8) | (word & 255);
+                word = (id(voxelOf(word)) << 8) | (word & 255);
             }
         }
     }
 
-    static std::uint32_t slotOf(std::uint32_t word) { return word >> 8; }
+    /** A word's voxel: its table slot, or its dense number once renumbered. */
+    static std::uint32_t voxelOf(std::uint32_t word) { return word >> 8; }
     static int stepOf(std::uint32_t word) { return static_cast<int>(word & 255) - 128; }
 
     /** The words of the points in order: next(count) gives a point's. */
@@ -356,7 +357,7 @@ void assignAlongRays(
                         const std::uint32_t* words = reader.next(count);
                         for (std::uint8_t j = 0; j < count; ++j)
                         {
-                            const std::uint32_t s = RayCandidates::slotOf(words[j]);
+                            const std::uint32_t s = RayCandidates::voxelOf(words[j]);
                             best.consider(s, RayCandidates::stepOf(words[j]), weight[s]);
                         }
                     }

@@ -76,7 +76,6 @@ public:
     void prefetch(std::uint64_t key) const { __builtin_prefetch(&m_keys[firstSlot(key)]); }
 
     std::size_t capacity() const { return m_keys.size(); }
-    std::size_t size() const { return m_used; }
     std::uint64_t keyAt(std::size_t slot) const { return m_keys[slot]; }
     /** How many times the table grew (slots taken before then moved). */
     std::size_t grown() const { return m_grown; }
