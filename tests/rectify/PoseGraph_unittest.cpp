@@ -123,6 +123,64 @@ TEST(PoseGraph, oneLoopEdgeSpreadsTheDriftOverTheLoop)
     EXPECT_LT(distance(g.node(0), CPose3D()), 1e-12);
 }
 
+/** The square loop whose odometry turns 0.3 degrees too far at every step,
+ * closed by one registration: a solve of several iterations. */
+PoseGraph driftingSquareLoop()
+{
+    const auto truth = emslam::test::squareLoop(40);
+    PoseGraph g;
+    g.addNode(CPose3D());
+    const ActionCovariance step_cov = diagonalCovariance(0.02, mrpt::DEG2RAD(0.5));
+    for (std::size_t k = 1; k < truth.size(); ++k)
+    {
+        const CPose3D step = (truth[k] - truth[k - 1]) + CPose3D(0, 0, 0, 0, mrpt::DEG2RAD(0.3), 0);
+        g.addNode(g.node(k - 1) + step);
+        g.addEdge(k - 1, k, step, step_cov);
+    }
+    g.addEdge(0, 40, CPose3D(), diagonalCovariance(0.01, mrpt::DEG2RAD(0.1)));
+    return g;
+}
+
+TEST(PoseGraph, aSolveStopsWhenTheStepLeftIsWithinTheNoise)
+{
+    PoseGraph full = driftingSquareLoop();
+    PoseGraph enough = full;
+    const auto r_full = full.optimize(30, 1, 1e-12);
+    // Stop once the step left would lower ½χ² by less than 0.125: it moves
+    // nothing by more than half its standard deviation.
+    const auto r_enough = enough.optimize(30, 1, 1e-12, 0.125);
+    std::printf(
+        "square loop: %d iterations to cost %.6f; %d to %.6f\n", r_full.iterations,
+        r_full.final_cost, r_enough.iterations, r_enough.final_cost);
+    EXPECT_LT(r_enough.iterations, r_full.iterations);
+    EXPECT_FALSE(r_enough.stopped);
+    EXPECT_GE(r_enough.final_cost, r_full.final_cost);
+    EXPECT_LT(r_enough.final_cost - r_full.final_cost, 0.125);
+    for (std::size_t k = 0; k < full.nodeCount(); ++k)
+    {
+        // Half a standard deviation of one 2 cm step at most.
+        EXPECT_LT(distance(enough.node(k), full.node(k)), 0.01) << k;
+    }
+}
+
+TEST(PoseGraph, aStopRequestEndsTheSolveAfterTheIterationUnderWay)
+{
+    PoseGraph g = driftingSquareLoop();
+    int asked = 0;
+    const auto r = g.optimize(
+        30, 1, 1e-12, 0,
+        [&]
+        {
+            ++asked;
+            return true;
+        });
+    EXPECT_TRUE(r.stopped);
+    EXPECT_EQ(r.iterations, 1);
+    EXPECT_EQ(asked, 1);
+    EXPECT_LT(r.final_cost, 0.1 * r.initial_cost);
+    EXPECT_NEAR(r.final_cost, g.cost(), 1e-9 * r.initial_cost);
+}
+
 TEST(PoseGraph, badEdgesThrow)
 {
     PoseGraph g;

@@ -336,6 +336,7 @@ TEST(LoopCloser, parametersRoundTripAndBadValuesThrow)
     p.kept_features = 150;
     p.consensus_window = 5;
     p.max_lag = 7;
+    p.max_lag_ms = 40;
     p.local_edges = 4;
     p.vertical_prior = true;
     p.vertical.patch_px = 12;
@@ -357,6 +358,7 @@ TEST(LoopCloser, parametersRoundTripAndBadValuesThrow)
     EXPECT_EQ(q.kept_features, 150);
     EXPECT_EQ(q.consensus_window, 5);
     EXPECT_EQ(q.max_lag, 7);
+    EXPECT_DOUBLE_EQ(q.max_lag_ms, 40);
     EXPECT_EQ(q.local_edges, 4);
     EXPECT_TRUE(q.vertical_prior);
     EXPECT_EQ(q.vertical.patch_px, 12);
@@ -364,7 +366,8 @@ TEST(LoopCloser, parametersRoundTripAndBadValuesThrow)
     EXPECT_EQ(q.vertical.min_patches, 6);
     for (const char* bad :
          {"max_angle_deg = 0", "max_candidates = 0", "kept_features = -1", "consensus_window = 0",
-          "max_lag = 0", "min_path_length = -1", "max_distance = nan", "local_edges = -1"})
+          "max_lag = 0", "max_lag_ms = -1", "max_lag_ms = inf", "min_path_length = -1",
+          "max_distance = nan", "local_edges = -1"})
     {
         mrpt::config::CConfigFileMemory b(std::string("[LoopCloser]\n") + bad + "\n");
         LoopCloser::TParameters r;
@@ -456,4 +459,67 @@ TEST(LoopCloser, aStopMakesUpdatePlaceKeyframesWithoutWork)
     const auto poses = closer.currentPoses();
     ASSERT_EQ(poses.size(), 10u);
     EXPECT_NEAR(poses[9].pose.z(), 4.5, 1e-9);  // placed by the motions
+}
+
+TEST(LoopCloser, theBacklogIsTheKeyframesWaitingTimesTheirRecentCost)
+{
+    LoopCloser::TParameters p = proximityOnly();
+    p.local_edges = 3;  // some work per keyframe: registrations to the ones before
+    LoopCloser closer(p);
+    EgomotionEstimator e;
+    const ActionCovariance step_cov = diagonalCovariance(0.02, mrpt::DEG2RAD(1.0));
+    std::size_t k = 0;
+    const auto add = [&](std::size_t count)
+    {
+        for (std::size_t n = 0; n < count; ++n, ++k)
+        {
+            closer.addKeyframe(
+                k, describe(e, 100), step_cov,
+                k == 0 ? std::nullopt : std::optional<CPose3D>(CPose3D(0, 0, 0.5, 0, 0, 0)));
+        }
+    };
+    add(2);
+    EXPECT_EQ(closer.backlogMs(), 0.0);  // no keyframe timed yet
+    EXPECT_EQ(closer.update(e), 2u);
+    EXPECT_EQ(closer.backlogMs(), 0.0);  // none waiting
+    add(2);
+    const double two = closer.backlogMs();
+    add(2);
+    const double four = closer.backlogMs();
+    EXPECT_GT(two, 0.0);
+    EXPECT_NEAR(four, 2 * two, 1e-9 * two);
+    EXPECT_EQ(closer.update(e), 4u);
+    EXPECT_EQ(closer.backlogMs(), 0.0);
+}
+
+TEST(LoopCloser, prepareToCloseForgetsTheRectifiedPosesWaiting)
+{
+    // Two closers given the same keyframes and the same rectified poses,
+    // which bend the chain: one solves for them, the other was told that
+    // close() comes next.
+    const auto feed = [](LoopCloser& closer, EgomotionEstimator& e)
+    {
+        const ActionCovariance step_cov = diagonalCovariance(0.02, mrpt::DEG2RAD(1.0));
+        std::vector<LoopCloser::KeyframePose> rectified;
+        for (std::size_t k = 0; k < 6; ++k)
+        {
+            closer.addKeyframe(
+                k, describe(e, 100), step_cov,
+                k == 0 ? std::nullopt : std::optional<CPose3D>(CPose3D(0.5, 0, 0, 0, 0, 0)));
+            rectified.push_back({k, CPose3D(0.5 * k, 0.05 * k * k, 0, 0, 0, 0)});
+        }
+        EXPECT_EQ(closer.update(e), 6u);
+        closer.setRectifiedPoses(rectified);
+    };
+    EgomotionEstimator e;
+    LoopCloser solving(proximityOnly()), closing(proximityOnly());
+    feed(solving, e);
+    feed(closing, e);
+    closing.prepareToClose();
+    solving.update(e);
+    closing.update(e);
+    EXPECT_GT(solving.stats().rounds, 0u);
+    EXPECT_EQ(closing.stats().rounds, 0u);
+    EXPECT_GT(solving.currentPoses()[5].pose.y(), 0.5);  // bent by the rectified poses
+    EXPECT_NEAR(closing.currentPoses()[5].pose.y(), 0.0, 1e-9);
 }

@@ -491,7 +491,11 @@ double PoseGraph::cost() const
 }
 
 PoseGraph::Result PoseGraph::optimize(
-    int max_iterations, std::size_t first_free, double min_relative_decrease)
+    int max_iterations,
+    std::size_t first_free,
+    double min_relative_decrease,
+    double min_decrease,
+    const std::function<bool()>& stop)
 {
     const std::size_t n = m_nodes.size();
     first_free = std::min(std::max<std::size_t>(first_free, 1), n);
@@ -532,6 +536,11 @@ PoseGraph::Result PoseGraph::optimize(
     Damping damping;
     for (int it = 0; it < max_iterations; ++it)
     {
+        if (it > 0 && stop && stop())
+        {
+            res.stopped = true;
+            return res;
+        }
         Triplets triplets;
         triplets.reserve(active.size() * 144);
         Eigen::VectorXd g = Eigen::VectorXd::Zero(u.dim);
@@ -547,6 +556,12 @@ PoseGraph::Result PoseGraph::optimize(
         }
         Eigen::SparseMatrix<double> H(u.dim, u.dim);
         H.setFromTriplets(triplets.begin(), triplets.end());
+        // The last factorisation predicts the decrease of the step from
+        // here, ½ gᵀA⁻¹g, without the new one (most of an iteration's time).
+        if (it > 0 && min_decrease > 0 && 0.5 * g.dot(damping.solver.solve(g)) < min_decrease)
+        {
+            return res;
+        }
         const StepOutcome outcome = dampedStep(
             H, g, u, fp, activeCost, min_relative_decrease, damping, m_nodes, m_frame,
             res.final_cost);

@@ -363,7 +363,9 @@ void EntropySlam::addKeyframe(
     {
         m_loop_worker->notify();
         const std::size_t lag = m_loops.keyframeCount() - m_loops.processedCount();
-        if (lag > static_cast<std::size_t>(m_p.loop_closer.max_lag))
+        const double max_ms = m_p.loop_closer.max_lag_ms;
+        if (lag > static_cast<std::size_t>(m_p.loop_closer.max_lag) ||
+            (max_ms > 0 && m_loops.backlogMs() > max_ms))
         {
             m_loop_worker->drain();
         }
@@ -516,7 +518,12 @@ void EntropySlam::finish()
     }
     m_finished = true;
     completePendingKeyframe(nullptr);
-    // The loop closer catches up on its thread meanwhile.
+    // The loop closer catches up on its thread meanwhile; its polish takes
+    // the final rectified poses.
+    if (loopClosing())
+    {
+        m_loops.prepareToClose();
+    }
     m_runner->finish();
     if (m_loop_worker)
     {

@@ -49,6 +49,12 @@ constexpr double RECTIFIED_CHANGE_MIN = 0.01;
 /** A solve stops once an iteration lowers the cost by less than this
  * fraction: far below the noise of any edge. */
 constexpr double SOLVE_TOLERANCE = 1e-6;
+/** The polish stops once the step left would lower the cost (½χ²) by less
+ * than this: δᵀHδ < ¼, a step of less than half a standard deviation of any
+ * quantity the graph estimates (Cauchy–Schwarz in the metric of H). The
+ * 4-lap hall's polish freed 1,281 keyframes and spent three of its four
+ * iterations (0.3 s) lowering the cost by 0.04. */
+constexpr double POLISH_MIN_DECREASE = 0.125;
 /** Registrations that must agree for a loop to close (step 5). */
 constexpr std::size_t CONSENSUS_MIN = 2;
 /** Solves after dropping refused loop edges, at most. */
@@ -339,6 +345,9 @@ void visit(LoopCloser::TParameters& p, emslam::util::ConfigVisitor& v)
     v.field("kept_features", p.kept_features, "features kept per keyframe, 8-bit (0: all, float)");
     v.field("consensus_window", p.consensus_window, "keyframes whose registrations may agree");
     v.field("max_lag", p.max_lag, "keyframes loop closing may lag before the mapper waits");
+    v.field(
+        "max_lag_ms", p.max_lag_ms,
+        "[ms] work loop closing may have left before the mapper waits (0: max_lag only)");
 }
 }  // namespace
 
@@ -395,6 +404,10 @@ void LoopCloser::TParameters::validate() const
     {
         bad("max_lag", "must be >= 1 keyframe");
     }
+    if (!(max_lag_ms >= 0) || !std::isfinite(max_lag_ms))
+    {
+        bad("max_lag_ms", "must be a time >= 0 ms (0: max_lag only)");
+    }
     if (!(vertical_max_bias_deg >= 0 && vertical_max_bias_deg <= 30))
     {
         bad("vertical_max_bias_deg", "must be in [0, 30] degrees (0: no bias solved)");
@@ -448,6 +461,13 @@ std::size_t LoopCloser::processedCount() const
 {
     std::lock_guard<std::mutex> lock(m_out_mutex);
     return m_published.size();
+}
+
+double LoopCloser::backlogMs() const
+{
+    const std::size_t added = keyframeCount();
+    std::lock_guard<std::mutex> lock(m_out_mutex);
+    return static_cast<double>(added - std::min(added, m_published.size())) * m_ms_per_keyframe;
 }
 
 void LoopCloser::observeVertical(
@@ -512,6 +532,13 @@ void LoopCloser::setRectifiedPoses(std::vector<KeyframePose> poses)
     m_incoming_rectified = std::move(poses);
 }
 
+void LoopCloser::prepareToClose()
+{
+    std::lock_guard<std::mutex> lock(m_in_mutex);
+    m_incoming_rectified.reset();
+    m_closing = true;
+}
+
 std::size_t LoopCloser::applyRectified(const std::vector<KeyframePose>& poses)
 {
     std::vector<const mrpt::poses::CPose3D*> by_keyframe(m_keyframes.size(), nullptr);
@@ -573,6 +600,8 @@ std::size_t LoopCloser::update(
         integrate(std::move(k), T, estimator, !(stop && stop()));
         ++done;
     }
+    const double keyframes_ms =
+        std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
     const std::size_t first_changed =
         rectified && !(stop && stop()) ? applyRectified(*rectified) : m_keyframes.size();
     if (first_changed < m_keyframes.size())
@@ -583,7 +612,9 @@ std::size_t LoopCloser::update(
         // from where the graph is, of the keyframes it moved (and those the
         // local edges added since the last solve reach).
         const std::size_t first_free = std::min(first_changed, m_unsolved_from);
-        const auto solved = m_graph.optimize(RECTIFIED_ITERATIONS, first_free, SOLVE_TOLERANCE);
+        const auto solved = m_graph.optimize(
+            RECTIFIED_ITERATIONS, first_free, SOLVE_TOLERANCE, 0,
+            [this] { return m_closing.load(); });
         m_unsolved_from = NONE_UNSOLVED;
         leaveUnconverged(solved, RECTIFIED_ITERATIONS, first_free);
         m_solved_upto = m_keyframes.size();
@@ -595,6 +626,18 @@ std::size_t LoopCloser::update(
     }
     m_stats.ms +=
         std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
+    if (done > 0)
+    {
+        // A keyframe's cost grows with the revisits it meets: the recent
+        // ones count, each with the weight of one in 32. (Not the solves for
+        // rectified poses: prepareToClose() cuts them short.)
+        const double recent = std::pow(1.0 - 1.0 / 32, static_cast<double>(done));
+        const double per_keyframe = keyframes_ms / static_cast<double>(done);
+        std::lock_guard<std::mutex> lock(m_out_mutex);
+        m_ms_per_keyframe = m_ms_per_keyframe == 0
+                                ? per_keyframe
+                                : recent * m_ms_per_keyframe + (1 - recent) * per_keyframe;
+    }
     return done;
 }
 
@@ -1173,9 +1216,9 @@ std::size_t LoopCloser::firstFreeKeyframe(
 void LoopCloser::leaveUnconverged(
     const emslam::rectify::PoseGraph::Result& solved, int max_iterations, std::size_t first_free)
 {
-    // Stopped by its cap, not by the tolerance: the next solve starts from
+    // Stopped by its cap or cut short, not by the tolerance: the next solve starts from
     // these keyframes too, whatever it would have freed.
-    if (solved.iterations >= max_iterations)
+    if (solved.iterations >= max_iterations || solved.stopped)
     {
         m_unsolved_from = std::min(m_unsolved_from, std::max<std::size_t>(first_free, 1));
     }
@@ -1365,7 +1408,8 @@ void LoopCloser::solve(int max_iterations, std::size_t first_free)
     const double gate = loopEdgeGate();
     for (int pass = 0; pass < MAX_DROP_PASSES; ++pass)
     {
-        const auto solved = m_graph.optimize(max_iterations, first_free, SOLVE_TOLERANCE);
+        const auto solved =
+            m_graph.optimize(max_iterations, first_free, SOLVE_TOLERANCE, POLISH_MIN_DECREASE);
         leaveUnconverged(solved, max_iterations, first_free);
         if (m_stats.rounds == 0)
         {

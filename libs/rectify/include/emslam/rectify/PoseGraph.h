@@ -75,6 +75,7 @@ public:
         int iterations{0};       //!< Levenberg–Marquardt iterations run
         double initial_cost{0};  //!< E before
         double final_cost{0};    //!< E after
+        bool stopped{false};     //!< cut short by `stop`
     };
 
     /** Appends a node at world pose `pose`; returns its index. */
@@ -125,7 +126,10 @@ public:
     /** ½ δᵀ Ω δ of one edge at the current nodes. */
     double edgeCost(const Edge& e) const;
     /** Levenberg–Marquardt until the relative decrease of E falls below
-     * `min_relative_decrease` or `max_iterations`; node 0 and every node
+     * `min_relative_decrease`, or the decrease the next step is predicted
+     * to bring (from the last factorisation) below `min_decrease`, or
+     * `max_iterations`, or `stop` returning true before an iteration after
+     * the first (the nodes stay where the last iteration left them); node 0 and every node
      * before `first_free` stay where they are (a local solve: only the
      * edges that reach a free node are looked at, so its cost follows them,
      * not the graph). Every direction prior counts: a free node's moves its
@@ -133,7 +137,11 @@ public:
      * node fixed, `first_free` >= nodeCount(), only w and b move). Result
      * costs are of those edges and of the priors that count. */
     Result optimize(
-        int max_iterations = 30, std::size_t first_free = 1, double min_relative_decrease = 1e-9);
+        int max_iterations = 30,
+        std::size_t first_free = 1,
+        double min_relative_decrease = 1e-9,
+        double min_decrease = 0,
+        const std::function<bool()>& stop = {});
 
 private:
     std::vector<mrpt::poses::CPose3D> m_nodes;

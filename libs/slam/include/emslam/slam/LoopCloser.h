@@ -11,6 +11,7 @@
 #include <mrpt/config/CLoadableOptions.h>
 #include <mrpt/poses/CPose3D.h>
 
+#include <atomic>
 #include <chrono>
 #include <cstddef>
 #include <functional>
@@ -184,6 +185,12 @@ public:
          * before the mapper waits for it: bounds the work left at the end
          * of a run and how old the online estimate may be. (Default: 20) */
         int max_lag{20};
+        /** [ms] Work the background loop closing may have left before the
+         * mapper waits for it: the keyframes waiting times its recent time
+         * per keyframe. Bounds the time after the last frame and the age of
+         * the online estimate in time, on any machine. 0: max_lag only.
+         * (Default: 100) */
+        double max_lag_ms{100};
         /** The up measurement: section `[VerticalFromPlanes]`, loaded by
          * EntropySlam::TParameters (not by this struct's load / save). */
         emslam::stereo::VerticalFromPlanes::TParameters vertical;
@@ -320,10 +327,18 @@ public:
      * estimate has the rectification as well as the loops. Only the latest
      * set waits. */
     void setRectifiedPoses(std::vector<KeyframePose> poses);
+    /** Before close() (any thread): forgets the rectified poses still
+     * waiting and cuts short a solve for them after its current iteration,
+     * since close() takes the final ones: solving for them first would be
+     * work done twice after the last frame. */
+    void prepareToClose();
     /** Keyframes added so far (any thread). */
     std::size_t keyframeCount() const;
     /** Keyframes in the graph so far (any thread). */
     std::size_t processedCount() const;
+    /** [ms] The time the keyframes added but not yet in the graph will
+     * take, at the recent time per keyframe (any thread). */
+    double backlogMs() const;
 
     /** Background thread: the work of every keyframe added since the last
      * call (see the class comment), in order; while `stop` returns true the
@@ -463,7 +478,7 @@ private:
     /** Whether each member of a refused group agrees with most loop edges
      * accepted in the window: the loop followed, not a contradiction. */
     bool continuesAcceptedLoop(const std::vector<std::unique_ptr<Registration>>& group) const;
-    /** Solve (the keyframes from `first_free` on), drop loop edges the
+    /** The polish: solve (the keyframes from `first_free` on), drop loop edges the
      * solution refuses, solve again. */
     void solve(int max_iterations, std::size_t first_free = 1);
     /** The online levelling (relevelFloors()) with the keyframes' ups so
@@ -492,6 +507,7 @@ private:
     std::vector<std::pair<std::size_t, emslam::stereo::VerticalMeasurement>> m_incoming_verticals;
     std::size_t m_added{0};
     std::optional<std::vector<KeyframePose>> m_incoming_rectified;
+    std::atomic<bool> m_closing{false};  // prepareToClose() was called
     // Background side.
     std::vector<Keyframe> m_keyframes;
     std::map<std::size_t, std::size_t> m_keyframe_of_frame;
@@ -529,6 +545,7 @@ private:
     // Published.
     mutable std::mutex m_out_mutex;
     std::vector<KeyframePose> m_published;
+    double m_ms_per_keyframe{0};  // recent, of update()
     std::vector<std::pair<std::size_t, std::size_t>> m_published_loops;
     std::string m_published_unreliable;
 };
