@@ -163,7 +163,8 @@ struct FramePoint
     Mat32 Ew;  //!< moves of w: tangent to it
 };
 
-/** One edge's J ᵀW J and J ᵀW r, on the free ends' unknowns. */
+/** One edge's J ᵀW J (its lower triangle: the solver reads no other) and
+ * J ᵀW r, on the free ends' unknowns. */
 void addEdgeTerms(
     const PoseGraph::Edge& e,
     const std::vector<mrpt::poses::CPose3D>& nodes,
@@ -188,7 +189,7 @@ void addEdgeTerms(
         g.segment<6>(u.col(ends[a])) += b.segment<6>(6 * a);
         for (int c = 0; c < 2; ++c)
         {
-            if (u.fixed(ends[c]))
+            if (u.fixed(ends[c]) || u.col(ends[a]) < u.col(ends[c]))
             {
                 continue;
             }
@@ -255,7 +256,7 @@ std::vector<std::pair<Eigen::Index, Eigen::MatrixXd>> priorJacobian(
     return blocks;
 }
 
-/** One direction prior's J ᵀΛ J and J ᵀΛ ρ. */
+/** One direction prior's J ᵀΛ J (its lower triangle) and J ᵀΛ ρ. */
 void addPriorTerms(
     const PoseGraph::DirectionPrior& p,
     const mrpt::poses::CPose3D& x,
@@ -272,6 +273,10 @@ void addPriorTerms(
         g.segment(ci, Ji.cols()) += Ji.transpose() * W * r;
         for (const auto& [cj, Jj] : blocks)
         {
+            if (ci < cj)
+            {
+                continue;
+            }
             const Eigen::MatrixXd Hij = Ji.transpose() * W * Jj;
             for (Eigen::Index a = 0; a < Hij.rows(); ++a)
             {
@@ -542,7 +547,7 @@ PoseGraph::Result PoseGraph::optimize(
             return res;
         }
         Triplets triplets;
-        triplets.reserve(active.size() * 144);
+        triplets.reserve(active.size() * 108);
         Eigen::VectorXd g = Eigen::VectorXd::Zero(u.dim);
         for (std::size_t ei : active)
         {
