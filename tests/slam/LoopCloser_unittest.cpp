@@ -292,6 +292,36 @@ TEST(LoopCloser, localEdgesRepairABadStepOfAnOpenPath)
     }
 }
 
+TEST(LoopCloser, aLocalEdgeDepthThatNeverPassesIsTriedOnlyNowAndThen)
+{
+    // Keyframes alternate between two textures: the keyframe before never
+    // registers (another texture), the one two back always does (the same
+    // view). After 16 failures in a row, depth 1 is tried only every 8th
+    // keyframe; depth 2 goes on every time, so every edge it gives is kept.
+    EgomotionEstimator e;
+    const auto a = describe(e, 11);
+    const auto b = describe(e, 12);
+    constexpr std::size_t KEYFRAMES = 48;
+    LoopCloser::TParameters p = proximityOnly();
+    p.enabled = true;
+    p.local_edges = 2;
+    LoopCloser closer(p);
+    const ActionCovariance cov = diagonalCovariance(0.02, mrpt::DEG2RAD(1.0));
+    for (std::size_t k = 0; k < KEYFRAMES; ++k)
+    {
+        closer.addKeyframe(k, k % 2 == 0 ? a : b, cov, CPose3D());
+    }
+    closer.close(std::vector<CPose3D>(KEYFRAMES), e);
+    const auto& s = closer.stats();
+    std::printf(
+        "alternating views: %zu local registrations, %zu skipped, %zu edges\n",
+        s.local_registrations, s.local_skipped, s.local_edges);
+    // Depth 1: 16 tries, then keyframes 24, 32, 40 (every 8th, from 17 on).
+    EXPECT_EQ(s.local_edges, KEYFRAMES - 2);
+    EXPECT_EQ(s.local_registrations, (KEYFRAMES - 2) + 16 + 3);
+    EXPECT_EQ(s.local_registrations + s.local_skipped, 2 * KEYFRAMES - 3);
+}
+
 TEST(LoopCloser, localEdgesUndoAStepTheRectifierBent)
 {
     // The poses given to close() (the rectified chain) have one step 0.3 m
