@@ -103,11 +103,24 @@ LoopRun mapLoop(EntropySlam& slam)
 {
     const std::vector<TruthFrame>& frames = smallLoopFrames(FPS, LOOP_FRAMES);
     const std::vector<CPose3D> truth = truthOf(frames);
+    // Every keyframe's map cloud joins the map once, in order, whichever
+    // process() (or finish()) finds it ready.
+    std::vector<std::size_t> added;
+    const auto collect = [&]
+    {
+        for (const auto& c : slam.addedClouds())
+        {
+            added.push_back(c.frame_index);
+            EXPECT_FALSE(c.cloud.empty()) << "keyframe " << c.frame_index;
+        }
+    };
     for (const TruthFrame& f : frames)
     {
         EXPECT_TRUE(slam.process(*f.obs));
+        collect();
     }
     slam.finish();
+    collect();
     const auto ego = posesOf(slam.egomotionPoses());
     const auto est = posesOf(slam.slamPoses());
     const auto keyframe_poses = posesOf(slam.keyframePoses());
@@ -136,6 +149,7 @@ LoopRun mapLoop(EntropySlam& slam)
     const std::vector<std::size_t> expected = trueKeyframes(truth, margin);
     EXPECT_GT(margin, 0.1) << "a keyframe decision too close to call";
     EXPECT_EQ(slam.keyframes(), expected);
+    EXPECT_EQ(added, expected);
     EXPECT_EQ(slam.acceptedCount(), expected.size());
     EXPECT_LT(expected.size(), frames.size());
     // Each keyframe sits at its rectified pose; every other frame at its

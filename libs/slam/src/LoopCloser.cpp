@@ -88,11 +88,6 @@ constexpr double CHI2_6DOF_MEDIAN = 5.348;
  * recent), and how many before the calibration is trusted. */
 constexpr std::size_t MISCLOSURE_SAMPLES = 256;
 constexpr std::size_t MISCLOSURE_MIN_SAMPLES = 16;
-/** A depth of the local edges none of whose last LOCAL_DEPTH_WINDOW
- * registrations joined the graph is tried only every LOCAL_DEPTH_PROBE
- * keyframes: a full registration costs as much as the egomotion's step. */
-constexpr std::size_t LOCAL_DEPTH_WINDOW = 16;
-constexpr std::size_t LOCAL_DEPTH_PROBE = 8;
 /** Features of a keyframe the place recognition indexes when the keyframes
  * keep every feature (kept_features = 0). */
 constexpr std::size_t PLACE_FEATURES = 200;
@@ -744,14 +739,13 @@ void LoopCloser::addLocalEdges(
         return;
     }
     const auto cur = m_keyframes[j].description;
-    m_local_depth_passed.resize(depth);
     for (std::size_t i = j - std::min(j, depth); i < j; ++i)
     {
-        std::deque<bool>& passed = m_local_depth_passed[j - i - 1];
-        const bool lately = passed.size() < LOCAL_DEPTH_WINDOW ||
-                            std::find(passed.begin(), passed.end(), true) != passed.end();
-        if (!lately && j % LOCAL_DEPTH_PROBE != 0)
+        if (i + 1 == j && m_keyframes[i].frame_index + 1 == m_keyframes[j].frame_index &&
+            !m_keyframes[j].predicted)
         {
+            // Two consecutive frames: their registration is the egomotion's
+            // own step, the odometry edge already; twice would count it twice.
             ++m_stats.local_skipped;
             continue;
         }
@@ -762,11 +756,6 @@ void LoopCloser::addLocalEdges(
         }
         const auto r = estimator.estimate(prev, cur);
         ++m_stats.local_registrations;
-        passed.push_back(false);
-        if (passed.size() > LOCAL_DEPTH_WINDOW)
-        {
-            passed.pop_front();
-        }
         if (!r.ok)
         {
             continue;
@@ -797,7 +786,6 @@ void LoopCloser::addLocalEdges(
         {
             continue;
         }
-        passed.back() = true;
         m_graph.addEdge(i, j, r.T_prev_cur, cov, EDGE_LOCAL);
         m_unsolved_from = std::min(m_unsolved_from, std::max<std::size_t>(i, 1));
         ++m_stats.local_edges;

@@ -32,7 +32,7 @@ void MapperLiveFeed::update(const slam::EntropySlam& m)
         return;
     }
     const mrpt::poses::CPose3D& T_world_cam = m.egomotionPoses().back().T_world_frame;
-    if (const slam::IntensityCloud* cloud = m.lastAcceptedCloud())
+    for (const auto& added : m.addedClouds())
     {
         const auto& o = m.parameters().mapper;
         if (!m_fusion)
@@ -40,7 +40,7 @@ void MapperLiveFeed::update(const slam::EntropySlam& m)
             m_fusion.emplace(o.fused_voxel_size, o.max_point_sigma, o.max_observation_sigma);
         }
         const slam::IntensityCloud certain =
-            m_fusion->add(*cloud, m.egomotionPoses().at(m.lastAcceptedCloudFrame()).T_world_frame);
+            m_fusion->add(added.cloud, m.egomotionPoses().at(added.frame_index).T_world_frame);
         // The same ceiling cut as map.3Dscene, so the trajectories stay visible.
         m_viewer.addMapPoints(cutAboveHeight(certain, o.export_max_height));
     }

@@ -24,6 +24,7 @@
 #include <mrpt/poses/CPose3D.h>
 
 #include <cstddef>
+#include <deque>
 #include <functional>
 #include <future>
 #include <limits>
@@ -208,13 +209,18 @@ public:
     /** Reference (left) image of the last processed frame (shares its
      * pixels; empty before the first frame). */
     const cv::Mat& lastImage() const { return m_last_image; }
-    /** Map cloud (own camera frame) of the keyframe the last process()
-     * added to the map, else nullptr: the frame just processed, or with a
-     * sparse front-end ([StereoMatcher] sparse_at_features) the keyframe before it,
-     * whose dense cloud was computed meanwhile on another thread. */
-    const IntensityCloud* lastAcceptedCloud() const;
-    /** Frame index (as in frames()) of lastAcceptedCloud(). */
-    std::size_t lastAcceptedCloudFrame() const { return m_last_cloud_frame; }
+    /** A keyframe's map cloud, in its own camera frame. */
+    struct AddedCloud
+    {
+        std::size_t frame_index{0};  //!< as in frames()
+        IntensityCloud cloud;        //!< in the keyframe's camera frame
+    };
+    /** The map clouds of the keyframes the last process() (or finish())
+     * added to the map,
+     * oldest first (often none or one): the frame just processed, or with a
+     * sparse front-end ([StereoMatcher] sparse_at_features) keyframes before
+     * it, whose dense clouds were computed meanwhile on another thread. */
+    const std::vector<AddedCloud>& addedClouds() const { return m_added_clouds; }
     /** World poses of the keyframes in the current estimate (a copy): with
      * loop closing, every loop closed so far (keyframes the background has
      * not reached yet left out); without, as rectified so far (AnyTime:
@@ -309,9 +315,10 @@ private:
         emslam::rectify::ActionCovariance covariance;
         std::future<DenseKeyframe> cloud;
     };
-    /** Waits for the pending keyframe's cloud (if any) and adds it; its
-     * times go to `record` (if given). */
-    void completePendingKeyframe(FrameRecord* record);
+    /** Adds the pending keyframes' clouds in order: those ready, and while
+     * more than `keep` are pending, waits for the oldest. Their times go to
+     * `record` (if given). */
+    void completePendingKeyframe(FrameRecord* record, std::size_t keep = 0);
     /** The front-end's step; false: no frame yet. Throws UnusableObservation
      * for what the front-end cannot use. */
     bool runOdometry(const mrpt::obs::CObservation& obs, StereoOdometry::Step& step);
@@ -372,10 +379,8 @@ private:
     ElementClouds m_clouds;
     std::vector<ElementClouds::Scan> m_keyframe_scans, m_fused_scans;
     FusedPointCloud::Stats m_fusion_stats;
-    IntensityCloud m_last_cloud;  //!< the last accepted frame's cloud, camera frame
-    std::size_t m_last_cloud_frame{0};
-    bool m_cloud_added{false};  //!< by the last process()
-    std::optional<PendingKeyframe> m_pending;
+    std::vector<AddedCloud> m_added_clouds;  //!< by the last process()
+    std::deque<PendingKeyframe> m_pending;   //!< oldest first
     IntensityCloud m_map_cloud;
     std::vector<emslam::rectify::RectificationStats> m_rectifications;
     int m_image_width{0}, m_image_height{0};

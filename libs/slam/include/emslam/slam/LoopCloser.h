@@ -14,7 +14,6 @@
 #include <atomic>
 #include <chrono>
 #include <cstddef>
-#include <deque>
 #include <functional>
 #include <limits>
 #include <map>
@@ -162,10 +161,9 @@ public:
          * keyframes before it, and those registrations join the pose graph:
          * one registration in place of a chain of frame-to-frame steps, so
          * the chain's errors average out along the whole path, loop or not.
-         * 0: off. A few ms per registration; a depth whose last 16
-         * registrations all failed or were refused is tried again only every
-         * 8th keyframe (e.g. a car whose keyframes are metres apart: the
-         * keyframe two back rarely registers). (Default: 3) */
+         * 0: off. A few ms per registration. Not made: the one to the
+         * keyframe just before when it is the frame just before (that is the
+         * egomotion's own step, already the odometry edge). (Default: 3) */
         int local_edges{3};
         /** Level the floors: each keyframe's dense cloud says where up is
          * (emslam::stereo::VerticalFromPlanes), and those that agree join
@@ -216,7 +214,7 @@ public:
         std::size_t loop_edges{0};           //!< accepted into the pose graph
         std::size_t local_registrations{0};  //!< of `local_edges`, tried
         std::size_t local_edges{0};          //!< of them: within the gate, in the graph
-        /** Local registrations not tried: their depth had not passed lately. */
+        /** Local registrations not made: the egomotion's own step. */
         std::size_t local_skipped{0};
         std::size_t verticals_measured{0};  //!< keyframes whose up was measured
         std::size_t verticals_used{0};      //!< of them: agreed, in the graph
@@ -525,9 +523,6 @@ private:
     /** Mahalanobis² of the recent local registrations to the egomotion's
      * chain (ring): how far the egomotion's covariance understates its error. */
     std::vector<double> m_local_misclosures;
-    /** Per depth of the local edges (1: the keyframe before), whether its
-     * recent registrations joined the graph (ring, newest last). */
-    std::vector<std::deque<bool>> m_local_depth_passed;
     /** Contradicting groups, each counted once per consensus window of
      * keyframes it spans. */
     std::size_t m_contradicting_windows{0};
