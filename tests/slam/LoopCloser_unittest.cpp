@@ -17,7 +17,6 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
-#include <iterator>
 #include <map>
 #include <optional>
 #include <stdexcept>
@@ -291,31 +290,6 @@ TEST(LoopCloser, localEdgesRepairABadStepOfAnOpenPath)
         EXPECT_LT(after, 0.03);
         EXPECT_LT(distance(closed[6], kf.truth[6]), 0.05);
     }
-}
-
-TEST(LoopCloser, theFrameJustBeforeIsNotRegisteredAgain)
-{
-    // Keyframes of consecutive frames, one view: the registration to the
-    // keyframe just before would repeat the egomotion's step (the odometry
-    // edge), so it is not made, except where that step was predicted (the
-    // egomotion failed there) or frames lie between the two keyframes.
-    EgomotionEstimator e;
-    const auto view = describe(e, 13);
-    LoopCloser::TParameters p = proximityOnly();
-    p.enabled = true;
-    p.local_edges = 1;
-    LoopCloser closer(p);
-    const ActionCovariance cov = diagonalCovariance(0.02, mrpt::DEG2RAD(1.0));
-    const std::size_t frames[] = {0, 1, 2, 3, 5, 6, 7};
-    for (const std::size_t f : frames)
-    {
-        closer.addKeyframe(f, view, cov, CPose3D(), f == 3);
-    }
-    closer.close(std::vector<CPose3D>(std::size(frames)), e);
-    const auto& s = closer.stats();
-    EXPECT_EQ(s.local_registrations, 2u);  // into frame 3 (predicted) and frame 5 (after a gap)
-    EXPECT_EQ(s.local_edges, 2u);
-    EXPECT_EQ(s.local_skipped, 4u);
 }
 
 TEST(LoopCloser, localEdgesUndoAStepTheRectifierBent)

@@ -741,14 +741,6 @@ void LoopCloser::addLocalEdges(
     const auto cur = m_keyframes[j].description;
     for (std::size_t i = j - std::min(j, depth); i < j; ++i)
     {
-        if (i + 1 == j && m_keyframes[i].frame_index + 1 == m_keyframes[j].frame_index &&
-            !m_keyframes[j].predicted)
-        {
-            // Two consecutive frames: their registration is the egomotion's
-            // own step, the odometry edge already; twice would count it twice.
-            ++m_stats.local_skipped;
-            continue;
-        }
         const auto prev = descriptionOf(i);
         if (!prev)
         {

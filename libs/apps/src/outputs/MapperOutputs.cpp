@@ -254,7 +254,7 @@ void writeLoopClosingJson(std::ostream& j, const slam::EntropySlam& m)
       << ", \"candidates\": " << lc.candidates << ", \"registrations\": " << lc.registrations
       << ", \"registered\": " << lc.registered << ", \"loop_edges\": " << lc.loop_edges
       << ", \"local_registrations\": " << lc.local_registrations
-      << ", \"local_edges\": " << lc.local_edges << ", \"local_skipped\": " << lc.local_skipped
+      << ", \"local_edges\": " << lc.local_edges
       << ", \"verticals_measured\": " << lc.verticals_measured
       << ", \"verticals_used\": " << lc.verticals_used
       << ", \"vertical_drift_deg\": " << io::jsonNumber(lc.vertical_drift_deg)

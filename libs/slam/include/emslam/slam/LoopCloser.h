@@ -161,9 +161,7 @@ public:
          * keyframes before it, and those registrations join the pose graph:
          * one registration in place of a chain of frame-to-frame steps, so
          * the chain's errors average out along the whole path, loop or not.
-         * 0: off. A few ms per registration. Not made: the one to the
-         * keyframe just before when it is the frame just before (that is the
-         * egomotion's own step, already the odometry edge). (Default: 3) */
+         * 0: off. A few ms per registration. (Default: 3) */
         int local_edges{3};
         /** Level the floors: each keyframe's dense cloud says where up is
          * (emslam::stereo::VerticalFromPlanes), and those that agree join
@@ -214,11 +212,9 @@ public:
         std::size_t loop_edges{0};           //!< accepted into the pose graph
         std::size_t local_registrations{0};  //!< of `local_edges`, tried
         std::size_t local_edges{0};          //!< of them: within the gate, in the graph
-        /** Local registrations not made: the egomotion's own step. */
-        std::size_t local_skipped{0};
-        std::size_t verticals_measured{0};  //!< keyframes whose up was measured
-        std::size_t verticals_used{0};      //!< of them: agreed, in the graph
-        double vertical_drift_deg{0};       //!< tilt spread before levelling
+        std::size_t verticals_measured{0};   //!< keyframes whose up was measured
+        std::size_t verticals_used{0};       //!< of them: agreed, in the graph
+        double vertical_drift_deg{0};        //!< tilt spread before levelling
         /** The camera's own tilt of what it sees [deg]; NaN while not
          * observable (see levelFloors()). */
         double vertical_bias_deg{std::numeric_limits<double>::quiet_NaN()};
