@@ -216,10 +216,10 @@ public:
         IntensityCloud cloud;        //!< in the keyframe's camera frame
     };
     /** The map clouds of the keyframes the last process() (or finish())
-     * added to the map,
-     * oldest first (often none or one): the frame just processed, or with a
-     * sparse front-end ([StereoMatcher] sparse_at_features) keyframes before
-     * it, whose dense clouds were computed meanwhile on another thread. */
+     * added to the map, oldest first (often none or one): the frame just
+     * processed, or with a sparse front-end ([StereoMatcher]
+     * sparse_at_features) keyframes before it, whose dense clouds were
+     * computed meanwhile on another thread. */
     const std::vector<AddedCloud>& addedClouds() const { return m_added_clouds; }
     /** World poses of the keyframes in the current estimate (a copy): with
      * loop closing, every loop closed so far (keyframes the background has
@@ -379,7 +379,7 @@ private:
     ElementClouds m_clouds;
     std::vector<ElementClouds::Scan> m_keyframe_scans, m_fused_scans;
     FusedPointCloud::Stats m_fusion_stats;
-    std::vector<AddedCloud> m_added_clouds;  //!< by the last process()
+    std::vector<AddedCloud> m_added_clouds;  //!< by the last process() or finish()
     std::deque<PendingKeyframe> m_pending;   //!< oldest first
     IntensityCloud m_map_cloud;
     std::vector<emslam::rectify::RectificationStats> m_rectifications;
