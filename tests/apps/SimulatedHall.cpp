@@ -60,6 +60,24 @@ void writeEditedHall(
     }
 }
 
+void writeHallFrames(const std::string& rawlog, std::size_t first, std::size_t count)
+{
+    emslam::io::RawlogInput in(simulatedHall(first + count));
+    mrpt::io::CFileGZOutputStream out(rawlog);
+    auto arch = mrpt::serialization::archiveFrom(out);
+    std::vector<mrpt::obs::CObservation::Ptr> batch;
+    for (std::size_t i = 0; in.next(batch); i++)
+    {
+        for (const auto& o : batch)
+        {
+            if (i >= first)
+            {
+                arch << *o;
+            }
+        }
+    }
+}
+
 void resizeStereoFrame(mrpt::obs::CObservationStereoImages& stereo, int width, int height)
 {
     cv::Mat left, right;

@@ -23,6 +23,9 @@ void writeEditedHall(
     std::size_t frames,
     const std::function<void(std::size_t, mrpt::obs::CObservationStereoImages&)>& edit);
 
+/** Writes frames [first, first + count) of the simulated hall to `rawlog` (gz). */
+void writeHallFrames(const std::string& rawlog, std::size_t first, std::size_t count);
+
 /** Makes `stereo` a frame of another camera: both images resized to `width`
  * x `height` and the calibration scaled to match (a valid frame, of another
  * size). */

@@ -425,17 +425,22 @@ void PoseGraph::addEdge(
     const ActionCovariance& covariance,
     std::size_t tag)
 {
-    if (from >= m_nodes.size() || to >= m_nodes.size())
+    addEdge(Edge{from, to, measurement, informationOf(covariance, 6), tag});
+}
+
+void PoseGraph::addEdge(const Edge& e)
+{
+    if (e.from >= m_nodes.size() || e.to >= m_nodes.size())
     {
         throw std::out_of_range(
-            "PoseGraph::addEdge: node " + std::to_string(std::max(from, to)) + " of " +
+            "PoseGraph::addEdge: node " + std::to_string(std::max(e.from, e.to)) + " of " +
             std::to_string(m_nodes.size()));
     }
-    if (from == to)
+    if (e.from == e.to)
     {
         throw std::invalid_argument("PoseGraph::addEdge: an edge needs two different nodes");
     }
-    m_edges.push_back({from, to, measurement, informationOf(covariance, 6), tag});
+    m_edges.push_back(e);
 }
 
 std::size_t PoseGraph::removeEdgesIf(const std::function<bool(const Edge&)>& drop)
@@ -503,7 +508,7 @@ PoseGraph::Result PoseGraph::optimize(
     const std::function<bool()>& stop)
 {
     const std::size_t n = m_nodes.size();
-    first_free = std::min(std::max<std::size_t>(first_free, 1), n);
+    first_free = std::min(std::max<std::size_t>({first_free, 1, m_fixed_prefix}), n);
     // Only the edges that reach a free node change the cost.
     const std::vector<std::size_t> active = edgesReaching(m_edges, first_free);
     // Nodes before first_free are fixed (node 0 always: the world). The

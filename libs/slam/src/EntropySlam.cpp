@@ -18,6 +18,7 @@
 #include <map>
 #include <sstream>
 #include <stdexcept>
+#include <utility>
 
 namespace emslam::slam
 {
@@ -271,12 +272,21 @@ bool EntropySlam::process(const mrpt::obs::CObservation& obs)
 
     const mrpt::poses::CPose3D& action = step.action;  // identity: the first frame
     const emslam::rectify::ActionCovariance action_cov = recordStep(step, r);
-    m_egomotion.push_back({r.timestamp, r.index, m_odometry.pose()});
+    m_egomotion.push_back({r.timestamp, r.index, m_T_session_run + m_odometry.pose()});
     // Sparse front-end: the keyframes' dense clouds are computed on the
     // other core while the next frame's stereo and egomotion run, and join
     // the map in order (DENSE_KEYFRAMES_IN_FLIGHT may stay pending).
     m_added_clouds.clear();
     completePendingKeyframe(&r, DENSE_KEYFRAMES_IN_FLIGHT);
+    if (m_relocalizer && !relocalize(r))
+    {
+        // Not located yet: placed from the frame that will be, later.
+        m_links.push_back({r.index, mrpt::poses::CPose3D()});
+        r.ms_total = msSince(t0);
+        m_records.push_back(r);
+        m_online.push_back(m_egomotion.back());
+        return true;
+    }
 
     const emslam::rectify::ActionCovariance cov_since_keyframe = emslam::rectify::composeCovariance(
         m_T_keyframe_cur, m_cov_keyframe_cur, action, action_cov);
@@ -361,9 +371,13 @@ void EntropySlam::addKeyframe(
     FrameRecord& r)
 {
     // What registering this keyframe again needs, kept only for loop closing.
+    // The run's first keyframe in a session follows the session's last.
+    const auto junction = std::exchange(m_junction, std::nullopt);
     m_loops.addKeyframe(
         r.index, loopClosing() ? m_odometry.estimator().lastDescription() : nullptr,
-        cov_since_keyframe, motion_since_keyframe, m_predicted_since_keyframe);
+        junction ? junction->second : cov_since_keyframe,
+        junction ? junction->first : motion_since_keyframe,
+        !junction && m_predicted_since_keyframe);
     m_predicted_since_keyframe = false;
     if (loopClosing())
     {
@@ -409,7 +423,8 @@ mrpt::poses::CPose3D EntropySlam::onlinePose(std::size_t index)
     std::optional<emslam::rectify::TimedPose> anchor;
     if (loopClosing())
     {
-        if (const auto k = m_loops.lastPose())
+        // (A keyframe of the session is on another egomotion chain.)
+        if (const auto k = m_loops.lastPose(); k && ofThisRun(k->frame_index))
         {
             anchor = emslam::rectify::TimedPose{0.0, k->frame_index, k->pose};
         }
@@ -541,6 +556,14 @@ void EntropySlam::finish()
         m_loop_worker->stop();
     }
     m_rectifications = m_runner->statistics();
+    if (m_session && !m_relocalization && frameCount() > m_session_frames)
+    {
+        throw std::runtime_error(
+            "none of the run's " + std::to_string(frameCount() - m_session_frames) +
+            " frames was found in the session's map (no two of its keyframes that look alike "
+            "registered it at one pose): is it the same place, seen with the same "
+            "[EgomotionEstimator]?");
+    }
     if (m_runner->trajectory().empty())
     {
         return;
@@ -549,7 +572,7 @@ void EntropySlam::finish()
     m_has_energy = true;
     m_entropy = m_runner->trajectory().entropy();
     m_keyframes.clear();
-    auto poses = m_runner->framePoses();
+    auto poses = m_session ? withSessionKeyframes(m_runner->framePoses()) : m_runner->framePoses();
     if (loopClosing())
     {
         if (poses.size() != m_loops.keyframeCount())
@@ -570,6 +593,15 @@ void EntropySlam::finish()
             poses[k].T_world_frame = keyframe_poses[k];
         }
     }
+    if (m_session && m_session_use == SessionUse::Localize)
+    {
+        // The session's keyframes were the map the run was tracked in.
+        poses.erase(
+            std::remove_if(
+                poses.begin(), poses.end(),
+                [this](const emslam::rectify::TimedPose& p) { return !ofThisRun(p.frame_index); }),
+            poses.end());
+    }
     m_keyframe_slam = poses;
     std::map<std::size_t, mrpt::poses::CPose3D> T_world_keyframe;
     for (const auto& fp : poses)
@@ -579,6 +611,11 @@ void EntropySlam::finish()
     }
     m_clouds.requireSameElementsAs(m_runner->trajectory());
     m_keyframe_scans = m_clouds.takeScans();
+    if (m_session && m_session_use == SessionUse::Continue)
+    {
+        m_keyframe_scans.insert(
+            m_keyframe_scans.begin(), m_session->scans.begin(), m_session->scans.end());
+    }
     {
         FusedPointCloud fused = fuseScans(m_keyframe_scans, poses, m_p.mapper.fusionOptions());
         m_fused_scans = scansOnFusedSurfaces(m_keyframe_scans, poses, fused);
@@ -610,7 +647,10 @@ std::vector<emslam::rectify::TimedPose> EntropySlam::currentSlamPoses() const
     std::vector<emslam::rectify::TimedPose> poses;
     for (const auto& k : m_loops.currentPoses())
     {
-        poses.push_back({m_records[k.frame_index].timestamp, k.frame_index, k.pose});
+        if (k.frame_index < m_records.size())  // (Localize: not the session's)
+        {
+            poses.push_back({m_records[k.frame_index].timestamp, k.frame_index, k.pose});
+        }
     }
     return poses;
 }
@@ -646,7 +686,7 @@ std::size_t EntropySlam::compressions() const
 std::vector<std::string> EntropySlam::unreliableReasons() const
 {
     std::vector<std::string> reasons;
-    const std::size_t steps = frameCount() > 0 ? frameCount() - 1 : 0;
+    const std::size_t steps = runFrameCount() > 0 ? runFrameCount() - 1 : 0;
     const std::size_t failed = egomotionFailures();
     if (50 * failed > steps)
     {

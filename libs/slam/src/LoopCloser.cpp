@@ -556,7 +556,9 @@ std::size_t LoopCloser::applyRectified(const std::vector<KeyframePose>& poses)
     for (std::size_t e = 0; e < m_graph.edges().size(); ++e)
     {
         const auto& edge = m_graph.edges()[e];
-        if (edge.tag != EDGE_ODOMETRY || !by_keyframe[edge.from] || !by_keyframe[edge.to])
+        // (A saved session's edges stay as it was saved.)
+        if (edge.tag != EDGE_ODOMETRY || edge.to < m_seeded || !by_keyframe[edge.from] ||
+            !by_keyframe[edge.to])
         {
             continue;
         }
@@ -799,6 +801,11 @@ void LoopCloser::recordLocalMisclosure(double d2)
         m_local_misclosures[m_local_misclosure_next] = d2;
         m_local_misclosure_next = (m_local_misclosure_next + 1) % MISCLOSURE_SAMPLES;
     }
+    updateDriftScale();
+}
+
+void LoopCloser::updateDriftScale()
+{
     if (m_local_misclosures.size() < MISCLOSURE_MIN_SAMPLES)
     {
         return;
@@ -1503,10 +1510,11 @@ bool LoopCloser::checkContradictions()
 
 void LoopCloser::placeAlongOdometry()
 {
-    // Odometry edges join consecutive keyframes, in the order added.
+    // Odometry edges join consecutive keyframes, in the order added; a
+    // saved map held fixed stays.
     for (const auto& e : m_graph.edges())
     {
-        if (e.tag == EDGE_ODOMETRY)
+        if (e.tag == EDGE_ODOMETRY && e.to >= m_graph.fixedPrefix())
         {
             m_graph.setNode(e.to, m_graph.node(e.from) + e.measurement);
         }
@@ -1699,6 +1707,161 @@ std::size_t LoopCloser::relevel()
     }
     m_unsolved_from = std::min(m_unsolved_from, level.first_changed);
     return level.first_changed;
+}
+
+LoopCloser::Snapshot LoopCloser::snapshot() const
+{
+    Snapshot s;
+    const std::size_t n = m_keyframes.size();
+    if (n == 0)
+    {
+        return s;
+    }
+    // In the graph's own world (after close() it is the rectifier's).
+    const mrpt::poses::CPose3D origin = m_graph.node(0);
+    for (std::size_t k = 0; k < n; ++k)
+    {
+        const Keyframe& kf = m_keyframes[k];
+        Snapshot::Keyframe out;
+        out.frame_index = kf.frame_index;
+        out.kept = kf.kept.features.empty() && kf.description
+                       ? emslam::egomotion::EgomotionEstimator::compact(
+                             kf.description, static_cast<std::size_t>(m_p.kept_features))
+                       : kf.kept;
+        out.covariance = kf.covariance;
+        out.motion = kf.motion;
+        out.predicted = kf.predicted;
+        out.vertical = kf.vertical;
+        s.keyframes.push_back(std::move(out));
+        s.nodes.push_back(m_graph.node(k) - origin);
+    }
+    // The loop edges renumbered in the order they are in the graph; their
+    // match counts from the accepted list.
+    std::map<std::pair<std::size_t, std::size_t>, std::size_t> matches;
+    for (const LoopEdge& e : m_edges)
+    {
+        matches[{e.frame_from, e.frame_to}] = e.matches;
+    }
+    s.loop_tag = EDGE_LOOP;
+    for (emslam::rectify::PoseGraph::Edge e : m_graph.edges())
+    {
+        if (e.tag >= EDGE_LOOP)
+        {
+            LoopEdge l;
+            l.frame_from = m_keyframes[e.from].frame_index;
+            l.frame_to = m_keyframes[e.to].frame_index;
+            l.measurement = e.measurement;
+            const auto it = matches.find({l.frame_from, l.frame_to});
+            l.matches = it != matches.end() ? it->second : 0;
+            e.tag = EDGE_LOOP + s.loop_edges.size();
+            s.loop_edges.push_back(l);
+        }
+        s.edges.push_back(e);
+    }
+    s.local_misclosures = m_local_misclosures;
+    s.largest_step_t = m_largest_step_t;
+    s.largest_step_r = m_largest_step_r;
+    return s;
+}
+
+void LoopCloser::seed(const Snapshot& s, std::size_t frame_offset, bool hold_fixed)
+{
+    {
+        std::lock_guard<std::mutex> lock(m_in_mutex);
+        if (m_added > 0 || !m_keyframes.empty())
+        {
+            throw std::logic_error("LoopCloser::seed after addKeyframe()");
+        }
+    }
+    const std::size_t n = s.keyframes.size();
+    if (s.nodes.size() != n)
+    {
+        throw std::invalid_argument(
+            "LoopCloser::seed: " + std::to_string(s.nodes.size()) + " poses for " +
+            std::to_string(n) + " keyframes");
+    }
+    for (const auto& e : s.edges)
+    {
+        if (e.from >= n || e.to >= n || e.from == e.to ||
+            (e.tag >= s.loop_tag && e.tag - s.loop_tag >= s.loop_edges.size()) ||
+            (e.tag < s.loop_tag && e.tag > EDGE_LOCAL))
+        {
+            throw std::invalid_argument(
+                "LoopCloser::seed: an edge joins keyframes " + std::to_string(e.from) + " and " +
+                std::to_string(e.to) + " of " + std::to_string(n));
+        }
+    }
+    for (std::size_t j = 0; j < n; ++j)
+    {
+        const Snapshot::Keyframe& in = s.keyframes[j];
+        const mrpt::poses::CPose3D& pose = s.nodes[j];
+        m_graph.addNode(pose);
+        double unmeasured_t = 0, unmeasured_r = 0;
+        if (in.predicted)
+        {
+            unmeasured_t = s.largest_step_t * s.largest_step_t;
+            unmeasured_r = s.largest_step_r * s.largest_step_r;
+        }
+        const Vec3 previous = j == 0 ? Vec3::Zero() : positionOf(s.nodes[j - 1]);
+        m_drift->append(previous, in.covariance, unmeasured_t, unmeasured_r);
+        m_path.push_back(j == 0 ? 0.0 : m_path.back() + (positionOf(pose) - previous).norm());
+        Keyframe k;
+        k.frame_index = frame_offset + in.frame_index;
+        k.kept = in.kept;
+        k.covariance = in.covariance;
+        k.motion = in.motion;
+        k.predicted = in.predicted;
+        k.vertical = in.vertical;
+        k.added = std::chrono::steady_clock::now();
+        m_keyframe_of_frame[k.frame_index] = j;
+        if (m_p.place_candidates > 0)
+        {
+            m_places.add(j, m_places.wordsOf(k.kept));
+        }
+        m_stats.kept_bytes += k.kept.bytes();
+        m_keyframes.push_back(std::move(k));
+    }
+    for (emslam::rectify::PoseGraph::Edge e : s.edges)
+    {
+        if (e.tag >= s.loop_tag)
+        {
+            e.tag = EDGE_LOOP + (e.tag - s.loop_tag);
+        }
+        m_graph.addEdge(e);
+    }
+    for (const LoopEdge& l : s.loop_edges)
+    {
+        LoopEdge e = l;
+        e.frame_from += frame_offset;
+        e.frame_to += frame_offset;
+        m_edges.push_back(e);
+        m_dropped.push_back(false);
+    }
+    m_stats.loop_edges += s.loop_edges.size();
+    m_seeded = n;
+    m_stats.place_index_bytes = m_places.bytes();
+    m_local_misclosures = s.local_misclosures;
+    if (m_local_misclosures.size() > MISCLOSURE_SAMPLES)
+    {
+        m_local_misclosures.resize(MISCLOSURE_SAMPLES);
+    }
+    m_local_misclosure_next = m_local_misclosures.size() % MISCLOSURE_SAMPLES;
+    updateDriftScale();
+    m_largest_step_t = s.largest_step_t;
+    m_largest_step_r = s.largest_step_r;
+    // Solved as saved; the ups they saw are gated again with the new ones.
+    m_solved_upto = n;
+    m_ungated_from = 0;
+    if (hold_fixed)
+    {
+        m_graph.setFixedPrefix(n);
+    }
+    m_grid->rebuild(m_graph.nodes());
+    {
+        std::lock_guard<std::mutex> lock(m_in_mutex);
+        m_added = n;
+    }
+    publishPoses(true);
 }
 
 }  // namespace emslam::slam

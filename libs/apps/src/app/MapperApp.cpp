@@ -189,6 +189,10 @@ void writeLoopClosures(const slam::EntropySlam& m, const std::string& file)
                   "lines of trajectory_slam.tum from 0\n";
     for (const auto& e : m.loopCloser().loopEdges())
     {
+        if (e.frame_from >= m.frames().size() || e.frame_to >= m.frames().size())
+        {
+            continue;  // --localize: an edge to the session's map, not a line of the trajectory
+        }
         const mrpt::poses::CPose3DQuat q(e.measurement);
         f.stream() << e.frame_from << ' ' << e.frame_to << ' ' << q.x() << ' ' << q.y() << ' '
                    << q.z() << ' ' << q.quat().x() << ' ' << q.quat().y() << ' ' << q.quat().z()
@@ -267,6 +271,21 @@ bool MapperApp::parseArguments(int argc, const char** argv)
     addQuietOption(cmd, "No progress line");
     TCLAP::SwitchArg viewer(
         "", "viewer", "Show the run live in a window (map, trajectories, camera, image)", cmd);
+    TCLAP::ValueArg<std::string> save_session(
+        "", "save-session",
+        "Write the session to FILE when the run ends (keyframes, their descriptions, the pose "
+        "graph, the map clouds, the config), to continue it later or localize in it",
+        false, "", "FILE", cmd);
+    TCLAP::ValueArg<std::string> load_session(
+        "", "load-session",
+        "Continue the session in FILE with this input: the run is located in the saved map by "
+        "its look, loops close across both, and the results (and --save-session) hold both",
+        false, "", "FILE", cmd);
+    TCLAP::SwitchArg localize(
+        "", "localize",
+        "With --load-session: track the input in the saved map without changing it; the "
+        "results hold this input's frames only, in the session's world",
+        cmd);
 
     if (!parseConfigFirst(cmd, config, rawlog, argc, argv))
     {
@@ -301,6 +320,17 @@ bool MapperApp::parseArguments(int argc, const char** argv)
     }
     m_egomotion_only = egomotion_only.getValue();
     m_viewer = viewer.getValue();
+    m_load_session = load_session.getValue();
+    m_save_session = save_session.getValue();
+    m_localize = localize.getValue();
+    if (m_localize && m_load_session.empty())
+    {
+        usageError("--localize needs --load-session FILE: the session to localize in");
+    }
+    if (m_localize && !m_save_session.empty())
+    {
+        usageError("--localize does not change the session: no --save-session with it");
+    }
     loadParameters(m_config);
 
     // Everything a run needs is checked here, before any long work.
@@ -354,7 +384,20 @@ void MapperApp::checkInputsAndOutputs()
     {
         inputs.push_back({"a file of the dataset", f});
     }
-    io::requireOutputsAreNotInputs(io::filesOfOutputFolder(m_out, outputNames(), "output"), inputs);
+    inputs.push_back({"the session (--load-session)", m_load_session});
+    auto outputs = io::filesOfOutputFolder(m_out, outputNames(), "output");
+    if (!m_save_session.empty())
+    {
+        outputs.push_back({"the session (--save-session)", m_save_session});
+    }
+    io::requireOutputsAreNotInputs(outputs, inputs);
+    m_session.reset();
+    if (!m_load_session.empty())
+    {
+        // Read now: a bad session stops the run before the long work.
+        io::requireInputFile(m_load_session, "session file");
+        m_session = slam::CMapSession::load(m_load_session);
+    }
     m_ground_truth = {};
     if (!m_gt.empty())
     {
@@ -419,11 +462,20 @@ void MapperApp::execute()
     p.loadFromConfigFile(params);
     p.mapper.egomotion_only = p.mapper.egomotion_only || m_egomotion_only;
     m_mapper = std::make_unique<slam::EntropySlam>(p);
+    if (m_session)
+    {
+        m_mapper->continueSession(
+            m_session, m_localize ? slam::EntropySlam::SessionUse::Localize
+                                  : slam::EntropySlam::SessionUse::Continue);
+    }
     // A signal during the loop closer's catching up or polish ends them.
     m_mapper->setStopCheck([] { return StopSignal::requested(); });
     m_info = {};
     m_info.rawlog = m_rawlog;
     m_info.config = m_config;
+    m_info.session_loaded = m_load_session;
+    m_info.session_saved = m_save_session;
+    m_info.localized = m_localize;
 
     StopSignal::clear();
     const StopSignalGuard signals;
@@ -434,9 +486,9 @@ void MapperApp::execute()
     {
         std::fprintf(
             stderr, "%s: interrupted after %zu frames; writing the outputs\n", PROGRAM,
-            m_mapper->frameCount());
+            m_mapper->runFrameCount());
     }
-    if (m_mapper->frameCount() == 0)
+    if (m_mapper->runFrameCount() == 0)
     {
         failWithoutFrames(guard);
     }
@@ -462,7 +514,7 @@ void MapperApp::execute()
     const std::string what = "mapping stopped by an error at " + m_info.stopped_by_error;
     std::fprintf(
         stderr, "%s: %s; writing the outputs of the %zu frames before it\n", PROGRAM, what.c_str(),
-        m_mapper->frameCount());
+        m_mapper->runFrameCount());
     try
     {
         finishAndWrite(t_start);
@@ -474,7 +526,7 @@ void MapperApp::execute()
             emslam::util::shortExceptionMessage(e) + ")");
     }
     throw std::runtime_error(
-        what + "; the outputs of the " + std::to_string(m_mapper->frameCount()) +
+        what + "; the outputs of the " + std::to_string(m_mapper->runFrameCount()) +
         " frames before it are in '" + m_out + "'");
 }
 
@@ -492,7 +544,7 @@ void MapperApp::mapInput(io::FrameStreamGuard& guard)
         for (const auto& o : batch)
         {
             if (StopSignal::requested() ||
-                (maxFrames() != 0 && m_mapper->frameCount() >= maxFrames()))
+                (maxFrames() != 0 && m_mapper->runFrameCount() >= maxFrames()))
             {
                 done = true;
                 break;
@@ -510,7 +562,7 @@ void MapperApp::mapInput(io::FrameStreamGuard& guard)
                 live->update(*m_mapper);
             }
             progress.updateFraction(
-                m_mapper->frameCount(), reader.fractionRead(), energyText(*m_mapper));
+                m_mapper->runFrameCount(), reader.fractionRead(), energyText(*m_mapper));
         }
         done = done || StopSignal::requested();
     }
@@ -582,7 +634,7 @@ void MapperApp::checkInputEnd(const io::ObservationSource& reader)
         std::fprintf(
             stderr,
             "%s: warning: rawlog '%s' ended early at %s; mapping the %zu frames before it\n",
-            PROGRAM, m_rawlog.c_str(), reader.endReason().c_str(), m_mapper->frameCount());
+            PROGRAM, m_rawlog.c_str(), reader.endReason().c_str(), m_mapper->runFrameCount());
     }
 }
 
@@ -615,7 +667,7 @@ void MapperApp::finishAndWrite(std::chrono::steady_clock::time_point t_start)
         std::chrono::duration<double>(std::chrono::steady_clock::now() - t_start).count();
     const slam::EntropySlam& m = *m_mapper;
     m_info.degenerate =
-        degenerateRunWarning(m.frameCount() - 1, m.egomotionFailures(), m.mapCloud().size());
+        degenerateRunWarning(m.runFrameCount() - 1, m.egomotionFailures(), m.mapCloud().size());
     writeOutputs(m_ground_truth.trajectory);
 }
 
@@ -704,6 +756,7 @@ void MapperApp::writeOutputs(const emslam::io::TumTrajectory& ground_truth)
     writeEntropyMap(m, joinPath(m_out, "entropy_map.bin"));
     writeEntropyMapView(m, joinPath(m_out, "entropy_map.3Dscene"));
     writeMapperReport(joinPath(m_out, "report.html"), makeReportData(m, m_info, ground_truth));
+    saveSession();
 
     printSummary(ground_truth);
     std::printf(
@@ -717,6 +770,15 @@ void MapperApp::writeOutputs(const emslam::io::TumTrajectory& ground_truth)
     {
         throw std::runtime_error(scan_error + " (the other outputs are in '" + m_out + "')");
     }
+}
+
+void MapperApp::saveSession()
+{
+    if (m_save_session.empty())
+    {
+        return;
+    }
+    m_mapper->session()->save(m_save_session);
 }
 
 void MapperApp::printSummary(const emslam::io::TumTrajectory& ground_truth) const
@@ -739,6 +801,18 @@ void MapperApp::printSummary(const emslam::io::TumTrajectory& ground_truth) cons
     std::printf(
         "%s (first to last pose): egomotion %.3f m, SLAM %.3f m\n",
         startToEndName(ground_truth).c_str(), loopGap(m.egomotionPoses()), loopGap(m.slamPoses()));
+    if (const auto& r = m.relocalization())
+    {
+        std::printf(
+            "session: %s '%s', located at frame %zu of this input (%zu of %zu registrations "
+            "agreed)%s\n",
+            m_localize ? "localized in" : "continued", m_load_session.c_str(), r->frames_before,
+            r->fix.agreeing, r->fix.tried, m_save_session.empty() ? "" : "; saved with this run");
+    }
+    if (!m_save_session.empty())
+    {
+        std::printf("session written to '%s'\n", m_save_session.c_str());
+    }
     if (m.parameters().loop_closer.enabled && !m.parameters().mapper.egomotion_only)
     {
         const auto& lc = m.loopCloser().stats();

@@ -312,6 +312,39 @@ void writeGroundTruthMeasuresJson(std::ostream& j, const MapperRunInfo& info)
 }
 }  // namespace
 
+namespace
+{
+/** The session continued or localized in, and the one saved (null: none). */
+std::string sessionJson(const slam::EntropySlam& m, const MapperRunInfo& info)
+{
+    if (info.session_loaded.empty() && info.session_saved.empty())
+    {
+        return "null";
+    }
+    std::ostringstream j;
+    j << "{\"loaded\": "
+      << (info.session_loaded.empty() ? "null" : io::jsonString(info.session_loaded))
+      << ", \"use\": "
+      << (info.session_loaded.empty() ? "null"
+          : info.localized            ? "\"localize\""
+                                      : "\"continue\"")
+      << ", \"session_frames\": " << m.sessionFrames() << ", \"located_at_frame\": ";
+    if (const auto& r = m.relocalization())
+    {
+        j << r->frame_index << ", \"frames_before_located\": " << r->frames_before
+          << ", \"locating_registrations\": " << r->fix.tried
+          << ", \"agreeing_registrations\": " << r->fix.agreeing;
+    }
+    else
+    {
+        j << "null";
+    }
+    j << ", \"saved\": "
+      << (info.session_saved.empty() ? "null" : io::jsonString(info.session_saved)) << "}";
+    return j.str();
+}
+}  // namespace
+
 void writeSummaryJson(
     const slam::EntropySlam& m, const MapperRunInfo& info, const std::string& file)
 {
@@ -359,6 +392,7 @@ void writeSummaryJson(
       << "  \"loop_closing\": ";
     writeLoopClosingJson(j, m);
     j << ",\n"
+      << "  \"session\": " << sessionJson(m, info) << ",\n"
       << "  \"unreliable\": " << unreliableJson(m.unreliableReasons()) << ",\n"
       << "  \"trajectory_elements\": " << m.trajectoryElements() << ",\n"
       << "  \"compressions\": " << m.compressions() << ",\n"
@@ -378,7 +412,8 @@ void writeSummaryJson(
       << ",\n"
       << "  \"wall_ms_per_frame\": "
       << io::jsonNumber(
-             m.frameCount() > 0 ? 1e3 * info.seconds / static_cast<double>(m.frameCount()) : 0.0);
+             m.runFrameCount() > 0 ? 1e3 * info.seconds / static_cast<double>(m.runFrameCount())
+                                   : 0.0);
     writeGroundTruthMeasuresJson(j, info);
     j << "\n}\n";
     io::AtomicTextFile f(file);

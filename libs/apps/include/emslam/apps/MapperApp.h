@@ -158,6 +158,14 @@ private:
     emslam::io::TrajectoryOutput m_trajectory_output{emslam::io::TrajectoryOutput::Tum};
     std::unique_ptr<slam::EntropySlam> m_mapper;
     MapperRunInfo m_info;
+    /** --load-session (read before any long work), --localize, --save-session. */
+    ///@{
+    std::string m_load_session, m_save_session;
+    bool m_localize{false};
+    slam::CMapSession::Ptr m_session;
+    ///@}
+    /** Writes --save-session (after every other output). */
+    void saveSession();
 };
 
 }  // namespace emslam::apps

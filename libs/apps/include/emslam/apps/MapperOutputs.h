@@ -52,6 +52,12 @@ struct MapperRunInfo
     ///@}
     /** The energy scan around the ground truth (--energy-scan), when made. */
     std::optional<MapperEnergyScan> energy_scan;
+    /** The session continued (--load-session) or localized in (--localize),
+     * and the one written (--save-session); "" for none. */
+    ///@{
+    std::string session_loaded, session_saved;
+    ///@}
+    bool localized{false};  //!< --localize
 };
 
 /** Distance between the first and last poses of a trajectory [m] (0 if < 2). */

@@ -89,6 +89,9 @@ public:
         const mrpt::poses::CPose3D& measurement,
         const ActionCovariance& covariance,
         std::size_t tag = 0);
+    /** Adds `e` as it is (its information, its tag): e.g. an edge of a saved
+     * graph. Throws as the other addEdge(). */
+    void addEdge(const Edge& e);
     /** Removes every edge for which `drop` is true; returns how many. */
     std::size_t removeEdgesIf(const std::function<bool(const Edge&)>& drop);
     /** Replaces the measurement of edge `index` (std::out_of_range otherwise). */
@@ -143,8 +146,15 @@ public:
         double min_decrease = 0,
         const std::function<bool()>& stop = {});
 
+    /** Nodes before `count` never move in optimize(), whatever its
+     * `first_free` (e.g. a saved map a new run is localized in). */
+    void setFixedPrefix(std::size_t count) { m_fixed_prefix = count; }
+    /** See setFixedPrefix() (1: node 0 only, the world). */
+    std::size_t fixedPrefix() const { return m_fixed_prefix; }
+
 private:
     std::vector<mrpt::poses::CPose3D> m_nodes;
+    std::size_t m_fixed_prefix{1};
     std::vector<Edge> m_edges;
     std::vector<DirectionPrior> m_priors;
     DirectionFrame m_frame;

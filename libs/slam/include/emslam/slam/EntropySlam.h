@@ -8,6 +8,7 @@
 #include <emslam/rectify/RectifierOptions.h>
 #include <emslam/rectify/SpaceSampler.h>
 #include <emslam/slam/BackgroundWorker.h>
+#include <emslam/slam/CMapSession.h>
 #include <emslam/slam/ElementClouds.h>
 #include <emslam/slam/FrameRecord.h>
 #include <emslam/slam/FusedPointCloud.h>
@@ -15,6 +16,7 @@
 #include <emslam/slam/LoopCloser.h>
 #include <emslam/slam/OccupancyGridBuilder.h>
 #include <emslam/slam/OctoMapBuilder.h>
+#include <emslam/slam/Relocalizer.h>
 #include <emslam/slam/StereoOdometry.h>
 #include <emslam/stereo/StereoFrontEnd.h>
 
@@ -157,6 +159,42 @@ public:
      * trajectory's (ElementClouds::requireSameElementsAs()). */
     void finish();
 
+    /** How a run uses a saved session (continueSession()). */
+    enum class SessionUse
+    {
+        /** The run goes on with the session: its frames come first in every
+         * result, the new keyframes join its pose graph, loops close across
+         * both, and session() saves the whole. */
+        Continue,
+        /** The run is tracked in the session's map, which no solve moves;
+         * the results hold the run's frames only, in the session's world. */
+        Localize
+    };
+    /** Before the first process(): the run starts in `session` (saved by
+     * session() of an earlier run). Its first frames are located in the
+     * saved map by their look (Relocalizer); frames before the first one
+     * located are placed from it by the egomotion, and their clouds are left
+     * out of the map. Needs loop closing ([LoopCloser] enabled) and
+     * rectification; throws std::invalid_argument otherwise, and
+     * std::logic_error after process(). */
+    void continueSession(std::shared_ptr<const CMapSession> session, SessionUse use);
+    /** After finish(): the run as a session to save (with the session it
+     * continued, if any). Throws std::logic_error before finish(), in
+     * Localize use, without loop closing or without a keyframe. */
+    CMapSession::Ptr session() const;
+    /** Where the run was located in its session: the frame (as in frames())
+     * and the fix (none yet, or no session). */
+    struct Relocalization
+    {
+        std::size_t frame_index{0};    //!< as in frames()
+        std::size_t frames_before{0};  //!< frames of the run processed before it
+        Relocalizer::Fix fix;
+    };
+    const std::optional<Relocalization>& relocalization() const { return m_relocalization; }
+    /** Frames of the continued session at the start of frames() (0 unless
+     * SessionUse::Continue). */
+    std::size_t sessionFrames() const { return m_session_frames; }
+
     /** What says "stop soon" (e.g. a signal): while it returns true, the
      * background loop closing only places the keyframes and finish() skips
      * the loop closer's polish, so an interrupted run ends within a second.
@@ -167,8 +205,11 @@ public:
     /** The parameters it runs with. */
     const TParameters& parameters() const { return m_p; }
 
-    /** Frames processed (stereo or RGB-D observations). */
+    /** Frames in frames(): those processed (stereo or RGB-D observations)
+     * and, continuing a session, the session's before them. */
     std::size_t frameCount() const { return m_records.size(); }
+    /** Frames this run processed (frameCount() without the session's). */
+    std::size_t runFrameCount() const { return m_records.size() - m_session_frames; }
     /** Frames accepted into the trajectory. */
     std::size_t acceptedCount() const { return m_sampler.accepted(); }
     /** Steps whose egomotion failed. */
@@ -336,6 +377,18 @@ private:
     void addAccepted(
         const emslam::stereo::StereoFrame& f, MapClouds clouds, const PendingKeyframe& k);
     bool loopClosing() const { return m_loop_worker != nullptr; }
+    /** With a session not yet located: tries frame `r` (its egomotion pose
+     * is the last); true once the run is located, at this frame or before. */
+    bool relocalize(FrameRecord& r);
+    /** The keyframe poses for LoopCloser::close(): the session's, then the
+     * run's rectified `poses` moved into the session's world. */
+    std::vector<emslam::rectify::TimedPose> withSessionKeyframes(
+        const std::vector<emslam::rectify::TimedPose>& poses) const;
+    /** Whether loop-closer frame `index` is a frame of this run. */
+    bool ofThisRun(std::size_t index) const
+    {
+        return index >= m_session_frames && index < m_records.size();
+    }
     /** The online pose of frame `index` (see onlinePoses()). */
     mrpt::poses::CPose3D onlinePose(std::size_t index);
 
@@ -386,6 +439,20 @@ private:
     int m_image_width{0}, m_image_height{0};
     cv::Mat m_last_image;
     bool m_finished{false};
+    // A session the run continues or is localized in.
+    std::shared_ptr<const CMapSession> m_session;
+    SessionUse m_session_use{SessionUse::Continue};
+    std::size_t m_session_frames{0};  //!< its frames in m_records (Continue)
+    /** Added to the session's frame indices in the loop closer (Localize:
+     * beyond any frame of the run). */
+    std::size_t m_session_offset{0};
+    std::unique_ptr<Relocalizer> m_relocalizer;  //!< until the run is located
+    std::optional<Relocalization> m_relocalization;
+    std::vector<std::size_t> m_unlocated;  //!< frames of the run before it
+    /** Session world from the run's egomotion world (identity without a session). */
+    mrpt::poses::CPose3D m_T_session_run;
+    /** The first keyframe's motion from the session's last, and its covariance. */
+    std::optional<std::pair<mrpt::poses::CPose3D, emslam::rectify::ActionCovariance>> m_junction;
 };
 
 }  // namespace emslam::slam

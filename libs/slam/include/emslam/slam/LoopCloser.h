@@ -291,6 +291,44 @@ public:
         std::size_t matches{0};            //!< after LWO
     };
 
+    /** What a later run needs to go on with this graph (a saved session,
+     * CMapSession): the keyframes, the pose graph and the drift's
+     * calibration. */
+    struct Snapshot
+    {
+        /** A keyframe, as addKeyframe() gave it, with its kept description. */
+        struct Keyframe
+        {
+            std::size_t frame_index{0};  //!< as given to addKeyframe()
+            emslam::egomotion::EgomotionEstimator::CompactDescription kept;
+            /** Of the motion since the previous keyframe. */
+            emslam::rectify::ActionCovariance covariance;
+            std::optional<mrpt::poses::CPose3D> motion;  //!< since the previous keyframe
+            bool predicted{false};                       //!< the motion holds a predicted step
+            std::optional<emslam::stereo::VerticalMeasurement> vertical;  //!< the up it saw
+        };
+        std::vector<Keyframe> keyframes;
+        /** Keyframe poses in the graph's world (the first keyframe's). */
+        std::vector<mrpt::poses::CPose3D> nodes;
+        /** Every edge (odometry, local, loop); a loop edge's tag minus
+         * `loop_tag` indexes `loop_edges`. */
+        std::vector<emslam::rectify::PoseGraph::Edge> edges;
+        std::vector<LoopEdge> loop_edges;             //!< of the loop edges in `edges`
+        std::size_t loop_tag{0};                      //!< see `edges`
+        std::vector<double> local_misclosures;        //!< see Stats::drift_scale
+        double largest_step_t{0}, largest_step_r{0};  //!< [m], [rad]
+    };
+    /** The graph after close() (world: its first keyframe). */
+    Snapshot snapshot() const;
+    /** Before the first addKeyframe(): the graph starts as `s` left it, its
+     * keyframes numbered `frame_offset` + their frame index; the next
+     * keyframe added is placed from the last of them. Their registrations
+     * are not made again; they are candidates for the new keyframes, by
+     * their look and by proximity. `hold_fixed`: no solve moves them (a run
+     * localized in a saved map). Throws std::logic_error after
+     * addKeyframe(), std::invalid_argument on an inconsistent snapshot. */
+    void seed(const Snapshot& s, std::size_t frame_offset, bool hold_fixed);
+
     /** A loop closer with the parameters `p` (validated); the graph is empty. */
     explicit LoopCloser(const TParameters& p);
     ~LoopCloser();
@@ -410,6 +448,8 @@ private:
     /** A local registration's Mahalanobis² to the chain: calibrates the
      * drift (Drift::setScale()). */
     void recordLocalMisclosure(double d2);
+    /** The drift scale from the local misclosures recorded. */
+    void updateDriftScale();
     /** Step 5 on the pool: the winning group, taken out of it (or none);
      * a new loop waits for the window to end unless `last_call`. */
     std::vector<std::unique_ptr<Registration>> takeConsensusGroup(std::size_t j, bool last_call);
@@ -510,6 +550,7 @@ private:
     std::atomic<bool> m_closing{false};  // prepareToClose() was called
     // Background side.
     std::vector<Keyframe> m_keyframes;
+    std::size_t m_seeded{0};  // keyframes of a saved session, first (seed())
     std::map<std::size_t, std::size_t> m_keyframe_of_frame;
     emslam::rectify::PoseGraph m_graph;
     std::unique_ptr<Drift> m_drift;
