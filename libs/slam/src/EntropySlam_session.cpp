@@ -17,8 +17,6 @@ namespace
 /** Localize: the session's frame indices in the loop closer start here,
  * beyond any frame of a run. */
 constexpr std::size_t LOCALIZED_SESSION_OFFSET = std::size_t{1} << 40;
-/** Saved keyframes registered against each frame until it is located. */
-constexpr std::size_t RELOCALIZE_CANDIDATES = 8;
 /** χ²(6) median: the drift scale of the local misclosures (LoopCloser). */
 constexpr double CHI2_6DOF_MEDIAN = 5.348;
 
@@ -68,7 +66,7 @@ void EntropySlam::continueSession(std::shared_ptr<const CMapSession> session, Se
             {g.keyframes[k].kept, m_session->keyframe_poses[k], g.keyframes[k].covariance});
     }
     Relocalizer::TOptions o;
-    o.candidates = RELOCALIZE_CANDIDATES;
+    o.candidates = static_cast<std::size_t>(m_p.loop_closer.max_candidates);
     o.covariance_scale = driftScale(g.local_misclosures);
     o.max_distance = m_p.loop_closer.max_distance;
     o.max_angle = mrpt::DEG2RAD(m_p.loop_closer.max_angle_deg);

@@ -307,7 +307,7 @@ public:
             bool predicted{false};                       //!< the motion holds a predicted step
             std::optional<emslam::stereo::VerticalMeasurement> vertical;  //!< the up it saw
         };
-        std::vector<Keyframe> keyframes;
+        std::vector<Keyframe> keyframes;  //!< in the order added
         /** Keyframe poses in the graph's world (the first keyframe's). */
         std::vector<mrpt::poses::CPose3D> nodes;
         /** Every edge (odometry, local, loop); a loop edge's tag minus
