@@ -188,8 +188,9 @@ public:
     {
         std::size_t frame_index{0};    //!< as in frames()
         std::size_t frames_before{0};  //!< frames of the run processed before it
-        Relocalizer::Fix fix;
+        Relocalizer::Fix fix;          //!< the registration that placed it
     };
+    /** See Relocalization. */
     const std::optional<Relocalization>& relocalization() const { return m_relocalization; }
     /** Frames of the continued session at the start of frames() (0 unless
      * SessionUse::Continue). */

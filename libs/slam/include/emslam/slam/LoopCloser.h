@@ -300,6 +300,7 @@ public:
         struct Keyframe
         {
             std::size_t frame_index{0};  //!< as given to addKeyframe()
+            /** Its description for registering it again. */
             emslam::egomotion::EgomotionEstimator::CompactDescription kept;
             /** Of the motion since the previous keyframe. */
             emslam::rectify::ActionCovariance covariance;
@@ -313,10 +314,13 @@ public:
         /** Every edge (odometry, local, loop); a loop edge's tag minus
          * `loop_tag` indexes `loop_edges`. */
         std::vector<emslam::rectify::PoseGraph::Edge> edges;
-        std::vector<LoopEdge> loop_edges;             //!< of the loop edges in `edges`
-        std::size_t loop_tag{0};                      //!< see `edges`
-        std::vector<double> local_misclosures;        //!< see Stats::drift_scale
-        double largest_step_t{0}, largest_step_r{0};  //!< [m], [rad]
+        std::vector<LoopEdge> loop_edges;       //!< of the loop edges in `edges`
+        std::size_t loop_tag{0};                //!< see `edges`
+        std::vector<double> local_misclosures;  //!< see Stats::drift_scale
+        /** The largest keyframe motion measured [m], [rad]. */
+        ///@{
+        double largest_step_t{0}, largest_step_r{0};
+        ///@}
     };
     /** The graph after close() (world: its first keyframe). */
     Snapshot snapshot() const;

@@ -38,6 +38,7 @@ public:
     /** A keyframe of the saved map. */
     struct Place
     {
+        /** Its kept description (LoopCloser::Snapshot::Keyframe::kept). */
         emslam::egomotion::EgomotionEstimator::CompactDescription kept;
         mrpt::poses::CPose3D pose;  //!< world
         /** How well it sits among its neighbours: the egomotion's
