@@ -560,9 +560,9 @@ void EntropySlam::finish()
     {
         throw std::runtime_error(
             "none of the run's " + std::to_string(frameCount() - m_session_frames) +
-            " frames was found in the session's map (no two of its keyframes that look alike "
-            "registered it at one pose): is it the same place, seen with the same "
-            "[EgomotionEstimator]?");
+            " frames was found in the session's map (no saved keyframe that looks like one "
+            "registered it with a second one agreeing and clearly more inliers than any "
+            "look-alike place): is it the same place, seen with the same [EgomotionEstimator]?");
     }
     if (m_runner->trajectory().empty())
     {
