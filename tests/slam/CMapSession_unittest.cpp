@@ -85,7 +85,7 @@ CMapSession sampleSession()
     s.graph.largest_step_t = 0.61;
     s.graph.largest_step_r = 0.41;
     s.keyframe_poses = {CPose3D(0, 0, 0, 0.01, 0, 0), CPose3D(0.6, 0, 0.2, 0.41, 0, 0)};
-    emslam::slam::ElementClouds::Scan scan;
+    emslam::slam::KeyframeScan scan;
     scan.frame_index = 2;
     scan.cloud.points = {{1, 2, 3}, {-1, 0.5f, 4}};
     scan.cloud.intensity = {10, 250};

@@ -7,15 +7,15 @@
 
 #include <stdexcept>
 
-using emslam::slam::ElementClouds;
+using emslam::slam::KeyframeScan;
 using emslam::slam::OctoMapBuilder;
 
 namespace
 {
 /** A 2 x 2 m wall 3 m ahead of the camera (z = 3), a point every 5 cm. */
-ElementClouds::Scan wallScan(std::size_t frame)
+KeyframeScan wallScan(std::size_t frame)
 {
-    ElementClouds::Scan s;
+    KeyframeScan s;
     s.frame_index = frame;
     for (int i = -20; i <= 20; ++i)
     {

@@ -119,6 +119,9 @@ void visit(EntropySlam::TOptions& p, emslam::util::ConfigVisitor& v)
     v.field(
         "fuse_along_rays", p.fuse_along_rays,
         "points join the strongest cell along their ray within 2 sigma");
+    v.field(
+        "max_map_clouds_mb", p.max_map_clouds_mb,
+        "[MB] keyframe clouds kept for the map; past it every 2nd, 4th.. keyframe (0: no limit)");
 }
 }  // namespace
 
@@ -133,6 +136,11 @@ void EntropySlam::TOptions::saveToConfigFile(
     mrpt::config::CConfigFileBase& c, const std::string& s) const
 {
     emslam::util::saveByVisit(*this, c, s, visit);
+}
+
+std::size_t EntropySlam::TOptions::mapCloudsBytes() const
+{
+    return static_cast<std::size_t>(max_map_clouds_mb * 1024.0 * 1024.0);
 }
 
 FusedPointCloud::TOptions EntropySlam::TOptions::fusionOptions() const
@@ -174,6 +182,12 @@ void EntropySlam::TOptions::validate() const
     }
     positive(max_point_sigma, "max_point_sigma", "> 0 m (inf: no gate)");
     positive(max_observation_sigma, "max_observation_sigma", "> 0 m (inf: every point)");
+    if (!(max_map_clouds_mb >= 0 && max_map_clouds_mb <= 1e6))
+    {
+        throw std::invalid_argument(
+            "[EntropySlam] max_map_clouds_mb = " + std::to_string(max_map_clouds_mb) +
+            ": must be in [0, 1e6] MB (0: no limit)");
+    }
     if (std::isnan(export_max_height) ||
         export_max_height == -std::numeric_limits<double>::infinity())
     {
@@ -230,7 +244,7 @@ EntropySlam::EntropySlam(const TParameters& p)
       m_sampler(p.sampling),
       m_loops(p.loop_closer),
       m_loop_estimator(p.egomotion),
-      m_clouds(static_cast<std::size_t>(std::max(p.rectifier.n_max, 0)), p.mapper.map_cell_size)
+      m_clouds(p.mapper.max_observation_sigma, p.mapper.mapCloudsBytes())
 {
     m_cov_keyframe_cur.setZero();
     if (m_p.mapper.egomotion_only)
@@ -508,12 +522,6 @@ void EntropySlam::addAccepted(
     }
     m_clouds.append(index, clouds.downsampled);
     m_added_clouds.push_back({index, std::move(clouds.downsampled)});
-    if (m_clouds.hasPendingFusions())
-    {
-        // Only after a compression (every ~N_max / 2 accepted frames; AnyTime:
-        // until its next synchronisation), so the copy of the poses is rare.
-        m_clouds.fuse(m_runner->framePoses());
-    }
     const auto progress = m_runner->progress();
     if (progress.rectifications > 0)
     {
@@ -609,7 +617,7 @@ void EntropySlam::finish()
         m_keyframes.push_back(fp.frame_index);
         T_world_keyframe[fp.frame_index] = fp.T_world_frame;
     }
-    m_clouds.requireSameElementsAs(m_runner->trajectory());
+    m_map_clouds_stride = m_clouds.stride();
     m_keyframe_scans = m_clouds.takeScans();
     if (m_session && m_session_use == SessionUse::Continue)
     {
@@ -622,7 +630,7 @@ void EntropySlam::finish()
         m_fusion_stats = fused.stats();
         m_map_cloud = fused.cloud();
     }
-    m_clouds = ElementClouds(0, m_p.mapper.map_cell_size);
+    m_clouds = KeyframeClouds(m_p.mapper.max_observation_sigma, m_p.mapper.mapCloudsBytes());
     m_slam.clear();
     for (std::size_t i = 0; i < m_records.size(); i++)
     {

@@ -53,7 +53,7 @@ OctoMapBuilder::OctoMapBuilder(const TParameters& p) : m_p(p)
 }
 
 std::unique_ptr<octomap::OcTree> OctoMapBuilder::build(
-    const std::vector<ElementClouds::Scan>& scans,
+    const std::vector<KeyframeScan>& scans,
     const std::vector<emslam::rectify::TimedPose>& keyframes)
 {
     if (m_p.resolution <= 0)

@@ -9,7 +9,7 @@
 namespace emslam::slam
 {
 FusedPointCloud fuseScans(
-    const std::vector<ElementClouds::Scan>& scans,
+    const std::vector<KeyframeScan>& scans,
     const std::vector<emslam::rectify::TimedPose>& poses,
     const FusedPointCloud::TOptions& options)
 {
@@ -32,14 +32,14 @@ FusedPointCloud fuseScans(
     return fused;
 }
 
-std::vector<ElementClouds::Scan> scansOnFusedSurfaces(
-    const std::vector<ElementClouds::Scan>& scans,
+std::vector<KeyframeScan> scansOnFusedSurfaces(
+    const std::vector<KeyframeScan>& scans,
     const std::vector<emslam::rectify::TimedPose>& poses,
     const FusedPointCloud& fused)
 {
     const PoseIndex index = indexPoses(poses);
     const IntensityCloud& map = fused.cloud();
-    std::vector<ElementClouds::Scan> out;
+    std::vector<KeyframeScan> out;
     std::size_t next = 0;  // the fused cloud's number of the scan's first point
     for (const auto& s : scans)
     {
@@ -53,7 +53,7 @@ std::vector<ElementClouds::Scan> scansOnFusedSurfaces(
             throw std::logic_error("scansOnFusedSurfaces: the scans are not those fused");
         }
         const mrpt::poses::CPose3D& T_world_cam = *it->second;
-        ElementClouds::Scan g;
+        KeyframeScan g;
         g.frame_index = s.frame_index;
         for (std::size_t i = 0; i < s.cloud.size(); ++i, ++next)
         {

@@ -97,7 +97,7 @@ slam::EntropySlam::TParameters loadMapper(
 /** The keyframe clouds placed at `poses` (frame index → T_world_frame),
  * fused and gated as the map cloud is. */
 std::vector<mrpt::math::TPoint3Df> cloudAt(
-    const std::vector<slam::ElementClouds::Scan>& scans,
+    const std::vector<slam::KeyframeScan>& scans,
     const std::vector<emslam::rectify::TimedPose>& poses,
     const slam::FusedPointCloud::TOptions& fusion)
 {

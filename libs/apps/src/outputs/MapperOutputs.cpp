@@ -404,7 +404,8 @@ void writeSummaryJson(
       << ", \"moved_points\": " << m.fusionStats().moved_points
       << ", \"voxels\": " << m.fusionStats().voxels
       << ", \"kept_voxels\": " << m.fusionStats().kept_voxels
-      << ", \"kept_points\": " << m.fusionStats().kept_points << "},\n"
+      << ", \"kept_points\": " << m.fusionStats().kept_points
+      << ", \"keyframe_stride\": " << m.mapCloudsStride() << "},\n"
       << "  \"loop_gap_egomotion_m\": " << io::jsonNumber(loopGap(m.egomotionPoses())) << ",\n"
       << "  \"loop_gap_slam_m\": " << io::jsonNumber(loopGap(m.slamPoses())) << ",\n"
       << "  \"seconds\": " << io::jsonNumber(info.seconds) << ",\n"

@@ -1,7 +1,7 @@
 // SPDX-License-Identifier: BSD-3-Clause
 #pragma once
 
-#include <emslam/slam/ElementClouds.h>
+#include <emslam/slam/KeyframeScan.h>
 #include <emslam/slam/LoopCloser.h>
 
 #include <mrpt/poses/CPose3D.h>
@@ -49,7 +49,7 @@ public:
     /** World pose of each of `graph.keyframes` (the final trajectory). */
     std::vector<mrpt::poses::CPose3D> keyframe_poses;
     /** The map clouds, each in the camera frame of its frame. */
-    std::vector<ElementClouds::Scan> scans;
+    std::vector<KeyframeScan> scans;
 
     /** Throws std::runtime_error naming the first inconsistency (sizes,
      * indices out of range, frames out of order). */

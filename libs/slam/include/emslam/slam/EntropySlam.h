@@ -9,10 +9,10 @@
 #include <emslam/rectify/SpaceSampler.h>
 #include <emslam/slam/BackgroundWorker.h>
 #include <emslam/slam/CMapSession.h>
-#include <emslam/slam/ElementClouds.h>
 #include <emslam/slam/FrameRecord.h>
 #include <emslam/slam/FusedPointCloud.h>
 #include <emslam/slam/IntensityCloud.h>
+#include <emslam/slam/KeyframeClouds.h>
 #include <emslam/slam/LoopCloser.h>
 #include <emslam/slam/OccupancyGridBuilder.h>
 #include <emslam/slam/OctoMapBuilder.h>
@@ -104,9 +104,15 @@ public:
         /** Points join the strongest voxel along their own ray within ±2σ
          * (FusedPointCloud). (Default: true) */
         bool fuse_along_rays{true};
+        /** [MB] memory of the keyframes' clouds kept for the final map
+         * (KeyframeClouds): past it, only every 2nd, 4th, ... keyframe keeps
+         * its cloud (0: no limit). (Default: 128) */
+        double max_map_clouds_mb{128};
 
         /** The fusion's options from these keys. */
         FusedPointCloud::TOptions fusionOptions() const;
+        /** max_map_clouds_mb in bytes (0: no limit). */
+        std::size_t mapCloudsBytes() const;
     };
 
     /** Every parameter the mapper uses, one INI section each. */
@@ -154,9 +160,7 @@ public:
     bool process(const mrpt::obs::CObservation& obs);
 
     /** Ends the run: syncs the rectifier, runs the final rectification and
-     * builds the outputs. Idempotent; process() throws afterwards. Throws
-     * std::logic_error if the map cloud's elements do not match the
-     * trajectory's (ElementClouds::requireSameElementsAs()). */
+     * builds the outputs. Idempotent; process() throws afterwards. */
     void finish();
 
     /** How a run uses a saved session (continueSession()). */
@@ -304,17 +308,20 @@ public:
      * accepted frames' points fused per `fused_voxel_size` cell weighted by
      * their depth uncertainty, and gated by `max_point_sigma`
      * (FusedPointCloud); each point's sigma is its fused σ. Kept per
-     * trajectory element during the run (see ElementClouds): the points of
-     * frames fused by compression were averaged in their element's frame. */
+     * keyframe during the run (KeyframeClouds), so that each keyframe's
+     * points land at its own final pose. */
     const IntensityCloud& mapCloud() const { return m_map_cloud; }
     /** The clouds mapCloud() was made of, each in the camera frame of its
-     * keyframe (an element's first frame when compression fused frames),
-     * with the sigma of each point, before fusion. */
-    const std::vector<ElementClouds::Scan>& keyframeScans() const { return m_keyframe_scans; }
+     * keyframe, with the sigma of each point, before fusion (points above
+     * `max_observation_sigma` are not kept). */
+    const std::vector<KeyframeScan>& keyframeScans() const { return m_keyframe_scans; }
     /** keyframeScans() with each point moved to the fused point it joined
      * and the points of gated voxels left out (scansOnFusedSurfaces()):
      * scans to insert from keyframePoses() (map.bt, OctoMapBuilder). */
-    const std::vector<ElementClouds::Scan>& fusedKeyframeScans() const { return m_fused_scans; }
+    const std::vector<KeyframeScan>& fusedKeyframeScans() const { return m_fused_scans; }
+    /** 1, or the keyframes per cloud kept for the map once
+     * `max_map_clouds_mb` thinned them (KeyframeClouds::stride()). */
+    std::size_t mapCloudsStride() const { return m_map_clouds_stride; }
     /** What the map's fusion counted. */
     const FusedPointCloud::Stats& fusionStats() const { return m_fusion_stats; }
     /** Final energy (recomputed from scratch): the entropy plus the odometry
@@ -429,9 +436,10 @@ private:
     double m_energy{0.0};
     bool m_has_energy{false};
     double m_entropy{0.0};
-    /** The map cloud per trajectory element, fused as the trajectory compresses. */
-    ElementClouds m_clouds;
-    std::vector<ElementClouds::Scan> m_keyframe_scans, m_fused_scans;
+    /** The map clouds of the keyframes, kept apart until the end. */
+    KeyframeClouds m_clouds;
+    std::size_t m_map_clouds_stride{1};
+    std::vector<KeyframeScan> m_keyframe_scans, m_fused_scans;
     FusedPointCloud::Stats m_fusion_stats;
     std::vector<AddedCloud> m_added_clouds;  //!< by the last process() or finish()
     std::deque<PendingKeyframe> m_pending;   //!< oldest first

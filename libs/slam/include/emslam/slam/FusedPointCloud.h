@@ -40,7 +40,7 @@ namespace emslam::slam
  * Usage: add() every view, then fuse(); cloud() is the map, and
  * fusedIndexOf() tells which fused point each added point became (−1:
  * dropped), e.g. to insert the views as scans ending on the fused surfaces.
- * \ingroup emslam_slam_grp \sa DepthNoiseModel, ElementClouds */
+ * \ingroup emslam_slam_grp \sa DepthNoiseModel, KeyframeClouds */
 class FusedPointCloud
 {
 public:

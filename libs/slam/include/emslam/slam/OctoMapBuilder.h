@@ -2,7 +2,7 @@
 #pragma once
 
 #include <emslam/rectify/Trajectory.h>
-#include <emslam/slam/ElementClouds.h>
+#include <emslam/slam/KeyframeScan.h>
 
 #include <mrpt/config/CLoadableOptions.h>
 
@@ -68,7 +68,7 @@ public:
      * frame = the first camera's). A scan whose frame has no pose is
      * skipped. Throws std::invalid_argument if resolution is 0. */
     std::unique_ptr<octomap::OcTree> build(
-        const std::vector<ElementClouds::Scan>& scans,
+        const std::vector<KeyframeScan>& scans,
         const std::vector<emslam::rectify::TimedPose>& keyframes);
 
     /** What the last build() counted. */

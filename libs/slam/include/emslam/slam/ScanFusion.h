@@ -2,8 +2,8 @@
 #pragma once
 
 #include <emslam/rectify/Trajectory.h>
-#include <emslam/slam/ElementClouds.h>
 #include <emslam/slam/FusedPointCloud.h>
+#include <emslam/slam/KeyframeScan.h>
 
 #include <vector>
 
@@ -14,7 +14,7 @@ namespace emslam::slam
  * each scan is a view from its camera's position. Scans whose frame has no
  * pose are left out. \ingroup emslam_slam_grp */
 FusedPointCloud fuseScans(
-    const std::vector<ElementClouds::Scan>& scans,
+    const std::vector<KeyframeScan>& scans,
     const std::vector<emslam::rectify::TimedPose>& poses,
     const FusedPointCloud::TOptions& options);
 
@@ -23,8 +23,8 @@ FusedPointCloud fuseScans(
  * dropped voxels left out: rays from the keyframes that end on the fused,
  * gated surfaces (map.bt). `fused` is fuseScans() of the same scans and
  * poses. \ingroup emslam_slam_grp */
-std::vector<ElementClouds::Scan> scansOnFusedSurfaces(
-    const std::vector<ElementClouds::Scan>& scans,
+std::vector<KeyframeScan> scansOnFusedSurfaces(
+    const std::vector<KeyframeScan>& scans,
     const std::vector<emslam::rectify::TimedPose>& poses,
     const FusedPointCloud& fused);
 
