@@ -211,6 +211,39 @@ TEST(EvalApp, measuresAMapAndAGridAgainstTheTruth)
     EXPECT_NE(bj.find("\"map_accuracy\": {"), std::string::npos) << bj;
     EXPECT_NEAR(jsonValue(bj, "accuracy_median_m"), 0.03, 1e-6);
 
+    // A map in the estimate's frame (here 0.2 m above the truth's, as its
+    // trajectory) is moved by the trajectory's alignment before measuring.
+    TumTrajectory gt_square, est_square;
+    for (int i = 0; i < 40; ++i)
+    {
+        const double x = i < 10 ? i : (i < 20 ? 10 : (i < 30 ? 30 - i : 0));
+        const double y = i < 10 ? 0 : (i < 20 ? i - 10 : (i < 30 ? 10 : 40 - i));
+        gt_square.add(1000.0 + 0.1 * i, CPose3D(x, y, 0, 0, 0, 0));
+        est_square.add(1000.0 + 0.1 * i, CPose3D(x, y, 0.2, 0, 0, 0));
+    }
+    gt_square.saveToFile(dir + "/gt_square.tum");
+    est_square.saveToFile(dir + "/est_square.tum");
+    emslam::slam::IntensityCloud raised = map;
+    for (auto& p : raised.points)
+    {
+        p.z += 0.2F;
+    }
+    emslam::apps::savePly(raised, dir + "/raised.ply");
+    const EvalRun aligned = runEval(
+        {dir + "/gt_square.tum", dir + "/est_square.tum", "--map", dir + "/raised.ply", "--map-gt",
+         dir + "/ref.ply", "--json", dir + "/a.json"});
+    ASSERT_EQ(aligned.exit_code, 0) << aligned.err;
+    EXPECT_NE(aligned.out.find("map alignment      the trajectory's (se3)"), std::string::npos)
+        << aligned.out;
+    EXPECT_NEAR(jsonValue(readFile(dir + "/a.json"), "accuracy_median_m"), 0.03, 1e-5);
+    EXPECT_NE(readFile(dir + "/a.json").find("\"map_alignment\": \"se3\""), std::string::npos);
+    const EvalRun as_is = runEval(
+        {dir + "/gt_square.tum", dir + "/est_square.tum", "--map", dir + "/raised.ply", "--map-gt",
+         dir + "/ref.ply", "--align", "none", "--json", dir + "/n.json"});
+    ASSERT_EQ(as_is.exit_code, 0) << as_is.err;
+    EXPECT_NE(as_is.out.find("map alignment      none"), std::string::npos) << as_is.out;
+    EXPECT_NEAR(jsonValue(readFile(dir + "/n.json"), "accuracy_median_m"), 0.23, 1e-5);
+
     expectFailure({"--map", dir + "/map.ply"}, {"--map and --map-gt go together"});
     expectFailure({"--grid-gt", dir + "/plan.gridmap"}, {"--grid and --grid-gt go together"});
     expectFailure(

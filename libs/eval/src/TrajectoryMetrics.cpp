@@ -83,6 +83,16 @@ mrpt::poses::CPose3D SimilarityTransform::apply(const mrpt::poses::CPose3D& T_re
     return T_gt_est + scaled;
 }
 
+void SimilarityTransform::applyToPoints(std::vector<mrpt::math::TPoint3Df>& points) const
+{
+    for (auto& p : points)
+    {
+        double x = 0, y = 0, z = 0;
+        T_gt_est.composePoint(scale * p.x, scale * p.y, scale * p.z, x, y, z);
+        p = {static_cast<float>(x), static_cast<float>(y), static_cast<float>(z)};
+    }
+}
+
 SimilarityTransform alignPositions(
     const std::vector<mrpt::poses::CPose3D>& gt,
     const std::vector<mrpt::poses::CPose3D>& est,

@@ -104,8 +104,13 @@ struct EvalApp::Arguments
         "CSV)",
         false, "GT EST", cmd};
     TCLAP::ValueArg<std::string> map_arg{
-        "",    "map", "A map cloud (PLY, e.g. the mapper's map.ply) to measure against --map-gt",
-        false, "",    "MAP.ply",
+        "",
+        "map",
+        "A map cloud (PLY, e.g. the mapper's map.ply) to measure against --map-gt; with GT "
+        "EST it is first moved by the trajectory's --align alignment",
+        false,
+        "",
+        "MAP.ply",
         cmd};
     TCLAP::ValueArg<std::string> map_gt_arg{
         "",        "map-gt", "The true surfaces (PLY of 'emslam-sim --map-gt-out')", false, "",
@@ -363,7 +368,14 @@ void EvalApp::execute()
 
 std::string EvalApp::evaluateMap()
 {
-    const auto map = loadMapCloud(m_map);
+    auto map = loadMapCloud(m_map);
+    // SLAM fixes no gauge: the map is in the estimate's frame, which the
+    // trajectory's alignment brings onto the truth's, where the surfaces are.
+    const bool aligned = !m_gt.empty() && metrics.alignment != eval::Alignment::None;
+    if (aligned)
+    {
+        metrics.align.applyToPoints(map);
+    }
     io::requireInputFile(m_map_gt, "true surfaces (--map-gt)");
     const auto truth = loadPly(m_map_gt);
     try
@@ -376,6 +388,10 @@ std::string EvalApp::evaluateMap()
             std::string(e.what()) + "; map '" + m_map + "', true surfaces '" + m_map_gt + "'");
     }
     const auto& a = *map_accuracy;
+    std::printf(
+        "map alignment      %s\n",
+        aligned ? ("the trajectory's (" + eval::alignmentName(metrics.alignment) + ")").c_str()
+                : "none (the map's own frame)");
     std::printf(
         "map accuracy       median %s m, 90th percentile %s m, mean %s m (%zu map points to the "
         "true surface)\n"
@@ -390,7 +406,10 @@ std::string EvalApp::evaluateMap()
             a.near_reference_points, map_options.near_range);
     }
     std::printf("\n");
-    return jsonMember("map_accuracy", a.toJson());
+    return jsonMember(
+               "map_alignment", aligned ? "\"" + eval::alignmentName(metrics.alignment) + "\""
+                                        : std::string("\"none\"")) +
+           ",\n" + jsonMember("map_accuracy", a.toJson());
 }
 
 std::string EvalApp::evaluateGrid()

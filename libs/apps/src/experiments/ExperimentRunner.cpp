@@ -105,11 +105,13 @@ std::vector<mrpt::math::TPoint3Df> cloudAt(
 }
 
 /** ExperimentResult's map figures: SLAM's map and the egomotion's against
- * the surfaces the first `frames` frames saw. */
+ * the surfaces the first `frames` frames saw, each map moved by its
+ * trajectory's alignment to the ground truth (as emslam-eval --map). */
 void measureMaps(
     const emslam::sim::StereoSimulator& sim,
     std::size_t frames,
     const slam::EntropySlam& mapper,
+    const MapperRunInfo& info,
     ExperimentResult& r)
 {
     emslam::sim::SurfaceSampler::TParameters sp;
@@ -127,15 +129,24 @@ void measureMaps(
     {
         return;
     }
-    const auto slam_map = eval::MapAccuracy::compute(mapper.mapCloud().points, ref);
+    auto slam_cloud = mapper.mapCloud().points;
+    if (info.slam_vs_gt)
+    {
+        info.slam_vs_gt->align.applyToPoints(slam_cloud);
+    }
+    const auto slam_map = eval::MapAccuracy::compute(slam_cloud, ref);
     r.slam_map_median_m = slam_map.median_m;
     r.slam_map_p90_m = slam_map.p90_m;
     r.slam_map_completeness = slam_map.completeness;
-    const auto ego_cloud = cloudAt(
+    auto ego_cloud = cloudAt(
         mapper.keyframeScans(), mapper.egomotionPoses(),
         mapper.parameters().mapper.fusionOptions());
     if (!ego_cloud.empty())
     {
+        if (info.egomotion_vs_gt)
+        {
+            info.egomotion_vs_gt->align.applyToPoints(ego_cloud);
+        }
         const auto ego_map = eval::MapAccuracy::compute(ego_cloud, ref);
         r.egomotion_map_median_m = ego_map.median_m;
         r.egomotion_map_p90_m = ego_map.p90_m;
@@ -348,7 +359,7 @@ ExperimentResult runExperiment(
     }
     if (options.map_accuracy)
     {
-        measureMaps(sim, r.frames, mapper, r);
+        measureMaps(sim, r.frames, mapper, info, r);
     }
     r.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t_start).count();
     info.seconds = r.seconds;

@@ -4,6 +4,7 @@
 #include <emslam/eval/SegmentErrors.h>
 #include <emslam/io/TumTrajectory.h>
 
+#include <mrpt/math/TPoint3D.h>
 #include <mrpt/poses/CPose3D.h>
 
 #include <cstddef>
@@ -76,6 +77,9 @@ struct SimilarityTransform
     /** The estimated pose `T_ref_body` expressed in the ground-truth frame:
      * rotation R·R_body, position scale·R·p + t. */
     mrpt::poses::CPose3D apply(const mrpt::poses::CPose3D& T_ref_body) const;
+    /** Points of the estimate's frame (e.g. its map) in the ground-truth
+     * frame: scale·R·p + t. */
+    void applyToPoints(std::vector<mrpt::math::TPoint3Df>& points) const;
 };
 
 /** Least-squares alignment of the positions `est` onto `gt` (Umeyama,
