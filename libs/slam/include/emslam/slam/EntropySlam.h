@@ -106,8 +106,8 @@ public:
         bool fuse_along_rays{true};
         /** [MB] memory of the keyframes' clouds kept for the final map
          * (KeyframeClouds): past it, only every 2nd, 4th, ... keyframe keeps
-         * its cloud (0: no limit). (Default: 128) */
-        double max_map_clouds_mb{128};
+         * its cloud (0: no limit). (Default: 64) */
+        double max_map_clouds_mb{64};
 
         /** The fusion's options from these keys. */
         FusedPointCloud::TOptions fusionOptions() const;
