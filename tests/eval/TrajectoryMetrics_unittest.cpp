@@ -307,3 +307,45 @@ TEST(TrajectoryMetrics, closedLoopNeedsTheEndNearTheStart)
     still.add(2, CPose3D());
     EXPECT_FALSE(isClosedLoop(still));
 }
+
+// A straight path leaves the rotation about it free for the positions: mm of
+// noise set it. The map's alignment takes the cameras' orientations too, so a
+// point 2 m beside a camera lands beside the true camera, also with Sim3.
+TEST(TrajectoryMetrics, mapAlignmentFixesTheTurnAboutAStraightPath)
+{
+    const TumTrajectory gt = line(30);
+    const CPose3D T(1.0, -2.0, 0.5, 0.3, 0.1, 0.5);  // a turn of 0.5 rad about x among others
+    for (const double scale : {1.0, 0.5})
+    {
+        TumTrajectory est;
+        for (std::size_t i = 0; i < gt.poses.size(); ++i)
+        {
+            CPose3D e = T + gt.poses[i].pose;
+            const double k = static_cast<double>(i);
+            e.x(scale * e.x() + 0.002 * std::sin(1.7 * k));
+            e.y(scale * e.y() + 0.002 * std::cos(2.3 * k));
+            e.z(scale * e.z() + 0.002 * std::sin(3.1 * k));
+            est.add(gt.poses[i].t, e);
+        }
+        const auto m = evaluate(gt, est, scale == 1.0 ? Alignment::SE3 : Alignment::Sim3);
+        EXPECT_NEAR(m.map_align.scale, 1.0 / scale, 0.01);
+        double worst_map = 0, worst_positions = 0;
+        for (std::size_t i = 0; i < gt.poses.size(); i += 7)
+        {
+            const mrpt::math::TPoint3D beside(0, 2.0, 0);
+            const auto truth = gt.poses[i].pose.composePoint(beside);
+            const auto& e = est.poses[i].pose;
+            // The estimate's point, at its scale, in its frame.
+            std::vector<mrpt::math::TPoint3Df> p{
+                mrpt::math::TPoint3Df(e.composePoint(mrpt::math::TPoint3D(0, 2.0 * scale, 0)))};
+            std::vector<mrpt::math::TPoint3Df> q = p;
+            m.map_align.applyToPoints(p);
+            m.align.applyToPoints(q);
+            worst_map = std::max(worst_map, (mrpt::math::TPoint3D(p[0]) - truth).norm());
+            worst_positions =
+                std::max(worst_positions, (mrpt::math::TPoint3D(q[0]) - truth).norm());
+        }
+        EXPECT_LT(worst_map, 0.02) << "scale " << scale;
+        EXPECT_GT(worst_positions, 0.1) << "scale " << scale;
+    }
+}

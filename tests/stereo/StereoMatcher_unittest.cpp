@@ -10,10 +10,12 @@
 #include <gtest/gtest.h>
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <filesystem>
 #include <opencv2/imgcodecs.hpp>
 #include <opencv2/imgproc.hpp>
+#include <thread>
 #include <vector>
 
 using emslam::stereo::StereoMatcher;
@@ -292,4 +294,47 @@ TEST(StereoMatcherParameters, shippedConfigsLoad)
         }
     }
     EXPECT_FALSE(files.empty());
+}
+
+// The keyframes' dense clouds may run on several threads with one matcher:
+// OpenCV's SGBM reuses its buffers between calls, so concurrent calls must
+// give exactly what the same calls give one after the other.
+TEST(StereoMatcher, concurrentCallsGiveTheSerialDisparities)
+{
+    const auto cam = emslam::test::idealStereoCamera(320, 240, 200.0, 0.10);
+    const std::array<double, 2> depths{0.8, 1.6};
+    std::array<cv::Mat, 2> lefts, rights, serial;
+    const StereoMatcher matcher;
+    for (std::size_t k = 0; k < depths.size(); ++k)
+    {
+        emslam::test::renderFrontoParallelPlane(
+            cam, depths[k], static_cast<std::uint32_t>(11 + k), lefts[k], rights[k]);
+        // Independent noise patches: small regions of wrong disparities for
+        // the speckle filter, which works in the matcher's buffer.
+        cv::RNG rng(static_cast<std::uint64_t>(5 + k));
+        for (int y = 8; y + 12 < lefts[k].rows; y += 20)
+        {
+            for (int x = 48; x + 12 < lefts[k].cols; x += 20)
+            {
+                rng.fill(lefts[k](cv::Rect(x, y, 12, 12)), cv::RNG::UNIFORM, 0, 255);
+                rng.fill(rights[k](cv::Rect(x - 20, y, 12, 12)), cv::RNG::UNIFORM, 0, 255);
+            }
+        }
+        serial[k] = matcher.compute(lefts[k], rights[k], cam).disparity;
+        ASSERT_GT(cv::countNonZero(serial[k]), 1000);
+    }
+    std::array<int, 2> differing{0, 0};
+    auto run = [&](std::size_t k)
+    {
+        for (int i = 0; i < 24; ++i)
+        {
+            const cv::Mat d = matcher.compute(lefts[k], rights[k], cam).disparity;
+            differing[k] += cv::countNonZero(d != serial[k]) > 0;
+        }
+    };
+    std::thread other(run, 1);
+    run(0);
+    other.join();
+    EXPECT_EQ(differing[0], 0);
+    EXPECT_EQ(differing[1], 0);
 }

@@ -150,6 +150,37 @@ SimilarityTransform alignPositions(
     return out;
 }
 
+SimilarityTransform alignPoses(
+    const std::vector<mrpt::poses::CPose3D>& gt,
+    const std::vector<mrpt::poses::CPose3D>& est,
+    Alignment mode,
+    double lever_m)
+{
+    const double scale = alignPositions(gt, est, mode).scale;
+    std::vector<mrpt::poses::CPose3D> g, e;
+    g.reserve(4 * gt.size());
+    e.reserve(4 * est.size());
+    const auto addWithAxes =
+        [](std::vector<mrpt::poses::CPose3D>& out, const mrpt::poses::CPose3D& pose, double lever)
+    {
+        out.push_back(pose);
+        for (int axis = 0; axis < 3; ++axis)
+        {
+            mrpt::poses::CPose3D tip;
+            tip.x(axis == 0 ? lever : 0.0);
+            tip.y(axis == 1 ? lever : 0.0);
+            tip.z(axis == 2 ? lever : 0.0);
+            out.push_back(pose + tip);
+        }
+    };
+    for (std::size_t i = 0; i < gt.size(); ++i)
+    {
+        addWithAxes(g, gt[i], lever_m);
+        addWithAxes(e, est[i], scale > 0 ? lever_m / scale : lever_m);
+    }
+    return alignPositions(g, e, mode);
+}
+
 double pathLength(const std::vector<mrpt::poses::CPose3D>& poses)
 {
     double len = 0;
@@ -262,6 +293,7 @@ TrajectoryMetrics TrajectoryMetrics::compute(
     }
 
     m.align = alignPositions(a.gt, a.est, opts.alignment);
+    m.map_align = alignPoses(a.gt, a.est, opts.alignment);
     std::vector<mrpt::poses::CPose3D> aligned;
     aligned.reserve(a.size());
     double sq = 0;

@@ -32,11 +32,10 @@ constexpr const char* SAMPLING_SECTION = "SpaceSampler";
 constexpr const char* RECTIFIER_SECTION = "Rectifier";
 constexpr const char* LOOP_CLOSER_SECTION = "LoopCloser";
 /** Keyframes whose dense cloud may still be computing when a frame is
- * processed (the others join the map before it). 1 made the hall 22 %
- * faster, but the final map then depended on when each cloud was ready
- * (MapperApp.mapsASimulatedRawlogAndWritesEveryOutput's rerun differed under
- * load): 0 until that is found. */
-constexpr std::size_t DENSE_KEYFRAMES_IN_FLIGHT = 0;
+ * processed (the others join the map before it): the next keyframe's task
+ * may then start beside it, on the same StereoMatcher, which serialises its
+ * OpenCV calls (their shared buffers made the map depend on timing). */
+constexpr std::size_t DENSE_KEYFRAMES_IN_FLIGHT = 1;
 constexpr const char* VERTICAL_SECTION = "VerticalFromPlanes";
 constexpr const char* OCCUPANCY_GRID_SECTION = "OccupancyGridBuilder";
 constexpr const char* OCTOMAP_SECTION = "OctoMapBuilder";

@@ -11,6 +11,7 @@
 #include <mrpt/core/format.h>
 
 #include <cmath>
+#include <mutex>
 #include <opencv2/calib3d.hpp>
 #include <opencv2/imgproc.hpp>
 #include <stdexcept>
@@ -153,6 +154,9 @@ void StereoMatcher::TParameters::validate() const
 struct StereoMatcher::Impl
 {
     cv::Ptr<cv::StereoMatcher> matcher;
+    // OpenCV's matchers keep working buffers in the object (the speckle
+    // filter's among them): one compute at a time.
+    std::mutex compute_mutex;
 };
 
 StereoMatcher::StereoMatcher() : StereoMatcher(TParameters()) {}
@@ -203,7 +207,10 @@ cv::Mat StereoMatcher::computeDisparity(const cv::Mat& left_gray, const cv::Mat&
         cv::resize(r, r, cv::Size(), m_params.image_scale, m_params.image_scale, cv::INTER_AREA);
     }
     cv::Mat disp16;
-    m_impl->matcher->compute(l, r, disp16);
+    {
+        std::lock_guard<std::mutex> lock(m_impl->compute_mutex);
+        m_impl->matcher->compute(l, r, disp16);
+    }
     // OpenCV returns fixed point (x16) with min_disparity-1 marking invalid pixels.
     cv::Mat disp;
     if (m_params.subpixel)

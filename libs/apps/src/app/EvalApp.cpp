@@ -370,11 +370,12 @@ std::string EvalApp::evaluateMap()
 {
     auto map = loadMapCloud(m_map);
     // SLAM fixes no gauge: the map is in the estimate's frame, which the
-    // trajectory's alignment brings onto the truth's, where the surfaces are.
+    // trajectory's alignment brings onto the truth's, where the surfaces are
+    // (with the cameras' orientations: a straight path leaves a turn free).
     const bool aligned = !m_gt.empty() && metrics.alignment != eval::Alignment::None;
     if (aligned)
     {
-        metrics.align.applyToPoints(map);
+        metrics.map_align.applyToPoints(map);
     }
     io::requireInputFile(m_map_gt, "true surfaces (--map-gt)");
     const auto truth = loadPly(m_map_gt);

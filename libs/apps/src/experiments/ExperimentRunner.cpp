@@ -132,7 +132,7 @@ void measureMaps(
     auto slam_cloud = mapper.mapCloud().points;
     if (info.slam_vs_gt)
     {
-        info.slam_vs_gt->align.applyToPoints(slam_cloud);
+        info.slam_vs_gt->map_align.applyToPoints(slam_cloud);
     }
     const auto slam_map = eval::MapAccuracy::compute(slam_cloud, ref);
     r.slam_map_median_m = slam_map.median_m;
@@ -145,7 +145,7 @@ void measureMaps(
     {
         if (info.egomotion_vs_gt)
         {
-            info.egomotion_vs_gt->align.applyToPoints(ego_cloud);
+            info.egomotion_vs_gt->map_align.applyToPoints(ego_cloud);
         }
         const auto ego_map = eval::MapAccuracy::compute(ego_cloud, ref);
         r.egomotion_map_median_m = ego_map.median_m;

@@ -92,6 +92,17 @@ SimilarityTransform alignPositions(
     const std::vector<mrpt::poses::CPose3D>& est,
     Alignment mode);
 
+/** As alignPositions(), with each pose's orientation too: every pose adds
+ * the tips of its three axes `lever_m` out (in the estimate, that length
+ * divided by the positions' Sim3 scale). The alignment for what hangs on the
+ * poses, such as their map: on a straight path the positions alone leave the
+ * rotation about it free, to be set by noise. \ingroup emslam_eval_grp */
+SimilarityTransform alignPoses(
+    const std::vector<mrpt::poses::CPose3D>& gt,
+    const std::vector<mrpt::poses::CPose3D>& est,
+    Alignment mode,
+    double lever_m = 1.0);
+
 /** Sum of the distances between consecutive positions [m].
  * \ingroup emslam_eval_grp */
 double pathLength(const std::vector<mrpt::poses::CPose3D>& poses);
@@ -169,6 +180,9 @@ struct TrajectoryMetrics
     std::size_t matched_poses{0};
     /** The alignment applied to the estimate (identity for None). */
     SimilarityTransform align;
+    /** The same kind of alignment by alignPoses(): what moves the
+     * estimate's map onto the truth's. */
+    SimilarityTransform map_align;
     /** RMSE of the position errors after alignment [m] [`ate_rmse_m`]. */
     double ate_rmse_m{0};
     /** KITTI drift, see relativeErrors() [`t_rel_percent`, `r_rel_deg_per_m`]. */

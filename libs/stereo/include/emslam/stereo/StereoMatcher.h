@@ -132,12 +132,15 @@ public:
     /** Computes the semi-dense frame of a rectified pair (8-bit gray or BGR,
      * same size). `camera` is the rectified calibration of the inputs at their
      * full size; the frame carries it scaled by `image_scale`.
-     * Throws on empty or mismatched images or an unusable calibration. */
+     * Throws on empty or mismatched images or an unusable calibration.
+     * Thread-safe: concurrent calls take turns on the OpenCV matcher, whose
+     * buffers are shared between calls. */
     StereoFrame compute(
         const cv::Mat& left, const cv::Mat& right, const mrpt::img::TStereoCamera& camera) const;
 
     /** Disparity [px] of a rectified pair at the working scale, CV_32F, with
-     * every filter applied; invalid pixels are 0. Inputs as in compute(). */
+     * every filter applied; invalid pixels are 0. Inputs as in compute();
+     * thread-safe as it. */
     cv::Mat computeDisparity(const cv::Mat& left_gray, const cv::Mat& right_gray) const;
 
 private:
