@@ -164,14 +164,9 @@ SimilarityTransform alignPoses(
         [](std::vector<mrpt::poses::CPose3D>& out, const mrpt::poses::CPose3D& pose, double lever)
     {
         out.push_back(pose);
-        for (int axis = 0; axis < 3; ++axis)
-        {
-            mrpt::poses::CPose3D tip;
-            tip.x(axis == 0 ? lever : 0.0);
-            tip.y(axis == 1 ? lever : 0.0);
-            tip.z(axis == 2 ? lever : 0.0);
-            out.push_back(pose + tip);
-        }
+        out.push_back(pose + mrpt::poses::CPose3D(lever, 0, 0, 0, 0, 0));
+        out.push_back(pose + mrpt::poses::CPose3D(0, lever, 0, 0, 0, 0));
+        out.push_back(pose + mrpt::poses::CPose3D(0, 0, lever, 0, 0, 0));
     };
     for (std::size_t i = 0; i < gt.size(); ++i)
     {
